@@ -1,0 +1,43 @@
+#pragma once
+// The small, trivially copyable messages that cross between the control thread and the audio thread.
+//
+// Command: control -> audio, already validated and in SI units (protocol/ does that).
+// RendererEvent: audio -> control, for replies the audio thread decides (/synced, /fail busy).
+// Both are plain data so a fixed-capacity lock-free queue can carry them without allocation.
+
+#include <cstdint>
+#include <type_traits>
+
+namespace ameoto {
+
+enum class CommandKind : std::uint8_t {
+    drop,        // values: diameter m, speed m/s (0 = terminal), x m, y m
+    rain_rate,   // values[0]: rain rate, mm/h (the one non-SI field: the rain statistics are written in it)
+    sync,        // id: reply /synced id once applied
+};
+
+struct Command {
+    CommandKind kind = CommandKind::sync;
+    bool timed = false;          // true: apply at `frame` (a bundle's timetag); false: as soon as possible
+    std::uint16_t reply_to = 0;  // index of the sender in the control thread's client table
+    std::int32_t id = 0;
+    std::uint64_t frame = 0;     // sample time at which to apply it, when timed
+    double values[4] = {0, 0, 0, 0};
+};
+
+enum class RendererEventKind : std::uint8_t {
+    synced,     // a /sync was reached: reply /synced id
+    busy,       // a command could not be scheduled (the pending list was full): reply /fail busy
+};
+
+struct RendererEvent {
+    RendererEventKind kind = RendererEventKind::synced;
+    CommandKind command = CommandKind::sync;
+    std::uint16_t reply_to = 0;
+    std::int32_t id = 0;
+};
+
+static_assert(std::is_trivially_copyable_v<Command>);
+static_assert(std::is_trivially_copyable_v<RendererEvent>);
+
+}  // namespace ameoto

@@ -1,0 +1,162 @@
+#include "protocol/address_table.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "engine/core/units.hpp"
+
+namespace ameoto::protocol {
+namespace {
+
+std::string format_number(double v) {
+    std::ostringstream s;
+    s << v;
+    return s.str();
+}
+
+std::vector<AddressSpec> make_table() {
+    std::vector<AddressSpec> t;
+    t.push_back({"/rain/rate",
+                 {{"rate", ArgumentKind::number, "mm/h", 0.0, 500.0, false, "rain rate; changes ramp over 1 s"}},
+                 "Set the rain rate of the scene.",
+                 "",
+                 [](const ValidatedArguments& a, const ProtocolContext&, Request& r) -> std::optional<std::string> {
+                     r.command.kind = CommandKind::rain_rate;
+                     r.command.values[0] = a.numbers[0];
+                     return std::nullopt;
+                 }});
+    t.push_back({"/drop",
+                 {{"diameter", ArgumentKind::number, "mm", 0.1, 8.0, false, "drop diameter"},
+                  {"speed", ArgumentKind::number, "m/s", 0.0, 20.0, false, "impact speed; 0 = terminal speed (Gunn-Kinzer)"},
+                  {"x", ArgumentKind::number, "m", -100.0, 100.0, false, "surface coordinate"},
+                  {"y", ArgumentKind::number, "m", -100.0, 100.0, false, "surface coordinate"},
+                  {"surface", ArgumentKind::text, "", 0, 0, true, "surface name; default umbrella"}},
+                 "One drop now (or at the bundle's time) on a surface, at surface coordinates.",
+                 "",
+                 [](const ValidatedArguments& a, const ProtocolContext& ctx, Request& r) -> std::optional<std::string> {
+                     const std::string surface = a.texts.empty() ? std::string("umbrella") : a.texts[0];
+                     if (std::find(ctx.surfaces.begin(), ctx.surfaces.end(), surface) == ctx.surfaces.end())
+                         return "no surface named '" + surface + "'";
+                     if (ctx.on_surface && !ctx.on_surface(surface, a.numbers[2], a.numbers[3]))
+                         return "point (" + format_number(a.numbers[2]) + ", " + format_number(a.numbers[3]) +
+                                ") m is not on surface '" + surface + "'";
+                     r.command.kind = CommandKind::drop;
+                     r.command.values[0] = units::mm_to_m(a.numbers[0]);
+                     r.command.values[1] = a.numbers[1];
+                     r.command.values[2] = a.numbers[2];
+                     r.command.values[3] = a.numbers[3];
+                     return std::nullopt;
+                 }});
+    t.push_back({"/status", {}, "Ask for the server's state.", "/status.reply",
+                 [](const ValidatedArguments&, const ProtocolContext&, Request& r) -> std::optional<std::string> {
+                     r.action = Action::status;
+                     return std::nullopt;
+                 }});
+    t.push_back({"/sync",
+                 {{"id", ArgumentKind::integer, "", -2147483648.0, 2147483647.0, false, "any integer, echoed back"}},
+                 "Reply /synced id once everything sent before it is applied.",
+                 "/synced",
+                 [](const ValidatedArguments& a, const ProtocolContext&, Request& r) -> std::optional<std::string> {
+                     r.command.kind = CommandKind::sync;
+                     r.command.id = static_cast<std::int32_t>(a.numbers[0]);
+                     return std::nullopt;
+                 }});
+    t.push_back({"/quit", {}, "Stop the server cleanly (the WAV is finalised).", "/done /quit",
+                 [](const ValidatedArguments&, const ProtocolContext&, Request& r) -> std::optional<std::string> {
+                     r.action = Action::quit;
+                     return std::nullopt;
+                 }});
+    return t;
+}
+
+const std::vector<AddressSpec>& table() {
+    static const std::vector<AddressSpec> t = make_table();
+    return t;
+}
+
+std::string describe(const ArgumentSpec& spec) {
+    std::string s = spec.name;
+    if (*spec.unit) s += std::string(" (") + spec.unit + ")";
+    return s;
+}
+
+}  // namespace
+
+std::span<const AddressSpec> address_table() { return table(); }
+
+const AddressSpec* find_address(const std::string& address) {
+    for (const auto& spec : table())
+        if (address == spec.address) return &spec;
+    return nullptr;
+}
+
+Validation validate(const DecodedMessage& message, const ProtocolContext& context) {
+    Validation v;
+    const AddressSpec* spec = find_address(message.address);
+    if (!spec) {
+        v.reason = "unknown address";
+        return v;
+    }
+    const auto& specs = spec->arguments;
+    const std::size_t required = static_cast<std::size_t>(
+        std::count_if(specs.begin(), specs.end(), [](const ArgumentSpec& a) { return !a.optional; }));
+    if (message.args.size() < required) {
+        v.reason = "expected " + std::to_string(required) + (required == specs.size() ? "" : " to " + std::to_string(specs.size())) +
+                   " arguments, got " + std::to_string(message.args.size());
+        return v;
+    }
+    if (message.args.size() > specs.size()) {
+        v.reason = "too many arguments: expected at most " + std::to_string(specs.size()) + ", got " +
+                   std::to_string(message.args.size());
+        return v;
+    }
+    ValidatedArguments values;
+    for (std::size_t i = 0; i < message.args.size(); ++i) {
+        const OscArgument& arg = message.args[i];
+        const ArgumentSpec& as = specs[i];
+        const std::string where = "argument " + std::to_string(i + 1) + " " + describe(as);
+        if (as.kind == ArgumentKind::text) {
+            if (arg.type != 's' && arg.type != 'S') {
+                v.reason = where + ": expected a string, got type '" + std::string(1, arg.type) + "'";
+                return v;
+            }
+            if (arg.text.size() > 255) {
+                v.reason = where + ": longer than 255 characters";
+                return v;
+            }
+            values.texts.push_back(arg.text);
+            continue;
+        }
+        if (!arg.is_number()) {
+            v.reason = where + ": expected a number, got type '" + std::string(1, arg.type) + "'";
+            return v;
+        }
+        if (!std::isfinite(arg.number)) {
+            v.reason = where + ": not a finite number";
+            return v;
+        }
+        if (as.kind == ArgumentKind::integer && arg.number != std::floor(arg.number)) {
+            v.reason = where + ": expected an integer, got " + format_number(arg.number);
+            return v;
+        }
+        if (arg.number < as.min || arg.number > as.max) {
+            v.reason = where + ": " + format_number(arg.number) + " is outside " + format_number(as.min) + ".." +
+                       format_number(as.max);
+            return v;
+        }
+        values.numbers.push_back(arg.number);
+    }
+    if (auto refusal = spec->build(values, context, v.request)) {
+        v.reason = *refusal;
+        return v;
+    }
+    v.ok = true;
+    return v;
+}
+
+std::vector<OscArgument> fail_arguments(const std::string& address, const std::string& reason) {
+    return {OscArgument::from_string(address), OscArgument::from_string(reason)};
+}
+
+}  // namespace ameoto::protocol

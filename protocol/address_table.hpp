@@ -1,0 +1,86 @@
+#pragma once
+// The OSC address space as a table: every address, its arguments with units and ranges, and what it
+// turns into. docs/PROTOCOL.md documents the same table; tests walk it so no address escapes
+// validation.
+//
+// Interface:
+//   ProtocolContext ctx{...};                            // what validation must know of the scene
+//   Validation v = validate(message, ctx);               // pure: no I/O, no state change
+//   if (!v.ok) reply /fail message.address v.reason;     // nothing changes
+//   else act on v.request (queue v.request.command, answer /status, quit, ...)
+//   for (const AddressSpec& a : address_table()) ...     // the whole space, for docs and tests
+//
+// Conventions (scsynth's, where users expect them): numbers may be sent as i, h, f or d and are
+// coerced; NaN and Inf are refused; a value outside its range is refused, never clamped; missing
+// and extra arguments are refused. Units at the boundary are the ones musicians use (mm, mm/h,
+// m/s, m); the Command carries SI (except the rain rate, see engine/render/command.hpp).
+
+#include <functional>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "engine/render/command.hpp"
+#include "protocol/osc_codec.hpp"
+
+namespace ameoto::protocol {
+
+enum class ArgumentKind { number, integer, text };
+
+struct ArgumentSpec {
+    const char* name;
+    ArgumentKind kind;
+    const char* unit;          // "" when unitless
+    double min = 0.0, max = 0.0;
+    bool optional = false;
+    const char* help = "";
+};
+
+enum class Action {
+    enqueue,   // send `command` to the audio thread
+    status,    // reply /status.reply now
+    quit,      // reply /done /quit and stop
+};
+
+struct Request {
+    Action action = Action::enqueue;
+    Command command{};
+};
+
+struct Validation {
+    bool ok = false;
+    Request request;
+    std::string reason;        // for /fail when !ok
+};
+
+struct ProtocolContext {
+    std::vector<std::string> surfaces{"umbrella"};
+    // true when (x, y) in m lies on the named surface; the daemon asks the engine's geometry.
+    std::function<bool(const std::string& surface, double x, double y)> on_surface;
+};
+
+struct ValidatedArguments {
+    std::vector<double> numbers;   // in the table's units, in order (numbers and integers)
+    std::vector<std::string> texts;
+};
+
+struct AddressSpec {
+    const char* address;
+    std::vector<ArgumentSpec> arguments;
+    const char* summary;
+    const char* reply;         // what the server answers on success ("" for nothing)
+    // Builds the request from arguments that already passed the table's checks; may still refuse
+    // (returns a reason) for checks that need the context, such as a point off the surface.
+    std::function<std::optional<std::string>(const ValidatedArguments&, const ProtocolContext&, Request&)> build;
+};
+
+std::span<const AddressSpec> address_table();
+const AddressSpec* find_address(const std::string& address);
+
+Validation validate(const DecodedMessage& message, const ProtocolContext& context);
+
+// The server's replies (their exact shapes are in docs/PROTOCOL.md).
+std::vector<OscArgument> fail_arguments(const std::string& address, const std::string& reason);
+
+}  // namespace ameoto::protocol

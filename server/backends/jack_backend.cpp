@@ -1,0 +1,114 @@
+#include "server/backends/jack_backend.hpp"
+
+#include <cstdio>
+
+#include "server/realtime/audio_bridge.hpp"
+
+namespace ameoto {
+
+std::unique_ptr<JackBackend> JackBackend::open(const Options& options, std::string& error) {
+    std::unique_ptr<JackBackend> backend(new JackBackend(options));
+    if (!backend->open_client(error)) return nullptr;
+    return backend;
+}
+
+JackBackend::~JackBackend() { stop(); }
+
+bool JackBackend::open_client(std::string& error) {
+    jack_status_t status{};
+    client_ = jack_client_open(options_.client_name.c_str(), JackNoStartServer, &status);
+    if (!client_) {
+        error = (status & JackServerFailed) ? "no JACK server is running" : "jack_client_open failed (status 0x" +
+                                                                                std::to_string(static_cast<int>(status)) + ")";
+        return false;
+    }
+    const double rate = jack_get_sample_rate(client_);
+    if (sample_rate_ != 0.0 && rate != sample_rate_) {
+        error = "the JACK server runs at " + std::to_string(static_cast<int>(rate)) + " Hz but the scene was built for " +
+                std::to_string(static_cast<int>(sample_rate_)) + " Hz; restart ameotod";
+        close_client();
+        return false;
+    }
+    sample_rate_ = rate;
+    block_size_.store(static_cast<int>(jack_get_buffer_size(client_)));
+    ports_.clear();
+    for (int c = 0; c < options_.channels; ++c) {
+        const std::string port_name = "out_" + std::to_string(c + 1);
+        jack_port_t* port = jack_port_register(client_, port_name.c_str(), JACK_DEFAULT_AUDIO_TYPE, JackPortIsOutput, 0);
+        if (!port) {
+            error = "cannot register JACK port " + port_name;
+            close_client();
+            return false;
+        }
+        ports_.push_back(port);
+    }
+    buffers_.assign(ports_.size(), nullptr);
+    jack_set_process_callback(client_, &JackBackend::on_process, this);
+    jack_set_xrun_callback(client_, &JackBackend::on_xrun, this);
+    jack_set_buffer_size_callback(client_, &JackBackend::on_buffer_size, this);
+    jack_on_info_shutdown(client_, &JackBackend::on_shutdown, this);
+    lost_.store(false);
+    return true;
+}
+
+void JackBackend::close_client() {
+    if (client_) {
+        jack_client_close(client_);
+        client_ = nullptr;
+    }
+}
+
+bool JackBackend::activate(std::string& error) {
+    if (jack_activate(client_) != 0) {
+        error = "cannot activate the JACK client";
+        return false;
+    }
+    if (options_.autoconnect) {
+        const char** playback = jack_get_ports(client_, nullptr, JACK_DEFAULT_AUDIO_TYPE, JackPortIsPhysical | JackPortIsInput);
+        for (std::size_t c = 0; playback && playback[c] && c < ports_.size(); ++c)
+            jack_connect(client_, jack_port_name(ports_[c]), playback[c]);
+        if (playback) jack_free(playback);
+    }
+    return true;
+}
+
+void JackBackend::start(AudioBridge& bridge) {
+    bridge_ = &bridge;
+    std::string error;
+    if (!activate(error)) std::fprintf(stderr, "ameotod: %s\n", error.c_str());
+}
+
+void JackBackend::stop() {
+    if (client_ && !lost_.load()) jack_deactivate(client_);
+    close_client();
+}
+
+bool JackBackend::reconnect(std::string& error) {
+    close_client();   // the dead client: JACK allows closing it from a non-JACK thread after shutdown
+    if (!open_client(error)) return false;
+    return activate(error);
+}
+
+std::string JackBackend::client_name() const { return client_ ? jack_get_client_name(client_) : options_.client_name; }
+
+int JackBackend::on_process(jack_nframes_t frames, void* self) {
+    auto* me = static_cast<JackBackend*>(self);
+    for (std::size_t c = 0; c < me->ports_.size(); ++c)
+        me->buffers_[c] = static_cast<float*>(jack_port_get_buffer(me->ports_[c], frames));
+    me->bridge_->process(static_cast<int>(frames), me->buffers_.data());
+    return 0;
+}
+
+int JackBackend::on_xrun(void* self) {
+    static_cast<JackBackend*>(self)->xruns_.fetch_add(1);
+    return 0;
+}
+
+int JackBackend::on_buffer_size(jack_nframes_t frames, void* self) {
+    static_cast<JackBackend*>(self)->block_size_.store(static_cast<int>(frames));
+    return 0;
+}
+
+void JackBackend::on_shutdown(jack_status_t, const char*, void* self) { static_cast<JackBackend*>(self)->lost_.store(true); }
+
+}  // namespace ameoto

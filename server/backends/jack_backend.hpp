@@ -1,0 +1,73 @@
+#pragma once
+// The JACK backend: ports <name>:out_1..N, the process callback calls AudioBridge::process.
+//
+// Interface:
+//   std::string error;
+//   auto jack = JackBackend::open(JackBackend::Options{...}, error);   // nullptr + error when no server
+//   jack->start(bridge);             // registers callbacks, activates, connects to system playback if asked
+//   control thread, on a timer:
+//     if (jack->server_lost()) jack->reconnect(error);   // true once playing again
+//   jack->stop();
+//
+// The client never starts a server (JackNoStartServer). When the server goes away JACK calls the
+// info-shutdown callback (from one of its threads); that only sets a flag. The control thread then
+// closes the dead client and tries to open a new one until the server is back, and resumes with the
+// same bridge, so the scene, the rain and the sample clock carry on. A returning server at another
+// sample rate is refused with a message: the physics was built for the first rate.
+
+#include <jack/jack.h>
+
+#include <atomic>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "server/backends/backend.hpp"
+
+namespace ameoto {
+
+class JackBackend : public Backend {
+public:
+    struct Options {
+        std::string client_name = "ameoto";
+        int channels = 2;
+        bool autoconnect = false;
+    };
+
+    static std::unique_ptr<JackBackend> open(const Options& options, std::string& error);
+    ~JackBackend() override;
+
+    void start(AudioBridge& bridge) override;
+    void stop() override;
+    std::uint64_t xruns() const override { return xruns_.load(); }
+    std::string name() const override { return "jack"; }
+    double sample_rate() const override { return sample_rate_; }
+    int block_size() const override { return block_size_.load(); }
+
+    bool server_lost() const { return lost_.load(); }
+    bool reconnect(std::string& error);
+    std::string client_name() const;
+
+private:
+    explicit JackBackend(const Options& options) : options_(options) {}
+    bool open_client(std::string& error);
+    void close_client();
+    bool activate(std::string& error);
+
+    static int on_process(jack_nframes_t frames, void* self);
+    static int on_xrun(void* self);
+    static int on_buffer_size(jack_nframes_t frames, void* self);
+    static void on_shutdown(jack_status_t code, const char* reason, void* self);
+
+    Options options_;
+    jack_client_t* client_ = nullptr;
+    std::vector<jack_port_t*> ports_;
+    std::vector<float*> buffers_;     // sized once; filled in each cycle without allocation
+    AudioBridge* bridge_ = nullptr;
+    double sample_rate_ = 0.0;
+    std::atomic<int> block_size_{0};
+    std::atomic<std::uint64_t> xruns_{0};
+    std::atomic<bool> lost_{false};
+};
+
+}  // namespace ameoto

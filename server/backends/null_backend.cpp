@@ -1,0 +1,99 @@
+#include "server/backends/null_backend.hpp"
+
+#include <pthread.h>
+#include <time.h>
+
+#include <cmath>
+#include <vector>
+
+#include "server/realtime/audio_bridge.hpp"
+
+namespace ameoto {
+namespace {
+void add_ns(timespec& t, std::int64_t ns) {
+    t.tv_nsec += ns;
+    while (t.tv_nsec >= 1000000000) {
+        t.tv_nsec -= 1000000000;
+        ++t.tv_sec;
+    }
+}
+bool later(const timespec& a, const timespec& b) {
+    return a.tv_sec > b.tv_sec || (a.tv_sec == b.tv_sec && a.tv_nsec > b.tv_nsec);
+}
+}  // namespace
+
+NullBackend::NullBackend(const Options& options, std::function<void()> on_finished)
+    : options_(options), on_finished_(std::move(on_finished)) {
+    if (options_.output != "-") wav_ = std::make_unique<WavWriter>(options_.output, options_.channels, options_.sample_rate);
+}
+
+NullBackend::~NullBackend() { stop(); }
+
+void NullBackend::start(AudioBridge& bridge) {
+    stop_.store(false);
+    thread_ = std::thread([this, &bridge] { run(bridge); });
+}
+
+void NullBackend::stop() {
+    stop_.store(true);
+    if (thread_.joinable()) thread_.join();
+    if (wav_) wav_->close();
+}
+
+void NullBackend::run(AudioBridge& bridge) {
+    const int block = options_.block_size;
+    const int channels = options_.channels;
+    // Everything the loop touches is allocated here, before the first block.
+    std::vector<std::vector<float>> planes(static_cast<std::size_t>(channels), std::vector<float>(static_cast<std::size_t>(block)));
+    std::vector<float*> outputs;
+    for (auto& p : planes) outputs.push_back(p.data());
+    std::vector<float> interleaved(static_cast<std::size_t>(block * channels));
+
+    if (options_.realtime) {
+        // Ask for real-time priority like a JACK client would; without the right it is only a hint.
+        sched_param param{};
+        param.sched_priority = 70;
+        pthread_setschedparam(pthread_self(), SCHED_FIFO, &param);
+    }
+
+    const std::uint64_t total_frames = options_.duration_s
+        ? static_cast<std::uint64_t>(std::llround(*options_.duration_s * options_.sample_rate))
+        : UINT64_MAX;
+    const auto block_ns = static_cast<std::int64_t>(std::llround(1e9 * block / options_.sample_rate));
+    timespec deadline{};
+    clock_gettime(CLOCK_MONOTONIC, &deadline);
+    std::uint64_t done = 0;
+
+    while (!stop_.load(std::memory_order_relaxed) && done < total_frames) {
+        const int frames = static_cast<int>(std::min<std::uint64_t>(static_cast<std::uint64_t>(block), total_frames - done));
+        if (!options_.realtime && wav_) {
+            // Offline: wait for the disk rather than lose audio.
+            while (wav_->space_frames() < static_cast<std::size_t>(frames) && !stop_.load()) {
+                timespec pause{0, 1000000};
+                nanosleep(&pause, nullptr);
+            }
+        }
+        bridge.process(frames, outputs.data());
+        if (wav_) {
+            for (int n = 0; n < frames; ++n)
+                for (int c = 0; c < channels; ++c)
+                    interleaved[static_cast<std::size_t>(n * channels + c)] = planes[static_cast<std::size_t>(c)][static_cast<std::size_t>(n)];
+            if (!wav_->push(interleaved.data(), frames)) xruns_.fetch_add(1);
+        }
+        done += static_cast<std::uint64_t>(frames);
+        if (options_.realtime) {
+            add_ns(deadline, block_ns);
+            timespec now{};
+            clock_gettime(CLOCK_MONOTONIC, &now);
+            if (later(now, deadline)) {
+                xruns_.fetch_add(1);
+                deadline = now;   // late: restart the schedule from now instead of racing to catch up
+            } else {
+                clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &deadline, nullptr);
+            }
+        }
+    }
+    if (done >= total_frames && on_finished_) on_finished_();
+}
+
+}  // namespace ameoto

@@ -1,0 +1,321 @@
+#include "server/daemon.hpp"
+
+#include <boost/asio/io_context.hpp>
+#include <boost/asio/signal_set.hpp>
+#include <boost/asio/steady_timer.hpp>
+
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <ctime>
+#include <iostream>
+
+#include "protocol/address_table.hpp"
+#include "server/backends/jack_backend.hpp"
+#include "server/backends/null_backend.hpp"
+#include "server/osc/client_table.hpp"
+#include "server/osc/udp_endpoint.hpp"
+#include "server/realtime/audio_bridge.hpp"
+#include "server/realtime/rt_probe.hpp"
+#include "server/systemd_notify.hpp"
+
+namespace ameoto {
+namespace {
+
+namespace asio = boost::asio;
+using namespace std::chrono_literals;
+
+void say(const std::string& line) {
+    std::cout << "ameotod: " << line << std::endl;   // flushed: scripts and tests read these lines
+}
+void warn(const std::string& line) { std::cerr << "ameotod: " << line << std::endl; }
+
+std::string default_wav_name() {
+    char name[64];
+    const std::time_t now = std::time(nullptr);
+    std::tm local{};
+    localtime_r(&now, &local);
+    std::strftime(name, sizeof name, "ameoto-%Y%m%d-%H%M%S.wav", &local);
+    return unused_path(name);
+}
+
+// The address a /fail for an undecodable packet names: its own, when it starts like a message.
+std::string packet_address(const unsigned char* data, std::size_t size) {
+    if (size >= 8 && std::string(reinterpret_cast<const char*>(data), 7) == "#bundle") return "#bundle";
+    std::string address;
+    for (std::size_t i = 0; i < size && i < 64 && data[i] != 0; ++i) address += static_cast<char>(data[i]);
+    return address.empty() || address[0] != '/' ? std::string("") : address;
+}
+
+}  // namespace
+
+struct Daemon::State {
+    DaemonOptions options;
+    asio::io_context io;
+    asio::signal_set stop_signals{io, SIGINT, SIGTERM};
+    asio::signal_set hup_signal{io, SIGHUP};
+    asio::steady_timer poll_timer{io};
+    asio::steady_timer rate_timer{io};
+    asio::steady_timer watchdog_timer{io};
+    std::unique_ptr<Backend> backend;
+    JackBackend* jack = nullptr;        // the same object as backend, when it is JACK
+    NullBackend* null = nullptr;
+    std::unique_ptr<AudioBridge> bridge;
+    std::unique_ptr<UdpEndpoint> udp;
+    ClientTable<UdpEndpoint::Endpoint> clients;
+    protocol::ProtocolContext context;
+    SystemdNotifier systemd;
+    bool ready = false;
+    bool jack_reported_lost = false;
+    std::uint64_t watchdog_frames = 0;
+    double drops_per_second = 0.0;
+    std::uint64_t rate_drops = 0, rate_frames = 0;
+    std::uint64_t reconnect_ticks = 0;
+    int exit_code = 0;
+
+    bool choose_backend();
+    void build_scene();
+    void on_packet(const unsigned char* data, std::size_t size, const UdpEndpoint::Endpoint& sender);
+    void reply(const UdpEndpoint::Endpoint& to, const std::string& address, const std::vector<protocol::OscArgument>& args);
+    void reply_status(const UdpEndpoint::Endpoint& to);
+    void poll();
+    void measure_rate();
+    void feed_watchdog();
+    void shutdown();
+};
+
+Daemon::Daemon(const DaemonOptions& options) : state_(std::make_unique<State>()) { state_->options = options; }
+Daemon::~Daemon() = default;
+
+bool Daemon::State::choose_backend() {
+    const bool want_jack = options.backend != BackendChoice::null;
+    if (want_jack) {
+        std::string error;
+        auto j = JackBackend::open({options.jack_name, options.channels, options.autoconnect}, error);
+        if (j) {
+            jack = j.get();
+            backend = std::move(j);
+            return true;
+        }
+        if (options.backend == BackendChoice::jack) {
+            warn("cannot use JACK: " + error);
+            return false;
+        }
+        say("no JACK server (" + error + "): using the null backend");
+    }
+    NullBackend::Options n;
+    n.sample_rate = options.sample_rate;
+    n.block_size = options.block_size;
+    n.channels = options.channels;
+    n.realtime = options.realtime.value_or(!options.duration_s.has_value());
+    n.duration_s = options.duration_s;
+    n.output = options.output.value_or(default_wav_name());
+    try {
+        auto nb = std::make_unique<NullBackend>(n, [this] { asio::post(io, [this] { shutdown(); }); });
+        null = nb.get();
+        backend = std::move(nb);
+    } catch (const std::exception& e) {
+        warn(e.what());
+        return false;
+    }
+    return true;
+}
+
+void Daemon::State::build_scene() {
+    RendererConfig config;
+    config.sample_rate = backend->sample_rate();
+    config.channels = options.channels;
+    config.seed = options.seed;
+    bridge = std::make_unique<AudioBridge>(std::make_unique<Renderer>(config), 4096);
+    const Canopy& canopy = bridge->canopy();
+    context.on_surface = [&canopy](const std::string&, double x, double y) { return canopy.locate(x, y).panel >= 0; };
+}
+
+void Daemon::State::reply(const UdpEndpoint::Endpoint& to, const std::string& address, const std::vector<protocol::OscArgument>& args) {
+    udp->send(protocol::encode_message(address, args), to);
+}
+
+void Daemon::State::reply_status(const UdpEndpoint::Endpoint& to) {
+    using protocol::OscArgument;
+    const AudioSnapshot s = bridge->snapshot();
+    const std::uint64_t late = s.late_commands;
+    reply(to, "/status.reply",
+          {OscArgument::from_float(static_cast<float>(s.cpu_average_percent)),
+           OscArgument::from_float(static_cast<float>(s.cpu_peak_percent)),
+           OscArgument::from_float(static_cast<float>(drops_per_second)),
+           OscArgument::from_int(s.active_impacts),   // full tier: every drop is modelled physically
+           OscArgument::from_int(0),                  // template tier: not in this version
+           OscArgument::from_int(0),                  // texture tier: not in this version
+           OscArgument::from_int(static_cast<std::int32_t>(backend->xruns())),
+           OscArgument::from_int(static_cast<std::int32_t>(late)),
+           OscArgument::from_float(static_cast<float>(backend->sample_rate())),
+           OscArgument::from_int(backend->block_size()),
+           OscArgument::from_int64(static_cast<std::int64_t>(s.frames)),
+           OscArgument::from_float(static_cast<float>(s.rain_rate_mm_per_h)),
+           OscArgument::from_string(backend->name())});
+}
+
+void Daemon::State::on_packet(const unsigned char* data, std::size_t size, const UdpEndpoint::Endpoint& sender) {
+    const protocol::DecodedPacket packet = protocol::decode_packet(data, size);
+    if (!packet.error.empty()) {
+        reply(sender, "/fail", protocol::fail_arguments(packet_address(data, size), packet.error));
+        return;
+    }
+    for (const auto& message : packet.messages) {
+        const protocol::Validation v = protocol::validate(message, context);
+        if (!v.ok) {
+            reply(sender, "/fail", protocol::fail_arguments(message.address, v.reason));
+            continue;
+        }
+        switch (v.request.action) {
+            case protocol::Action::status: reply_status(sender); break;
+            case protocol::Action::quit:
+                reply(sender, "/done", {protocol::OscArgument::from_string("/quit")});
+                asio::post(io, [this] { shutdown(); });
+                break;
+            case protocol::Action::enqueue: {
+                Command c = v.request.command;
+                c.reply_to = clients.index_of(sender);
+                if (message.bundled && !message.timetag.immediate()) {
+                    c.timed = true;
+                    c.frame = bridge->frame_for(message.timetag.to_unix_seconds());
+                }
+                if (!bridge->send(c)) reply(sender, "/fail", protocol::fail_arguments(message.address, "busy: command queue full"));
+                break;
+            }
+        }
+    }
+}
+
+void Daemon::State::poll() {
+    RendererEvent e;
+    while (bridge->poll_event(e)) {
+        const auto& to = clients.at(e.reply_to);
+        if (e.kind == RendererEventKind::synced) {
+            reply(to, "/synced", {protocol::OscArgument::from_int(e.id)});
+        } else {
+            const char* address = e.command == CommandKind::drop ? "/drop" : e.command == CommandKind::rain_rate ? "/rain/rate" : "/sync";
+            reply(to, "/fail", protocol::fail_arguments(address, "busy: too many scheduled commands"));
+        }
+    }
+    const AudioSnapshot s = bridge->snapshot();
+    if (!ready && s.callbacks > 0) {
+        ready = true;
+        say("running");
+        systemd.ready();
+        systemd.status("playing on " + backend->name());
+    }
+    if (null && null->wav()) {
+        const std::string error = null->wav()->take_error();
+        if (!error.empty()) warn(error);
+    }
+    if (jack) {
+        if (jack->server_lost()) {
+            if (!jack_reported_lost) {
+                warn("the JACK server went away; OSC keeps running, reconnecting when it returns");
+                systemd.status("waiting for the JACK server");
+                jack_reported_lost = true;
+            }
+            // Try about every 500 ms (the poll runs every 5 ms).
+            if (++reconnect_ticks % 100 == 0) {
+                std::string error;
+                if (jack->reconnect(error)) {
+                    say("JACK server is back: playing again");
+                    systemd.status("playing on jack");
+                    jack_reported_lost = false;
+                } else if (error.find("Hz") != std::string::npos) {
+                    warn(error);
+                }
+            }
+        }
+    }
+    poll_timer.expires_after(5ms);
+    poll_timer.async_wait([this](const boost::system::error_code& ec) {
+        if (!ec) poll();
+    });
+}
+
+void Daemon::State::measure_rate() {
+    const AudioSnapshot s = bridge->snapshot();
+    if (s.frames > rate_frames) {
+        drops_per_second = static_cast<double>(s.drops - rate_drops) * backend->sample_rate() / static_cast<double>(s.frames - rate_frames);
+        rate_drops = s.drops;
+        rate_frames = s.frames;
+    }
+    rate_timer.expires_after(1s);
+    rate_timer.async_wait([this](const boost::system::error_code& ec) {
+        if (!ec) measure_rate();
+    });
+}
+
+void Daemon::State::feed_watchdog() {
+    // WATCHDOG=1 only while the audio cycle advances: a stalled audio thread lets systemd restart us.
+    const std::uint64_t frames = bridge->snapshot().frames;
+    if (frames != watchdog_frames) systemd.watchdog();
+    watchdog_frames = frames;
+    watchdog_timer.expires_after(systemd.watchdog_interval());
+    watchdog_timer.async_wait([this](const boost::system::error_code& ec) {
+        if (!ec) feed_watchdog();
+    });
+}
+
+void Daemon::State::shutdown() {
+    systemd.stopping();
+    stop_signals.cancel();
+    hup_signal.cancel();
+    poll_timer.cancel();
+    rate_timer.cancel();
+    watchdog_timer.cancel();
+    if (udp) udp->close();
+    io.stop();
+}
+
+int Daemon::run() {
+    State& s = *state_;
+    rt::init_probe();
+    if (!s.choose_backend()) return 1;
+    s.build_scene();
+    try {
+        s.udp = std::make_unique<UdpEndpoint>(s.io, s.options.bind, s.options.port,
+                                              [&s](const unsigned char* d, std::size_t n, const UdpEndpoint::Endpoint& from) {
+                                                  s.on_packet(d, n, from);
+                                              });
+    } catch (const std::exception& e) {
+        warn("cannot listen on " + s.options.bind + ":" + std::to_string(s.options.port) + ": " + e.what());
+        return 1;
+    }
+    const auto local = s.udp->local_endpoint();
+    if (!local.address().is_loopback())
+        warn("listening on " + local.address().to_string() + ", reachable from other machines (--bind)");
+    say("listening on osc.udp://" + local.address().to_string() + ":" + std::to_string(local.port()) + "/");
+    if (s.jack) say("backend jack, client " + s.jack->client_name());
+    if (s.null) say(s.null->wav() ? "backend null, writing " + s.null->wav()->path() : "backend null, discarding audio");
+
+    s.stop_signals.async_wait([&s](const boost::system::error_code& ec, int) {
+        if (!ec) s.shutdown();
+    });
+    std::function<void()> wait_hup = [&s, &wait_hup] {
+        s.hup_signal.async_wait([&s, &wait_hup](const boost::system::error_code& ec, int) {
+            if (ec) return;
+            if (s.null && s.null->wav()) {
+                s.null->wav()->reopen();
+                say("SIGHUP: closed the WAV, continuing in a new file");
+            }
+            wait_hup();
+        });
+    };
+    wait_hup();
+
+    s.backend->start(*s.bridge);
+    s.poll();
+    s.measure_rate();
+    if (s.systemd.watchdog_interval().count() > 0) s.feed_watchdog();
+    s.io.run();
+
+    s.backend->stop();
+    if (s.null && s.null->wav()) say("wrote " + std::to_string(s.null->wav()->frames_written()) + " frames to " + s.null->wav()->path());
+    say("stopped");
+    return s.exit_code;
+}
+
+}  // namespace ameoto

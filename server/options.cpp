@@ -1,0 +1,139 @@
+#include "server/options.hpp"
+
+#include <boost/asio/ip/address.hpp>
+
+#include <charconv>
+#include <cmath>
+#include <cstring>
+#include <string_view>
+
+namespace ameoto {
+namespace {
+
+bool parse_int(std::string_view text, long long low, long long high, long long& out) {
+    const auto result = std::from_chars(text.data(), text.data() + text.size(), out);
+    return result.ec == std::errc() && result.ptr == text.data() + text.size() && out >= low && out <= high;
+}
+
+bool parse_double(const std::string& text, double low, double high, double& out) {
+    char* end = nullptr;
+    out = std::strtod(text.c_str(), &end);
+    return !text.empty() && end == text.c_str() + text.size() && std::isfinite(out) && out >= low && out <= high;
+}
+
+}  // namespace
+
+std::string usage() {
+    return R"(usage: ameotod [options]
+
+ameotod synthesises rain from physics and streams it to JACK, or, where no JACK server
+runs, to a WAV file (null backend). It is controlled over OSC (see docs/PROTOCOL.md).
+
+Options:
+  --port N            UDP port for OSC, 0..65535 (default 7770; 0 picks a free port)
+  --bind ADDRESS      IP address to listen on (default 127.0.0.1; anything else is
+                      reachable from other machines and is logged as such)
+  --backend KIND      auto | jack | null (default auto: JACK when a server runs,
+                      otherwise null)
+  --jack-name NAME    JACK client name (default ameoto); ports NAME:out_1..N
+  --autoconnect       connect the JACK ports to the system playback ports
+  --output FILE.wav   null backend: write the stream here, '-' for none
+                      (default: ameoto-YYYYMMDD-HHMMSS.wav in the current folder)
+  --rate HZ           null backend sample rate, 8000..384000 Hz (default 48000)
+  --block FRAMES      null backend block size, 16..8192 frames (default 256)
+  --realtime          null backend: pace to the clock (default unless --duration)
+  --offline           null backend: render as fast as possible (default with --duration)
+  --duration SECONDS  stop after this many seconds of audio (> 0)
+  --seed N            random seed, 0..2^64-1 (default 0): same seed and same timed
+                      events give the same samples
+  --channels N        output channels, 1..16 (default 2)
+  --scene NAME        scene to start with (default umbrella: light rain, 2 mm/h,
+                      on an 8-panel nylon umbrella of 0.5 m radius)
+  --help              this text
+  --version           the version
+
+Signals: SIGINT and SIGTERM stop cleanly (the WAV is finalised); SIGHUP closes the WAV
+and continues in a new file (never overwriting one that is still there).
+Units: rain rate mm/h, drop diameter mm, speeds m/s, positions m.
+)";
+}
+
+ParsedOptions parse_options(int argc, const char* const* argv) {
+    ParsedOptions parsed;
+    DaemonOptions& o = parsed.options;
+    auto fail = [&](const std::string& message) {
+        parsed.error = message;
+        return parsed;
+    };
+    for (int i = 1; i < argc; ++i) {
+        const std::string arg = argv[i];
+        auto value = [&](std::string& out) {
+            if (i + 1 >= argc) return false;
+            out = argv[++i];
+            return true;
+        };
+        std::string v;
+        long long n = 0;
+        double d = 0.0;
+        if (arg == "--help" || arg == "-h") {
+            parsed.show_help = true;
+        } else if (arg == "--version") {
+            parsed.show_version = true;
+        } else if (arg == "--autoconnect") {
+            o.autoconnect = true;
+        } else if (arg == "--realtime") {
+            o.realtime = true;
+        } else if (arg == "--offline") {
+            o.realtime = false;
+        } else if (arg == "--port") {
+            if (!value(v) || !parse_int(v, 0, 65535, n)) return fail("--port needs a port number 0..65535");
+            o.port = static_cast<int>(n);
+        } else if (arg == "--bind") {
+            boost::system::error_code ec;
+            if (!value(v)) return fail("--bind needs an IP address");
+            boost::asio::ip::make_address(v, ec);
+            if (ec) return fail("--bind: '" + v + "' is not an IP address");
+            o.bind = v;
+        } else if (arg == "--backend") {
+            if (!value(v)) return fail("--backend needs auto, jack or null");
+            if (v == "auto") o.backend = BackendChoice::automatic;
+            else if (v == "jack") o.backend = BackendChoice::jack;
+            else if (v == "null") o.backend = BackendChoice::null;
+            else return fail("--backend: '" + v + "' is not auto, jack or null");
+        } else if (arg == "--jack-name") {
+            if (!value(v) || v.empty() || v.size() > 63 || v.find(':') != std::string::npos)
+                return fail("--jack-name needs a name of 1..63 characters without ':'");
+            o.jack_name = v;
+        } else if (arg == "--output") {
+            if (!value(v) || v.empty()) return fail("--output needs a file name or '-'");
+            o.output = v;
+        } else if (arg == "--rate") {
+            if (!value(v) || !parse_double(v, 8000, 384000, d)) return fail("--rate needs a sample rate 8000..384000 Hz");
+            o.sample_rate = d;
+        } else if (arg == "--block") {
+            if (!value(v) || !parse_int(v, 16, 8192, n)) return fail("--block needs 16..8192 frames");
+            o.block_size = static_cast<int>(n);
+        } else if (arg == "--duration") {
+            if (!value(v) || !parse_double(v, 1e-6, 1e7, d)) return fail("--duration needs a number of seconds > 0");
+            o.duration_s = d;
+        } else if (arg == "--seed") {
+            unsigned long long s = 0;
+            if (!value(v)) return fail("--seed needs a number 0..2^64-1");
+            const auto r = std::from_chars(v.data(), v.data() + v.size(), s);
+            if (r.ec != std::errc() || r.ptr != v.data() + v.size()) return fail("--seed needs a number 0..2^64-1");
+            o.seed = s;
+        } else if (arg == "--channels") {
+            if (!value(v) || !parse_int(v, 1, 16, n)) return fail("--channels needs 1..16");
+            o.channels = static_cast<int>(n);
+        } else if (arg == "--scene") {
+            if (!value(v)) return fail("--scene needs a scene name");
+            if (v != "umbrella") return fail("--scene: unknown scene '" + v + "' (built in: umbrella)");
+            o.scene = v;
+        } else {
+            return fail("unknown option '" + arg + "' (see --help)");
+        }
+    }
+    return parsed;
+}
+
+}  // namespace ameoto

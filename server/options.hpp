@@ -1,0 +1,42 @@
+#pragma once
+// ameotod's command line: every option validated, with units, in --help.
+//
+// Interface:
+//   ParsedOptions p = parse_options(argc, argv);
+//   if (p.show_help) print(usage()); else if (!p.error.empty()) fail(p.error); else run(p.options);
+
+#include <cstdint>
+#include <optional>
+#include <string>
+
+namespace ameoto {
+
+enum class BackendChoice { automatic, jack, null };
+
+struct DaemonOptions {
+    int port = 7770;                      // UDP; 0 = any free port (printed at start)
+    std::string bind = "127.0.0.1";
+    BackendChoice backend = BackendChoice::automatic;
+    std::string jack_name = "ameoto";
+    bool autoconnect = false;
+    std::optional<std::string> output;    // null backend: WAV path, "-" for none; default: a new timestamped file
+    double sample_rate = 48000.0;         // null backend, Hz
+    int block_size = 256;                 // null backend, frames
+    std::optional<bool> realtime;         // null backend pacing; default: paced unless --duration
+    std::optional<double> duration_s;
+    std::uint64_t seed = 0;
+    int channels = 2;
+    std::string scene = "umbrella";
+};
+
+struct ParsedOptions {
+    DaemonOptions options;
+    bool show_help = false;
+    bool show_version = false;
+    std::string error;
+};
+
+ParsedOptions parse_options(int argc, const char* const* argv);
+std::string usage();
+
+}  // namespace ameoto

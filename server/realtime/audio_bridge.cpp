@@ -1,0 +1,94 @@
+#include "server/realtime/audio_bridge.hpp"
+
+#include <time.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "server/realtime/rt_probe.hpp"
+
+namespace ameoto {
+namespace {
+std::int64_t now_ns(clockid_t clock) {
+    timespec ts{};
+    clock_gettime(clock, &ts);
+    return static_cast<std::int64_t>(ts.tv_sec) * 1000000000 + ts.tv_nsec;
+}
+}  // namespace
+
+AudioBridge::AudioBridge(std::unique_ptr<Renderer> renderer, std::size_t queue_capacity)
+    : renderer_(std::move(renderer)),
+      sample_rate_(renderer_->config().sample_rate),
+      channels_(renderer_->config().channels),
+      commands_(queue_capacity),
+      events_(queue_capacity) {}
+
+AudioSnapshot AudioBridge::snapshot() {
+    AudioSnapshot s;
+    s.cpu_average_percent = 100.0 * load_average_.load(std::memory_order_relaxed);
+    s.cpu_peak_percent = 100.0 * load_peak_.exchange(0.0, std::memory_order_relaxed);
+    s.frames = frames_.load(std::memory_order_acquire);
+    s.drops = drops_.load(std::memory_order_relaxed);
+    s.late_commands = late_.load(std::memory_order_relaxed);
+    s.busy_commands = busy_.load(std::memory_order_relaxed);
+    s.body_resets = resets_.load(std::memory_order_relaxed);
+    s.events_lost = events_lost_.load(std::memory_order_relaxed);
+    s.callbacks = callbacks_.load(std::memory_order_relaxed);
+    s.active_impacts = active_impacts_.load(std::memory_order_relaxed);
+    s.rain_rate_mm_per_h = rain_rate_.load(std::memory_order_relaxed);
+    return s;
+}
+
+std::uint64_t AudioBridge::frame_for(double unix_seconds) const {
+    std::uint64_t seq, frame;
+    std::int64_t unix_ns;
+    do {   // sequence lock: retry while the audio thread is mid-update (odd) or updated meanwhile
+        seq = clock_sequence_.load(std::memory_order_acquire);
+        frame = clock_frame_.load(std::memory_order_relaxed);
+        unix_ns = clock_unix_ns_.load(std::memory_order_relaxed);
+        std::atomic_thread_fence(std::memory_order_acquire);
+    } while ((seq & 1) || seq != clock_sequence_.load(std::memory_order_relaxed));
+    if (seq == 0) return 0;
+    const double offset = std::round((unix_seconds - static_cast<double>(unix_ns) * 1e-9) * sample_rate_);
+    const double target = static_cast<double>(frame) + offset;
+    return target <= 0.0 ? 0 : static_cast<std::uint64_t>(target);
+}
+
+void AudioBridge::process(int frames, float* const* outputs) {
+    rt::Scope audited;
+    const std::int64_t start = now_ns(CLOCK_MONOTONIC);
+
+    const std::uint64_t seq = clock_sequence_.load(std::memory_order_relaxed);
+    clock_sequence_.store(seq + 1, std::memory_order_relaxed);
+    std::atomic_thread_fence(std::memory_order_release);
+    clock_frame_.store(renderer_->frame(), std::memory_order_relaxed);
+    clock_unix_ns_.store(now_ns(CLOCK_REALTIME), std::memory_order_relaxed);
+    clock_sequence_.store(seq + 2, std::memory_order_release);
+
+    Command command;
+    while (commands_.try_pop(command)) renderer_->schedule(command);
+    renderer_->process(frames, outputs);
+    RendererEvent event;
+    while (renderer_->poll_event(event))
+        if (!events_.try_push(event)) events_lost_.fetch_add(1, std::memory_order_relaxed);
+
+    const RendererStats& st = renderer_->stats();
+    drops_.store(st.drops, std::memory_order_relaxed);
+    late_.store(st.late_commands, std::memory_order_relaxed);
+    busy_.store(st.busy_commands, std::memory_order_relaxed);
+    resets_.store(st.body_resets, std::memory_order_relaxed);
+    active_impacts_.store(st.active_impacts, std::memory_order_relaxed);
+    rain_rate_.store(st.rain_rate_mm_per_h, std::memory_order_relaxed);
+    callbacks_.fetch_add(1, std::memory_order_relaxed);
+    frames_.store(renderer_->frame(), std::memory_order_release);
+
+    const double period = frames / sample_rate_;
+    const double load = static_cast<double>(now_ns(CLOCK_MONOTONIC) - start) * 1e-9 / period;
+    // Exponential mean with a time constant of about one second of audio.
+    const double alpha = std::min(1.0, period / 1.0);
+    load_average_.store(load_average_.load(std::memory_order_relaxed) * (1.0 - alpha) + load * alpha,
+                        std::memory_order_relaxed);
+    if (load > load_peak_.load(std::memory_order_relaxed)) load_peak_.store(load, std::memory_order_relaxed);
+}
+
+}  // namespace ameoto

@@ -1,0 +1,80 @@
+#pragma once
+// The boundary between the control thread and the audio thread. Both backends call process() from
+// their audio thread; the control thread talks to it only through two fixed-size lock-free queues
+// and a handful of atomics.
+//
+// Interface:
+//   AudioBridge bridge(std::make_unique<Renderer>(config), 4096);   // control thread, allocates
+//   control thread:  bridge.send(command)  -> false when the queue is full (answer /fail busy)
+//                    bridge.poll_event(e)  -> replies decided on the audio thread (/synced, busy)
+//                    bridge.snapshot()     -> counters and load for /status
+//                    bridge.frame_for(unix_seconds) -> the sample a timetag falls on
+//   audio thread:    bridge.process(frames, outputs)   // never allocates, frees, locks, blocks or logs
+//
+// Load: each process() measures its own duration with the monotonic clock (a vDSO read, no system
+// call) against the block's period; the average is an exponential mean over about one second, the
+// peak is the maximum since the last snapshot.
+// Clock: each process() publishes (frame, wall time) through a sequence lock so the control thread
+// can turn a bundle's timetag into a sample time without stopping the audio thread.
+
+#include <atomic>
+#include <cstdint>
+#include <memory>
+
+#include "engine/render/renderer.hpp"
+#include "server/realtime/spsc_queue.hpp"
+
+namespace ameoto {
+
+struct AudioSnapshot {
+    double cpu_average_percent = 0.0;
+    double cpu_peak_percent = 0.0;    // since the previous snapshot
+    std::uint64_t frames = 0;
+    std::uint64_t drops = 0;
+    std::uint64_t late_commands = 0;
+    std::uint64_t busy_commands = 0;
+    std::uint64_t body_resets = 0;
+    std::uint64_t events_lost = 0;
+    std::uint64_t callbacks = 0;
+    int active_impacts = 0;
+    double rain_rate_mm_per_h = 0.0;
+};
+
+class AudioBridge {
+public:
+    AudioBridge(std::unique_ptr<Renderer> renderer, std::size_t queue_capacity);
+
+    // control thread
+    bool send(const Command& command) { return commands_.try_push(command); }
+    bool poll_event(RendererEvent& event) { return events_.try_pop(event); }
+    AudioSnapshot snapshot();
+    // The sample at which a wall-clock time (s since 1970) falls, from the last published block.
+    // Before the first block: 0 (timed commands are then applied at once and counted late).
+    std::uint64_t frame_for(double unix_seconds) const;
+    double sample_rate() const { return sample_rate_; }
+    int channels() const { return channels_; }
+    const Canopy& canopy() const { return renderer_->canopy(); }   // immutable geometry only
+
+    // audio thread
+    void process(int frames, float* const* outputs);
+
+private:
+    std::unique_ptr<Renderer> renderer_;
+    const double sample_rate_;
+    const int channels_;
+    SpscQueue<Command> commands_;
+    SpscQueue<RendererEvent> events_;
+
+    // published by the audio thread
+    std::atomic<std::uint64_t> clock_sequence_{0};
+    std::atomic<std::uint64_t> clock_frame_{0};
+    std::atomic<std::int64_t> clock_unix_ns_{0};
+    std::atomic<std::uint64_t> frames_{0}, drops_{0}, late_{0}, busy_{0}, resets_{0}, events_lost_{0}, callbacks_{0};
+    std::atomic<int> active_impacts_{0};
+    std::atomic<double> rain_rate_{0.0};
+    std::atomic<double> load_average_{0.0};
+    std::atomic<double> load_peak_{0.0};
+    static_assert(std::atomic<double>::is_always_lock_free && std::atomic<std::uint64_t>::is_always_lock_free);
+};
+
+}  // namespace ameoto
