@@ -1,0 +1,136 @@
+#include "protocol/address_table.hpp"
+
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <limits>
+#include <string>
+
+using namespace ameoto;
+using namespace ameoto::protocol;
+
+namespace {
+
+DecodedMessage message(const std::string& address, std::vector<OscArgument> args) {
+    DecodedMessage m;
+    m.address = address;
+    m.args = std::move(args);
+    for (const auto& a : m.args) m.types += a.type;
+    return m;
+}
+OscArgument f(double v) { return OscArgument::from_float(static_cast<float>(v)); }
+OscArgument d(double v) {
+    OscArgument a;
+    a.type = 'd';
+    a.number = v;
+    return a;
+}
+OscArgument i(int v) { return OscArgument::from_int(v); }
+OscArgument s(const std::string& v) { return OscArgument::from_string(v); }
+
+ProtocolContext context() {
+    ProtocolContext c;
+    c.on_surface = [](const std::string&, double x, double y) { return x * x + y * y <= 0.25; };
+    return c;
+}
+
+}  // namespace
+
+TEST_CASE("/rain/rate accepts 0..500 mm/h as any number type") {
+    for (const auto& arg : {f(0), f(500), i(30), d(12.5)}) {
+        const Validation v = validate(message("/rain/rate", {arg}), context());
+        REQUIRE(v.ok);
+        CHECK(v.request.action == Action::enqueue);
+        CHECK(v.request.command.kind == CommandKind::rain_rate);
+        CHECK(v.request.command.values[0] == doctest::Approx(arg.number));
+    }
+}
+
+TEST_CASE("/drop converts mm to m and keeps SI speeds and positions") {
+    const Validation v = validate(message("/drop", {f(3.0), f(0.0), f(0.25), f(-0.1)}), context());
+    REQUIRE(v.ok);
+    CHECK(v.request.command.kind == CommandKind::drop);
+    CHECK(v.request.command.values[0] == doctest::Approx(0.003));
+    CHECK(v.request.command.values[1] == 0.0);
+    CHECK(v.request.command.values[2] == doctest::Approx(0.25));
+    CHECK(v.request.command.values[3] == doctest::Approx(-0.1));
+    CHECK(validate(message("/drop", {f(3.0), f(5.0), f(0.25), f(0.0), s("umbrella")}), context()).ok);
+}
+
+TEST_CASE("bad input is refused with a reason that names what is wrong") {
+    struct Case {
+        DecodedMessage m;
+        const char* needle;
+    };
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    const double inf = std::numeric_limits<double>::infinity();
+    const std::vector<Case> cases = {
+        {message("/rain/ratex", {f(1)}), "unknown address"},
+        {message("/rain/rate", {}), "expected 1 arguments, got 0"},
+        {message("/rain/rate", {f(1), f(2)}), "too many arguments"},
+        {message("/rain/rate", {s("30")}), "expected a number"},
+        {message("/rain/rate", {d(nan)}), "not a finite number"},
+        {message("/rain/rate", {d(inf)}), "not a finite number"},
+        {message("/rain/rate", {d(-inf)}), "not a finite number"},
+        {message("/rain/rate", {f(500.5)}), "outside 0..500"},
+        {message("/rain/rate", {f(-1)}), "outside 0..500"},
+        {message("/drop", {f(0.05), f(0), f(0), f(0.2)}), "diameter (mm)"},
+        {message("/drop", {f(9), f(0), f(0), f(0.2)}), "outside 0.1..8"},
+        {message("/drop", {f(3), f(21), f(0), f(0.2)}), "speed (m/s)"},
+        {message("/drop", {f(3), f(0), f(3), f(3)}), "not on surface"},
+        {message("/drop", {f(3), f(0), f(0.1), f(0.1), s("pond")}), "no surface named 'pond'"},
+        {message("/drop", {f(3), f(0), f(0.1), f(0.1), f(1)}), "expected a string"},
+        {message("/drop", {f(3), f(0), f(0.1)}), "expected 4 to 5 arguments"},
+        {message("/drop", {f(3), f(0), f(0.1), f(0.1), s(std::string(300, 'x'))}), "longer than 255"},
+        {message("/sync", {f(1.5)}), "expected an integer"},
+        {message("/sync", {d(3e9)}), "outside"},
+        {message("/status", {i(1)}), "too many arguments"},
+        {message("/quit", {s("now")}), "too many arguments"},
+    };
+    for (const auto& c : cases) {
+        const Validation v = validate(c.m, context());
+        INFO(c.m.address << " " << c.m.types << " -> " << v.reason);
+        CHECK_FALSE(v.ok);
+        CHECK(v.reason.find(c.needle) != std::string::npos);
+    }
+}
+
+TEST_CASE("every address in the table refuses NaN, wrong types and extra arguments") {
+    // Walks the table itself, so an address added later cannot skip validation.
+    for (const AddressSpec& spec : address_table()) {
+        INFO(std::string(spec.address));
+        std::vector<OscArgument> good;
+        for (const auto& a : spec.arguments) {
+            if (a.optional) break;
+            if (a.kind == ArgumentKind::text) good.push_back(s("umbrella"));
+            else if (a.kind == ArgumentKind::integer) good.push_back(i(0));
+            else good.push_back(f(std::max(a.min, std::min(a.max, 0.1))));
+        }
+        const auto ok = validate(message(spec.address, good), context());
+        INFO(ok.reason);
+        CHECK(ok.ok);
+        auto extra = good;
+        for (std::size_t n = extra.size(); n <= spec.arguments.size(); ++n) extra.push_back(f(0));
+        CHECK_FALSE(validate(message(spec.address, extra), context()).ok);
+        for (std::size_t k = 0; k < good.size(); ++k) {
+            auto bad = good;
+            if (spec.arguments[k].kind == ArgumentKind::text) {
+                bad[k] = f(1);
+            } else {
+                bad[k] = d(std::numeric_limits<double>::quiet_NaN());
+                CHECK_FALSE(validate(message(spec.address, bad), context()).ok);
+                bad[k] = s("1");
+            }
+            CHECK_FALSE(validate(message(spec.address, bad), context()).ok);
+        }
+    }
+}
+
+TEST_CASE("/status, /sync and /quit map to their actions") {
+    CHECK(validate(message("/status", {}), context()).request.action == Action::status);
+    CHECK(validate(message("/quit", {}), context()).request.action == Action::quit);
+    const auto v = validate(message("/sync", {i(-12)}), context());
+    REQUIRE(v.ok);
+    CHECK(v.request.command.kind == CommandKind::sync);
+    CHECK(v.request.command.id == -12);
+}

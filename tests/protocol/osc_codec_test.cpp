@@ -1,0 +1,79 @@
+#include "protocol/osc_codec.hpp"
+
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <cstring>
+
+using namespace ameoto::protocol;
+
+TEST_CASE("a message round-trips through encode and decode with every argument type") {
+    const auto bytes = encode_message("/drop", {OscArgument::from_float(3.5f), OscArgument::from_int(-7),
+                                                OscArgument::from_int64(1LL << 40), OscArgument::from_string("umbrella")});
+    CHECK(bytes.size() % 4 == 0);
+    const DecodedPacket p = decode_packet(bytes.data(), bytes.size());
+    REQUIRE(p.error.empty());
+    REQUIRE(p.messages.size() == 1);
+    const auto& m = p.messages[0];
+    CHECK(m.address == "/drop");
+    CHECK(m.types == "fihs");
+    CHECK(m.args[0].number == 3.5);
+    CHECK(m.args[1].integer == -7);
+    CHECK(m.args[2].integer == (1LL << 40));
+    CHECK(m.args[3].text == "umbrella");
+    CHECK(m.timetag.immediate());
+    CHECK_FALSE(m.bundled);
+}
+
+TEST_CASE("bundles keep their timetag, nested bundles inherit or carry their own") {
+    const Timetag outer{3900000000u, 0x80000000u};
+    const Timetag inner_tt{3900000001u, 0};
+    const auto m1 = encode_message("/sync", {OscArgument::from_int(1)});
+    const auto inner_timed = encode_bundle(inner_tt, {encode_message("/sync", {OscArgument::from_int(2)})});
+    const auto inner_now = encode_bundle(Timetag{}, {encode_message("/sync", {OscArgument::from_int(3)})});
+    const auto bundle = encode_bundle(outer, {m1, inner_timed, inner_now});
+    const DecodedPacket p = decode_packet(bundle.data(), bundle.size());
+    REQUIRE(p.error.empty());
+    REQUIRE(p.messages.size() == 3);
+    CHECK(p.messages[0].timetag.seconds == outer.seconds);
+    CHECK(p.messages[0].bundled);
+    CHECK(p.messages[1].timetag.seconds == inner_tt.seconds);
+    CHECK(p.messages[2].timetag.seconds == outer.seconds);   // "immediately" inside a timed bundle
+}
+
+TEST_CASE("timetags convert to and from Unix time to well under a microsecond") {
+    const double t = 1795000000.123456;
+    const Timetag tt = Timetag::from_unix_seconds(t);
+    CHECK(std::abs(tt.to_unix_seconds() - t) < 1e-6);
+    CHECK(tt.seconds == static_cast<std::uint32_t>(1795000000 + 2208988800ULL));
+}
+
+TEST_CASE("malformed packets are refused with a reason, never half-decoded") {
+    SUBCASE("size not a multiple of 4") {
+        const char junk[5] = {'/', 'a', 0, 0, 0};
+        CHECK_FALSE(decode_packet(junk, 5).error.empty());
+    }
+    SUBCASE("not a message") {
+        const char junk[8] = {'x', 'y', 0, 0, ',', 0, 0, 0};
+        CHECK(decode_packet(junk, 8).error.find("not an OSC") != std::string::npos);
+    }
+    SUBCASE("type tags promise more data than there is") {
+        auto bytes = encode_message("/rain/rate", {OscArgument::from_float(1.0f)});
+        bytes.resize(bytes.size() - 4);
+        CHECK_FALSE(decode_packet(bytes.data(), bytes.size()).error.empty());
+    }
+    SUBCASE("bundle element size runs past the end; the good first element is not kept") {
+        auto bundle = encode_bundle(Timetag{}, {encode_message("/sync", {OscArgument::from_int(1)})});
+        const unsigned char bad_size[4] = {0, 0, 1, 0};
+        bundle.insert(bundle.end(), bad_size, bad_size + 4);
+        const DecodedPacket p = decode_packet(bundle.data(), bundle.size());
+        CHECK_FALSE(p.error.empty());
+        CHECK(p.messages.empty());
+    }
+    SUBCASE("bundles nested too deep") {
+        std::vector<unsigned char> b = encode_message("/sync", {OscArgument::from_int(1)});
+        for (int i = 0; i < max_bundle_depth + 1; ++i) b = encode_bundle(Timetag{}, {b});
+        CHECK(decode_packet(b.data(), b.size()).error.find("nested") != std::string::npos);
+    }
+    SUBCASE("empty packet") { CHECK_FALSE(decode_packet("", 0).error.empty()); }
+}

@@ -1,0 +1,60 @@
+#include "server/options.hpp"
+
+#include <doctest/doctest.h>
+
+#include <vector>
+
+namespace {
+ameoto::ParsedOptions parse(std::vector<const char*> args) {
+    args.insert(args.begin(), "ameotod");
+    return ameoto::parse_options(static_cast<int>(args.size()), args.data());
+}
+}  // namespace
+
+TEST_CASE("defaults follow the issue and the protocol core") {
+    const auto p = parse({});
+    CHECK(p.error.empty());
+    CHECK(p.options.port == 7770);
+    CHECK(p.options.bind == "127.0.0.1");
+    CHECK(p.options.backend == ameoto::BackendChoice::automatic);
+    CHECK(p.options.jack_name == "ameoto");
+    CHECK(p.options.channels == 2);
+    CHECK(p.options.scene == "umbrella");
+}
+
+TEST_CASE("every option parses its valid values") {
+    const auto p = parse({"--port", "9000", "--bind", "::1", "--backend", "null", "--jack-name", "rain", "--autoconnect",
+                          "--output", "x.wav", "--rate", "96000", "--block", "64", "--realtime", "--duration", "2.5",
+                          "--seed", "18446744073709551615", "--channels", "6", "--scene", "umbrella"});
+    REQUIRE(p.error.empty());
+    CHECK(p.options.port == 9000);
+    CHECK(p.options.bind == "::1");
+    CHECK(p.options.backend == ameoto::BackendChoice::null);
+    CHECK(p.options.autoconnect);
+    CHECK(*p.options.output == "x.wav");
+    CHECK(p.options.sample_rate == 96000.0);
+    CHECK(p.options.block_size == 64);
+    CHECK(*p.options.realtime);
+    CHECK(*p.options.duration_s == 2.5);
+    CHECK(p.options.seed == 18446744073709551615ULL);
+    CHECK(p.options.channels == 6);
+}
+
+TEST_CASE("bad values are refused with a message naming the option") {
+    const std::vector<std::vector<const char*>> bad = {
+        {"--port", "70000"}, {"--port", "12x"}, {"--port"}, {"--bind", "localhost.example"}, {"--backend", "alsa"},
+        {"--jack-name", "a:b"}, {"--rate", "100"}, {"--rate", "nan"}, {"--block", "8"}, {"--duration", "0"},
+        {"--duration", "-1"}, {"--seed", "-3"}, {"--channels", "0"}, {"--channels", "17"}, {"--scene", "../etc"},
+        {"--frobnicate"}};
+    for (const auto& args : bad) {
+        const auto p = parse(args);
+        INFO(args[0]);
+        CHECK_FALSE(p.error.empty());
+        CHECK(p.error.find(args[0]) != std::string::npos);
+    }
+}
+
+TEST_CASE("--help names the units") {
+    const std::string u = ameoto::usage();
+    for (const char* needle : {"mm/h", "Hz", "frames", "seconds", "--bind", "SIGHUP"}) CHECK(u.find(needle) != std::string::npos);
+}

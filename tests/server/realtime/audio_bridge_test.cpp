@@ -1,0 +1,149 @@
+// The real-time contract, proven: everything the audio thread runs (AudioBridge::process: queue
+// drain, Renderer::process with rain, drops, rate changes and syncs, event and stats publishing)
+// calls no allocator, lock, sleep or write. The probe (tests/support/rt_interposer.cpp) is linked
+// into this binary; the first test shows it catches planted violations, so a pass is meaningful.
+
+#include "server/realtime/audio_bridge.hpp"
+
+#include <doctest/doctest.h>
+
+#include <atomic>
+#include <cstdio>
+#include <cstring>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "server/realtime/rt_probe.hpp"
+
+extern "C" {
+unsigned long ameoto_rt_probe_violations();
+unsigned long ameoto_rt_probe_entries();
+const char* ameoto_rt_probe_first_violation();
+void ameoto_rt_probe_reset();
+}
+
+namespace {
+
+struct ProbeFixture {
+    ProbeFixture() {
+        ameoto::rt::init_probe();
+        REQUIRE(bool(ameoto::rt::probe_enter));   // the probe must be live, or nothing is checked
+        ameoto_rt_probe_reset();
+    }
+};
+
+__attribute__((noinline)) void planted_allocation() {
+    ameoto::rt::Scope scope;
+    auto* volatile p = new int(42);
+    delete p;
+}
+
+}  // namespace
+
+TEST_CASE_FIXTURE(ProbeFixture, "the probe catches planted violations in the audio scope") {
+    SUBCASE("allocation") {
+        planted_allocation();
+        CHECK(ameoto_rt_probe_violations() >= 1);
+        CHECK(std::string(ameoto_rt_probe_first_violation()) == "malloc");
+    }
+    SUBCASE("a mutex") {
+        std::mutex m;
+        {
+            ameoto::rt::Scope scope;
+            m.lock();
+            m.unlock();
+        }
+        CHECK(std::string(ameoto_rt_probe_first_violation()) == "pthread_mutex_lock");
+    }
+    SUBCASE("logging") {
+        std::FILE* sink = std::fopen("/dev/null", "w");
+        REQUIRE(sink != nullptr);
+        static volatile int value = 7;
+        {
+            ameoto::rt::Scope scope;
+            std::fprintf(sink, "callback took %d us\n", value);
+        }
+        std::fclose(sink);
+        CHECK(ameoto_rt_probe_violations() >= 1);
+    }
+    SUBCASE("sleeping") {
+        {
+            ameoto::rt::Scope scope;
+            std::this_thread::sleep_for(std::chrono::microseconds(1));
+        }
+        CHECK(std::string(ameoto_rt_probe_first_violation()) == "nanosleep");
+    }
+    SUBCASE("outside the scope nothing counts") {
+        auto* p = new int(1);
+        delete p;
+        CHECK(ameoto_rt_probe_violations() == 0);
+    }
+}
+
+TEST_CASE_FIXTURE(ProbeFixture, "AudioBridge::process never allocates, frees, locks, sleeps or logs") {
+    ameoto::RendererConfig config;
+    config.rain_rate_mm_per_h = 100.0;   // heavy rain: many impacts start and end in every block
+    config.channels = 4;
+    ameoto::AudioBridge bridge(std::make_unique<ameoto::Renderer>(config), 256);
+    constexpr int block = 256;
+    std::vector<std::vector<float>> planes(4, std::vector<float>(block));
+    std::vector<float*> outputs{planes[0].data(), planes[1].data(), planes[2].data(), planes[3].data()};
+
+    // A control thread floods commands (drops, rate changes, syncs, far-future timed drops that fill
+    // the pending list and produce busy events) while the audio thread renders.
+    std::atomic<bool> done{false};
+    std::thread control([&] {
+        int i = 0;
+        while (!done.load()) {
+            ameoto::Command c;
+            switch (i % 4) {
+                case 0: c.kind = ameoto::CommandKind::drop; c.values[0] = 0.004; c.values[2] = 0.2; break;
+                case 1: c.kind = ameoto::CommandKind::rain_rate; c.values[0] = (i % 400) * 1.0; break;
+                case 2: c.kind = ameoto::CommandKind::sync; c.id = i; break;
+                case 3: c.kind = ameoto::CommandKind::drop; c.timed = true; c.frame = 1'000'000'000; c.values[0] = 0.002; c.values[2] = 0.2; break;
+            }
+            (void)bridge.send(c);
+            ameoto::RendererEvent e;
+            while (bridge.poll_event(e)) {}
+            ++i;
+            if (i % 64 == 0) std::this_thread::yield();
+        }
+    });
+    std::thread audio([&] {
+        for (int n = 0; n < 2000; ++n) bridge.process(block, outputs.data());
+    });
+    audio.join();
+    done.store(true);
+    control.join();
+
+    const ameoto::AudioSnapshot s = bridge.snapshot();
+    CHECK(s.drops > 1000);            // the workload really ran
+    CHECK(s.busy_commands > 0);       // including the overflow path
+    CHECK(ameoto_rt_probe_entries() == 2000);
+    INFO("first violation: " << std::string(ameoto_rt_probe_first_violation()));
+    CHECK(ameoto_rt_probe_violations() == 0);
+}
+
+TEST_CASE("AudioBridge maps wall-clock time to sample time from the last block") {
+    ameoto::RendererConfig config;
+    config.rain_rate_mm_per_h = 0.0;
+    ameoto::AudioBridge bridge(std::make_unique<ameoto::Renderer>(config), 16);
+    CHECK(bridge.frame_for(1e9) == 0);   // nothing published yet
+    std::vector<float> l(480), r(480);
+    float* outs[2] = {l.data(), r.data()};
+    auto wall = [] {
+        timespec now{};
+        clock_gettime(CLOCK_REALTIME, &now);
+        return static_cast<double>(now.tv_sec) + now.tv_nsec * 1e-9;
+    };
+    bridge.process(480, outs);
+    const double before = wall();
+    bridge.process(480, outs);           // this block started at frame 480, at a time in [before, after]
+    const double after = wall();
+    // frame_for(after + 1 s) = 480 + (after + 1 - block_start) * 48000, with block_start in [before, after].
+    const auto f = static_cast<double>(bridge.frame_for(after + 1.0));
+    CHECK(f >= 480 + 48000 - 1);
+    CHECK(f <= 480 + 48000 + (after - before) * 48000 + 1);
+}
