@@ -126,6 +126,7 @@ void Daemon::State::build_scene() {
     config.sample_rate = backend->sample_rate();
     config.channels = options.channels;
     config.seed = options.seed;
+    if (options.rain_mm_per_h) config.rain_rate_mm_per_h = *options.rain_mm_per_h;
     bridge = std::make_unique<AudioBridge>(std::make_unique<Renderer>(config), 4096);
     const Canopy& canopy = bridge->canopy();
     context.on_surface = [&canopy](const std::string&, double x, double y) { return canopy.locate(x, y).panel >= 0; };

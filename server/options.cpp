@@ -49,6 +49,8 @@ Options:
   --channels N        output channels, 1..16 (default 2)
   --scene NAME        scene to start with (default umbrella: light rain, 2 mm/h,
                       on an 8-panel nylon umbrella of 0.5 m radius)
+  --rain MM/H         starting rain rate, 0..500 mm/h (default: the scene's; 0 for a
+                      dry start where only /drop sounds)
   --help              this text
   --version           the version
 
@@ -125,6 +127,9 @@ ParsedOptions parse_options(int argc, const char* const* argv) {
         } else if (arg == "--channels") {
             if (!value(v) || !parse_int(v, 1, 16, n)) return fail("--channels needs 1..16");
             o.channels = static_cast<int>(n);
+        } else if (arg == "--rain") {
+            if (!value(v) || !parse_double(v, 0, 500, d)) return fail("--rain needs a rain rate 0..500 mm/h");
+            o.rain_mm_per_h = d;
         } else if (arg == "--scene") {
             if (!value(v)) return fail("--scene needs a scene name");
             if (v != "umbrella") return fail("--scene: unknown scene '" + v + "' (built in: umbrella)");

@@ -27,6 +27,7 @@ struct DaemonOptions {
     std::uint64_t seed = 0;
     int channels = 2;
     std::string scene = "umbrella";
+    std::optional<double> rain_mm_per_h;   // starting rain rate; default: the scene's
 };
 
 struct ParsedOptions {

@@ -25,7 +25,7 @@ TEST_CASE("defaults follow the issue and the protocol core") {
 TEST_CASE("every option parses its valid values") {
     const auto p = parse({"--port", "9000", "--bind", "::1", "--backend", "null", "--jack-name", "rain", "--autoconnect",
                           "--output", "x.wav", "--rate", "96000", "--block", "64", "--realtime", "--duration", "2.5",
-                          "--seed", "18446744073709551615", "--channels", "6", "--scene", "umbrella"});
+                          "--seed", "18446744073709551615", "--channels", "6", "--scene", "umbrella", "--rain", "0"});
     REQUIRE(p.error.empty());
     CHECK(p.options.port == 9000);
     CHECK(p.options.bind == "::1");
@@ -38,13 +38,14 @@ TEST_CASE("every option parses its valid values") {
     CHECK(*p.options.duration_s == 2.5);
     CHECK(p.options.seed == 18446744073709551615ULL);
     CHECK(p.options.channels == 6);
+    CHECK(*p.options.rain_mm_per_h == 0.0);
 }
 
 TEST_CASE("bad values are refused with a message naming the option") {
     const std::vector<std::vector<const char*>> bad = {
         {"--port", "70000"}, {"--port", "12x"}, {"--port"}, {"--bind", "localhost.example"}, {"--backend", "alsa"},
         {"--jack-name", "a:b"}, {"--rate", "100"}, {"--rate", "nan"}, {"--block", "8"}, {"--duration", "0"},
-        {"--duration", "-1"}, {"--seed", "-3"}, {"--channels", "0"}, {"--channels", "17"}, {"--scene", "../etc"},
+        {"--duration", "-1"}, {"--seed", "-3"}, {"--channels", "0"}, {"--channels", "17"}, {"--scene", "../etc"}, {"--rain", "501"}, {"--rain", "-0.5"},
         {"--frobnicate"}};
     for (const auto& args : bad) {
         const auto p = parse(args);

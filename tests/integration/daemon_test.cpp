@@ -1,0 +1,210 @@
+// ameotod end to end: the real daemon, real OSC datagrams over loopback, real WAV files.
+
+#include <doctest/doctest.h>
+#include <signal.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <thread>
+
+#include "tests/support/child_process.hpp"
+#include "tests/support/osc_test_client.hpp"
+#include "tests/support/wav_file.hpp"
+
+using namespace std::chrono_literals;
+using ameoto::protocol::OscArgument;
+using ameoto::test::ChildProcess;
+using ameoto::test::OscTestClient;
+
+namespace {
+
+const std::string ameotod = AMEOTO_BIN_DIR "/ameotod";
+
+struct Daemon {
+    std::unique_ptr<ChildProcess> process;
+    int port = -1;
+    Daemon(std::vector<std::string> args, std::vector<std::string> env = {}) {
+        args.insert(args.begin(), ameotod);
+        args.insert(args.end(), {"--port", "0"});
+        process = std::make_unique<ChildProcess>(args, env);
+        const auto line = process->wait_for_line("listening on osc.udp://", 10s);
+        REQUIRE_MESSAGE(line, process->output());
+        port = ameoto::test::port_from_listening_line(*line);
+        REQUIRE_MESSAGE(process->wait_for_line("running", 10s), process->output());
+    }
+};
+
+std::int64_t status_frames(OscTestClient& client) {
+    const auto reply = client.request("/status", {}, "/status.reply", 2s);
+    REQUIRE(reply);
+    REQUIRE(reply->types == "fffiiiiifihfs");
+    return reply->args[10].integer;
+}
+
+std::string read_report(const std::string& path) {
+    std::ifstream in(path);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+}  // namespace
+
+TEST_CASE("a /drop over UDP sounds within a block, with silence before it") {
+    const std::string wav = ameoto::test::temp_path("drop.wav");
+    const std::string report = ameoto::test::temp_path("drop-rt.txt");
+    long long before_frame = 0, after_frame = 0;
+    {
+        // A dry start (--rain 0), paced to the clock, with the real-time probe preloaded.
+        Daemon d({"--backend", "null", "--output", wav, "--realtime", "--rain", "0", "--block", "256"},
+                 {"LD_PRELOAD=" AMEOTO_RT_INTERPOSER, "AMEOTO_RT_REPORT=" + report});
+        OscTestClient client(d.port);
+        std::this_thread::sleep_for(300ms);
+        before_frame = status_frames(client);
+        client.send("/drop", {OscArgument::from_float(4.0f), OscArgument::from_float(0.0f), OscArgument::from_float(0.2f),
+                              OscArgument::from_float(0.05f)});
+        REQUIRE(client.request("/sync", {OscArgument::from_int(7)}, "/synced", 2s));
+        after_frame = status_frames(client);
+        std::this_thread::sleep_for(300ms);
+        CHECK(d.process->stop(SIGTERM, 5s) == 0);
+    }
+    const auto w = ameoto::test::read_wav(wav);
+    REQUIRE_MESSAGE(w.ok, w.error);
+    const long long onset = w.first_nonzero_frame();
+    INFO("status before " << before_frame << ", onset " << onset << ", status after " << after_frame);
+    REQUIRE(onset >= 0);
+    // Silence before: every sample before the onset is exactly zero (no rain, nothing else).
+    // The drop was sent after the first status and sounds no later than the block that applied the
+    // /sync sent right behind it: the renderer applies untimed commands at the next block's first sample.
+    CHECK(onset >= before_frame);
+    CHECK(onset <= after_frame);
+    // Latency bound on a shared machine: two blocks plus 30 ms of scheduling slack.
+    CHECK(onset - before_frame <= 2 * 256 + static_cast<long long>(0.030 * 48000));
+    // The real-time probe ran in every block and saw nothing forbidden.
+    const std::string rt = read_report(report);
+    INFO(rt);
+    CHECK(rt.find("violations 0\n") != std::string::npos);
+    CHECK(rt.find("entries 0\n") == std::string::npos);
+}
+
+TEST_CASE("bad messages get /fail with a reason; the server keeps serving") {
+    Daemon d({"--backend", "null", "--output", "-", "--realtime"});
+    OscTestClient client(d.port);
+    struct Bad {
+        std::vector<unsigned char> bytes;
+        std::string address, reason;
+    };
+    const std::vector<Bad> bad = {
+        {ameoto::protocol::encode_message("/no/such/thing", {}), "/no/such/thing", "unknown address"},
+        {ameoto::protocol::encode_message("/rain/rate", {OscArgument::from_string("heavy")}), "/rain/rate", "expected a number"},
+        {ameoto::protocol::encode_message("/rain/rate", {OscArgument::from_float(NAN)}), "/rain/rate", "not a finite number"},
+        {ameoto::protocol::encode_message("/rain/rate", {OscArgument::from_float(INFINITY)}), "/rain/rate", "not a finite number"},
+        {ameoto::protocol::encode_message("/rain/rate", {OscArgument::from_float(1e6f)}), "/rain/rate", "outside 0..500"},
+        {ameoto::protocol::encode_message("/drop", {OscArgument::from_float(3)}), "/drop", "expected 4 to 5 arguments"},
+        {{'/', 'x', 0, 0, ',', 'f', 0, 0}, "/x", "malformed"},
+        {{1, 2, 3, 4}, "", "not an OSC message"},
+    };
+    for (const auto& b : bad) {
+        client.send_raw(b.bytes);
+        const auto reply = client.wait_for("/fail", 2s);
+        REQUIRE(reply);
+        REQUIRE(reply->types == "ss");
+        CHECK(reply->args[0].text == b.address);
+        CHECK(reply->args[1].text.find(b.reason) != std::string::npos);
+    }
+    // Nothing changed: the rain rate is still the scene's 2 mm/h, and the server answers.
+    const auto status = client.request("/status", {}, "/status.reply", 2s);
+    REQUIRE(status);
+    CHECK(status->args[11].number == doctest::Approx(2.0));
+    CHECK(status->args[12].text == "null");
+    CHECK(status->args[8].number == 48000.0);
+    // A good message after all that still works.
+    client.send("/rain/rate", {OscArgument::from_int(30)});
+    CHECK_FALSE(client.wait_for("/fail", 300ms));
+    CHECK(d.process->running());
+}
+
+TEST_CASE("/quit answers /done and stops cleanly") {
+    const std::string wav = ameoto::test::temp_path("quit.wav");
+    Daemon d({"--backend", "null", "--output", wav, "--realtime"});
+    OscTestClient client(d.port);
+    const auto done = client.request("/quit", {}, "/done", 2s);
+    REQUIRE(done);
+    CHECK(done->args[0].text == "/quit");
+    CHECK(d.process->wait(5s) == 0);
+    CHECK(ameoto::test::read_wav(wav).ok);
+}
+
+TEST_CASE("SIGTERM leaves a WAV that reads back whole") {
+    const std::string wav = ameoto::test::temp_path("sigterm.wav");
+    Daemon d({"--backend", "null", "--output", wav, "--realtime", "--rain", "20"});
+    std::this_thread::sleep_for(1200ms);
+    CHECK(d.process->stop(SIGTERM, 5s) == 0);
+    const auto line = d.process->wait_for_line("wrote ", 1s);
+    REQUIRE(line);
+    const long long reported = std::stoll(line->substr(line->find("wrote ") + 6));
+    const auto w = ameoto::test::read_wav(wav);
+    REQUIRE_MESSAGE(w.ok, w.error);
+    CHECK(w.frames == reported);
+    CHECK(w.frames > 48000);            // more than a second of audio
+    CHECK(w.is_float);
+    CHECK(w.channels == 2);
+    double energy = 0.0;
+    for (float s : w.samples) {
+        REQUIRE(std::isfinite(s));
+        energy += static_cast<double>(s) * s;
+    }
+    CHECK(energy > 0.0);                 // rain is audible
+}
+
+TEST_CASE("SIGHUP closes the WAV and continues in a new file; neither is overwritten") {
+    const std::string wav = ameoto::test::temp_path("hup.wav");
+    Daemon d({"--backend", "null", "--output", wav, "--realtime"});
+    std::this_thread::sleep_for(300ms);
+    d.process->signal(SIGHUP);
+    REQUIRE(d.process->wait_for_line("SIGHUP", 2s));
+    std::this_thread::sleep_for(300ms);
+    CHECK(d.process->stop(SIGTERM, 5s) == 0);
+    const auto first = ameoto::test::read_wav(wav);
+    const std::string second_path = wav.substr(0, wav.size() - 4) + "-1.wav";
+    const auto second = ameoto::test::read_wav(second_path);
+    REQUIRE(first.ok);
+    REQUIRE(second.ok);
+    CHECK(first.frames > 0);
+    CHECK(second.frames > 0);
+}
+
+TEST_CASE("offline renders are exact in length and reproducible to the sample") {
+    auto render = [](const std::string& name, const std::string& seed) {
+        const std::string wav = ameoto::test::temp_path(name);
+        ChildProcess p({ameotod, "--backend", "null", "--duration", "1.5", "--seed", seed, "--output", wav, "--port", "0", "--rain", "10"});
+        CHECK(p.wait(60s) == 0);
+        return ameoto::test::read_wav(wav);
+    };
+    const auto a = render("seed1-a.wav", "1");
+    const auto b = render("seed1-b.wav", "1");
+    const auto c = render("seed2.wav", "2");
+    REQUIRE(a.ok);
+    CHECK(a.frames == 72000);
+    CHECK(a.samples == b.samples);
+    CHECK(a.samples != c.samples);
+}
+
+TEST_CASE("start-up errors are clear and exit non-zero") {
+    SUBCASE("a port in use") {
+        Daemon first({"--backend", "null", "--output", "-", "--realtime"});
+        ChildProcess second({ameotod, "--backend", "null", "--output", "-", "--port", std::to_string(first.port)});
+        CHECK(second.wait(10s) == 1);
+        CHECK(second.output().find("cannot listen") != std::string::npos);
+    }
+    SUBCASE("a bad option") {
+        ChildProcess p({ameotod, "--rate", "12"});
+        CHECK(p.wait(10s) == 2);
+        CHECK(p.output().find("--rate") != std::string::npos);
+    }
+    SUBCASE("--backend jack without a JACK server") {
+        ChildProcess p({ameotod, "--backend", "jack", "--port", "0"}, {"JACK_DEFAULT_SERVER=ameoto-no-such-server"});
+        CHECK(p.wait(20s) == 1);
+        CHECK(p.output().find("cannot use JACK") != std::string::npos);
+    }
+}
