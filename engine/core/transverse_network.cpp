@@ -38,19 +38,21 @@ void TransverseNetwork::add_anchor(int a, double stiffness, double damping) {
 }
 
 void TransverseNetwork::finalize(double time_step_s) {
-    // Gershgorin on M^-1 K and M^-1 C: row i is bounded by 2 * (sum of couplings at i) / m_i.
+    // Gershgorin on M^-1 K and M^-1 C: row i is bounded by its diagonal plus its off-diagonal sum,
+    // (anchor + 2 * sum of links at i) / m_i. An anchor (or a ground damper) only adds to the diagonal,
+    // so it counts once; a link to another mass counts twice.
     const std::size_t n = position_.size();
     std::vector<double> k_sum(anchor_stiffness_), z_sum(ground_damping_);
     for (std::size_t l = 0; l < link_a_.size(); ++l) {
         for (auto m : {link_a_[l], link_b_[l]}) {
-            k_sum[static_cast<std::size_t>(m)] += link_stiffness_[l];
-            z_sum[static_cast<std::size_t>(m)] += link_damping_[l];
+            k_sum[static_cast<std::size_t>(m)] += 2.0 * link_stiffness_[l];
+            z_sum[static_cast<std::size_t>(m)] += 2.0 * link_damping_[l];
         }
     }
     double omega2 = 0.0, gamma = 0.0;
     for (std::size_t i = 0; i < n; ++i) {
-        omega2 = std::max(omega2, 2.0 * k_sum[i] * inverse_mass_[i]);
-        gamma = std::max(gamma, 2.0 * z_sum[i] * inverse_mass_[i]);
+        omega2 = std::max(omega2, k_sum[i] * inverse_mass_[i]);
+        gamma = std::max(gamma, z_sum[i] * inverse_mass_[i]);
     }
     stability_.omega_max_bound = std::sqrt(omega2);
     stability_.gamma_max_bound = gamma;

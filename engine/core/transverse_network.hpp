@@ -23,7 +23,8 @@
 // Stability (../shared/reference/physics.md section 3): an undamped oscillator is stable iff
 // omega T < 2; with the backward-difference damping gamma = z/m the exact condition is
 // omega^2 T^2 < 4 - 2 gamma T (Jury test on z^2 - (2 - w^2T^2 - gT) z + (1 - gT)). omega_max^2 and
-// gamma_max are bounded by Gershgorin: 2 * (sum of stiffnesses at a mass) / m. finalize() picks the
+// gamma_max are bounded by Gershgorin: (anchor + 2 * sum of link stiffnesses at a mass) / m (exact for a
+// single anchored mass; anchors and ground dampers sit on the diagonal only). finalize() picks the
 // fewest sub-steps that keep omega_max^2 T'^2 + 2 gamma_max T' under 90 % of 4, so a body never runs
 // past its bound; step() also reports non-finite state so the owner can reset it.
 

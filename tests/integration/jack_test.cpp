@@ -1,0 +1,180 @@
+// ameotod on a real JACK server (jackd2, dummy driver, no real-time): recorded with jack-record
+// from jack-tools, compared with the null backend, and put through a server crash and return.
+
+#include <doctest/doctest.h>
+#include <signal.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <thread>
+
+#include "tests/support/child_process.hpp"
+#include "tests/support/osc_test_client.hpp"
+#include "tests/support/wav_file.hpp"
+
+using namespace std::chrono_literals;
+using ameoto::protocol::OscArgument;
+using ameoto::test::ChildProcess;
+using ameoto::test::OscTestClient;
+
+namespace {
+
+const std::string ameotod = AMEOTO_BIN_DIR "/ameotod";
+
+// A private jackd per test: its own server name, so a JACK server the user runs is never touched.
+class JackServer {
+public:
+    JackServer() : name_("ameoto-test-" + std::to_string(getpid()) + "-" + std::to_string(counter_++)) { start(); }
+    ~JackServer() {
+        stop();
+        // jackd leaves semaphores and shared memory named after the server in /dev/shm.
+        std::error_code ec;
+        for (const auto& entry : std::filesystem::directory_iterator("/dev/shm", ec))
+            if (entry.path().filename().string().find(name_) != std::string::npos) std::filesystem::remove(entry.path(), ec);
+    }
+    void start() {
+        // --no-realtime goes before -d: it is a server option, not a driver option.
+        process_ = std::make_unique<ChildProcess>(
+            std::vector<std::string>{"/usr/bin/jackd", "--no-realtime", "-n", name_, "-d", "dummy", "-r", "48000", "-p", "256"});
+        ChildProcess wait({"/usr/bin/jack_wait", "-w", "-t", "10"}, env());
+        REQUIRE_MESSAGE(wait.wait(15s) == 0, process_->output());
+    }
+    void stop() {
+        if (process_) process_->stop(SIGTERM, 5s);
+        process_.reset();
+    }
+    std::vector<std::string> env() const { return {"JACK_DEFAULT_SERVER=" + name_, "JACK_NO_AUDIO_RESERVATION=1"}; }
+    std::vector<std::string> env(const std::vector<std::string>& more) const {
+        auto e = env();
+        e.insert(e.end(), more.begin(), more.end());
+        return e;
+    }
+
+private:
+    static inline std::atomic<int> counter_{0};
+    std::string name_;
+    std::unique_ptr<ChildProcess> process_;
+};
+
+struct JackDaemon {
+    std::unique_ptr<ChildProcess> process;
+    int port = -1;
+    JackDaemon(const JackServer& jack, std::vector<std::string> args, std::vector<std::string> env = {}) {
+        args.insert(args.begin(), ameotod);
+        args.insert(args.end(), {"--backend", "jack", "--port", "0"});
+        process = std::make_unique<ChildProcess>(args, jack.env(env));
+        const auto line = process->wait_for_line("listening on osc.udp://", 15s);
+        REQUIRE_MESSAGE(line, process->output());
+        port = ameoto::test::port_from_listening_line(*line);
+        REQUIRE_MESSAGE(process->wait_for_line("running", 10s), process->output());
+    }
+};
+
+ameoto::test::WavData record(const JackServer& jack, const std::string& client, double seconds, const std::string& name) {
+    const std::string path = ameoto::test::temp_path(name);
+    ChildProcess rec({"/usr/bin/jack-record", "-n", "2", "-p", client + ":out_%d", "-t", std::to_string(seconds), path}, jack.env());
+    REQUIRE_MESSAGE(rec.wait(std::chrono::milliseconds(static_cast<int>(seconds * 1000) + 15000)) == 0, rec.output());
+    return ameoto::test::read_wav(path);
+}
+
+ameoto::protocol::DecodedMessage status(OscTestClient& client) {
+    const auto reply = client.request("/status", {}, "/status.reply", 2s);
+    REQUIRE(reply);
+    return *reply;
+}
+
+}  // namespace
+
+TEST_CASE("JACK: rain plays through JACK, sample-identical to the null backend, with no real-time violations") {
+    JackServer jack;
+    const std::string report = ameoto::test::temp_path("jack-rt.txt");
+    ameoto::test::WavData recorded;
+    {
+        JackDaemon d(jack, {"--jack-name", "ameoto_t1", "--seed", "11"},
+                     {"LD_PRELOAD=" AMEOTO_RT_INTERPOSER, "AMEOTO_RT_REPORT=" + report});
+        recorded = record(jack, "ameoto_t1", 2.0, "jack.wav");
+        OscTestClient client(d.port);
+        const auto s = status(client);
+        CHECK(s.args[12].text == "jack");
+        CHECK(s.args[8].number == 48000.0);
+        CHECK(s.args[9].integer == 256);
+        CHECK(s.args[2].number > 100.0);   // drops per second at the default 2 mm/h
+        CHECK(d.process->stop(SIGTERM, 5s) == 0);
+    }
+    REQUIRE_MESSAGE(recorded.ok, recorded.error);
+    REQUIRE(recorded.frames == 96000);
+    REQUIRE(recorded.is_float);
+
+    // The audio thread under JACK: the probe was live in every cycle and saw nothing forbidden.
+    std::ifstream in(report);
+    const std::string rt((std::istreambuf_iterator<char>(in)), {});
+    INFO(rt);
+    CHECK(rt.find("violations 0\n") != std::string::npos);
+    CHECK(rt.find("entries 0\n") == std::string::npos);
+
+    // The same seed, offline on the null backend with another block size: the JACK recording must
+    // appear in it sample for sample (it started a little after the daemon, at an unknown offset).
+    const std::string null_path = ameoto::test::temp_path("null-same-seed.wav");
+    ChildProcess offline({ameotod, "--backend", "null", "--offline", "--duration", "15", "--seed", "11", "--block", "1000",
+                          "--output", null_path, "--port", "0"});
+    REQUIRE(offline.wait(120s) == 0);
+    const auto rendered = ameoto::test::read_wav(null_path);
+    REQUIRE(rendered.ok);
+    long long match = -1;
+    const float first_l = recorded.samples[0], first_r = recorded.samples[1];
+    REQUIRE((first_l != 0.0f || first_r != 0.0f));   // rain is ringing: the first frame identifies the offset
+    for (long long k = 0; k + recorded.frames <= rendered.frames && match < 0; ++k) {
+        if (rendered.samples[static_cast<std::size_t>(2 * k)] != first_l || rendered.samples[static_cast<std::size_t>(2 * k + 1)] != first_r) continue;
+        if (std::equal(recorded.samples.begin(), recorded.samples.end(), rendered.samples.begin() + 2 * k)) match = k;
+    }
+    INFO("JACK recording found in the null render at frame " << match);
+    CHECK(match >= 0);
+}
+
+TEST_CASE("JACK: a /drop over OSC is heard, with silence before it") {
+    JackServer jack;
+    JackDaemon d(jack, {"--jack-name", "ameoto_t2", "--rain", "0"});
+    const std::string path = ameoto::test::temp_path("jack-drop.wav");
+    ChildProcess rec({"/usr/bin/jack-record", "-n", "2", "-p", "ameoto_t2:out_%d", "-t", "2", path}, jack.env());
+    std::this_thread::sleep_for(700ms);
+    OscTestClient client(d.port);
+    client.send("/drop", {OscArgument::from_float(3.0f), OscArgument::from_float(0.0f), OscArgument::from_float(0.2f),
+                          OscArgument::from_float(0.0f)});
+    REQUIRE(rec.wait(20s) == 0);
+    const auto w = ameoto::test::read_wav(path);
+    REQUIRE(w.ok);
+    const long long onset = w.first_nonzero_frame();
+    CHECK(onset > 4800);              // silence for the first 100 ms of the recording at least
+    CHECK(onset < w.frames - 4800);   // and the drop well inside it
+    float peak = 0.0f;
+    for (float s : w.samples) peak = std::max(peak, std::fabs(s));
+    CHECK(peak > 1e-3f);
+}
+
+TEST_CASE("JACK: the server dies and returns; ameotod keeps answering OSC and plays again") {
+    JackServer jack;
+    JackDaemon d(jack, {"--jack-name", "ameoto_t3"});
+    OscTestClient client(d.port);
+    const auto before = status(client).args[10].integer;
+    CHECK(before > 0);
+
+    jack.stop();
+    REQUIRE_MESSAGE(d.process->wait_for_line("went away", 10s), d.process->output());
+    const auto frozen_a = status(client).args[10].integer;   // OSC still answers while JACK is gone
+    std::this_thread::sleep_for(300ms);
+    const auto frozen_b = status(client).args[10].integer;
+    CHECK(frozen_a == frozen_b);                               // and no audio runs without a server
+
+    const auto restart = std::chrono::steady_clock::now();
+    jack.start();
+    REQUIRE_MESSAGE(d.process->wait_for_line("JACK server is back", 10s), d.process->output());
+    const double back_after = std::chrono::duration<double>(std::chrono::steady_clock::now() - restart).count();
+    MESSAGE("playing again " << back_after << " s after jackd was started again (includes jack_wait)");
+    std::this_thread::sleep_for(300ms);
+    CHECK(status(client).args[10].integer > frozen_b);         // the sample clock runs on
+    CHECK(d.process->running());
+}
