@@ -2,7 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
-#include <sstream>
+#include <cstdio>
 
 #include "engine/core/units.hpp"
 
@@ -10,9 +10,10 @@ namespace ameoto::protocol {
 namespace {
 
 std::string format_number(double v) {
-    std::ostringstream s;
-    s << v;
-    return s.str();
+    // %.10g: enough digits that 500.0001 is not shown as 500 in "500.0001 is outside 0..500".
+    char text[32];
+    std::snprintf(text, sizeof text, "%.10g", v);
+    return text;
 }
 
 std::vector<AddressSpec> make_table() {

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstring>
 #include <memory>
+#include <stdexcept>
 
 namespace ameoto::protocol {
 namespace {
@@ -154,9 +155,13 @@ std::vector<unsigned char> encode_message(const std::string& address, const std:
             case 'f': lo_message_add_float(msg.get(), static_cast<float>(a.number)); break;
             case 'd': lo_message_add_double(msg.get(), a.number); break;
             case 's': lo_message_add_string(msg.get(), a.text.c_str()); break;
+            case 'S': lo_message_add_symbol(msg.get(), a.text.c_str()); break;
+            case 'c': lo_message_add_char(msg.get(), static_cast<char>(a.integer)); break;
             case 'T': lo_message_add_true(msg.get()); break;
             case 'F': lo_message_add_false(msg.get()); break;
-            default: lo_message_add_nil(msg.get()); break;
+            case 'N': lo_message_add_nil(msg.get()); break;
+            case 'I': lo_message_add_infinitum(msg.get()); break;
+            default: throw std::invalid_argument(std::string("encode_message: unsupported OSC type '") + a.type + "'");
         }
     }
     std::size_t size = 0;

@@ -54,6 +54,7 @@ struct DecodedPacket {
 constexpr int max_bundle_depth = 8;
 
 DecodedPacket decode_packet(const void* data, std::size_t size);
+// Supports i h f d s S c T F N I; throws std::invalid_argument for any other type.
 std::vector<unsigned char> encode_message(const std::string& address, const std::vector<OscArgument>& args);
 std::vector<unsigned char> encode_bundle(Timetag timetag, const std::vector<std::vector<unsigned char>>& elements);
 

@@ -47,6 +47,9 @@ std::string packet_address(const unsigned char* data, std::size_t size) {
     return address.empty() || address[0] != '/' ? std::string("") : address;
 }
 
+// OSC's i is 32 bits; a counter past that reports the largest value instead of wrapping negative.
+std::int32_t saturate_int32(std::uint64_t v) { return v > 2147483647u ? 2147483647 : static_cast<std::int32_t>(v); }
+
 }  // namespace
 
 struct Daemon::State {
@@ -66,6 +69,7 @@ struct Daemon::State {
     protocol::ProtocolContext context;
     SystemdNotifier systemd;
     bool ready = false;
+    bool stopping = false;
     bool jack_reported_lost = false;
     std::uint64_t watchdog_frames = 0;
     double drops_per_second = 0.0;
@@ -142,13 +146,13 @@ void Daemon::State::reply_status(const UdpEndpoint::Endpoint& to) {
     const std::uint64_t late = s.late_commands;
     reply(to, "/status.reply",
           {OscArgument::from_float(static_cast<float>(s.cpu_average_percent)),
-           OscArgument::from_float(static_cast<float>(s.cpu_peak_percent)),
+           OscArgument::from_float(static_cast<float>(bridge->take_cpu_peak_percent())),
            OscArgument::from_float(static_cast<float>(drops_per_second)),
            OscArgument::from_int(s.active_impacts),   // full tier: every drop is modelled physically
            OscArgument::from_int(0),                  // template tier: not in this version
            OscArgument::from_int(0),                  // texture tier: not in this version
-           OscArgument::from_int(static_cast<std::int32_t>(backend->xruns())),
-           OscArgument::from_int(static_cast<std::int32_t>(late)),
+           OscArgument::from_int(saturate_int32(backend->xruns())),
+           OscArgument::from_int(saturate_int32(late)),
            OscArgument::from_float(static_cast<float>(backend->sample_rate())),
            OscArgument::from_int(backend->block_size()),
            OscArgument::from_int64(static_cast<std::int64_t>(s.frames)),
@@ -261,6 +265,8 @@ void Daemon::State::feed_watchdog() {
 }
 
 void Daemon::State::shutdown() {
+    if (stopping) return;   // a signal, /quit and the end of --duration may all ask
+    stopping = true;
     systemd.stopping();
     stop_signals.cancel();
     hup_signal.cancel();

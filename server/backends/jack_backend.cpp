@@ -1,10 +1,21 @@
 #include "server/backends/jack_backend.hpp"
 
+#include <atomic>
 #include <cstdio>
 
 #include "server/realtime/audio_bridge.hpp"
 
 namespace ameoto {
+
+namespace {
+// libjack reports every failed connection attempt on stderr (five lines each time). While the server is
+// away the control thread retries every 500 ms, so those lines are silenced then; ameotod says once
+// that the server went away and once that it is back.
+std::atomic<bool> quiet_jack{false};
+void jack_message(const char* text) {
+    if (!quiet_jack.load()) std::fprintf(stderr, "ameotod: jack: %s\n", text);
+}
+}  // namespace
 
 std::unique_ptr<JackBackend> JackBackend::open(const Options& options, std::string& error) {
     std::unique_ptr<JackBackend> backend(new JackBackend(options));
@@ -15,6 +26,8 @@ std::unique_ptr<JackBackend> JackBackend::open(const Options& options, std::stri
 JackBackend::~JackBackend() { stop(); }
 
 bool JackBackend::open_client(std::string& error) {
+    jack_set_error_function(&jack_message);
+    jack_set_info_function(&jack_message);
     jack_status_t status{};
     client_ = jack_client_open(options_.client_name.c_str(), JackNoStartServer, &status);
     if (!client_) {
@@ -84,9 +97,11 @@ void JackBackend::stop() {
 }
 
 bool JackBackend::reconnect(std::string& error) {
+    quiet_jack.store(true);
     close_client();   // the dead client: JACK allows closing it from a non-JACK thread after shutdown
-    if (!open_client(error)) return false;
-    return activate(error);
+    const bool ok = open_client(error) && activate(error);
+    quiet_jack.store(false);
+    return ok;
 }
 
 std::string JackBackend::client_name() const { return client_ ? jack_get_client_name(client_) : options_.client_name; }

@@ -23,10 +23,12 @@ AudioBridge::AudioBridge(std::unique_ptr<Renderer> renderer, std::size_t queue_c
       commands_(queue_capacity),
       events_(queue_capacity) {}
 
-AudioSnapshot AudioBridge::snapshot() {
+double AudioBridge::take_cpu_peak_percent() { return 100.0 * load_peak_.exchange(0.0, std::memory_order_relaxed); }
+
+AudioSnapshot AudioBridge::snapshot() const {
     AudioSnapshot s;
     s.cpu_average_percent = 100.0 * load_average_.load(std::memory_order_relaxed);
-    s.cpu_peak_percent = 100.0 * load_peak_.exchange(0.0, std::memory_order_relaxed);
+    s.cpu_peak_percent = 100.0 * load_peak_.load(std::memory_order_relaxed);
     s.frames = frames_.load(std::memory_order_acquire);
     s.drops = drops_.load(std::memory_order_relaxed);
     s.late_commands = late_.load(std::memory_order_relaxed);

@@ -7,13 +7,14 @@
 //   AudioBridge bridge(std::make_unique<Renderer>(config), 4096);   // control thread, allocates
 //   control thread:  bridge.send(command)  -> false when the queue is full (answer /fail busy)
 //                    bridge.poll_event(e)  -> replies decided on the audio thread (/synced, busy)
-//                    bridge.snapshot()     -> counters and load for /status
+//                    bridge.snapshot()     -> counters and load for /status (reads only)
+//                    bridge.take_cpu_peak_percent() -> peak load since the last call (one reader: /status)
 //                    bridge.frame_for(unix_seconds) -> the sample a timetag falls on
 //   audio thread:    bridge.process(frames, outputs)   // never allocates, frees, locks, blocks or logs
 //
 // Load: each process() measures its own duration with the monotonic clock (a vDSO read, no system
 // call) against the block's period; the average is an exponential mean over about one second, the
-// peak is the maximum since the last snapshot.
+// peak is the maximum since the last take_cpu_peak_percent().
 // Clock: each process() publishes (frame, wall time) through a sequence lock so the control thread
 // can turn a bundle's timetag into a sample time without stopping the audio thread.
 
@@ -28,7 +29,7 @@ namespace ameoto {
 
 struct AudioSnapshot {
     double cpu_average_percent = 0.0;
-    double cpu_peak_percent = 0.0;    // since the previous snapshot
+    double cpu_peak_percent = 0.0;    // since the last take_cpu_peak_percent()
     std::uint64_t frames = 0;
     std::uint64_t drops = 0;
     std::uint64_t late_commands = 0;
@@ -47,7 +48,8 @@ public:
     // control thread
     bool send(const Command& command) { return commands_.try_push(command); }
     bool poll_event(RendererEvent& event) { return events_.try_pop(event); }
-    AudioSnapshot snapshot();
+    AudioSnapshot snapshot() const;
+    double take_cpu_peak_percent();   // the peak since the previous call, then starts a new one
     // The sample at which a wall-clock time (s since 1970) falls, from the last published block.
     // Before the first block: 0 (timed commands are then applied at once and counted late).
     std::uint64_t frame_for(double unix_seconds) const;

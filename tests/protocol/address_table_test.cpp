@@ -74,6 +74,7 @@ TEST_CASE("bad input is refused with a reason that names what is wrong") {
         {message("/rain/rate", {d(-inf)}), "not a finite number"},
         {message("/rain/rate", {f(500.5)}), "outside 0..500"},
         {message("/rain/rate", {f(-1)}), "outside 0..500"},
+        {message("/rain/rate", {d(500.0001)}), "500.0001 is outside 0..500"},
         {message("/drop", {f(0.05), f(0), f(0), f(0.2)}), "diameter (mm)"},
         {message("/drop", {f(9), f(0), f(0), f(0.2)}), "outside 0.1..8"},
         {message("/drop", {f(3), f(21), f(0), f(0.2)}), "speed (m/s)"},

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <stdexcept>
 
 using namespace ameoto::protocol;
 
@@ -76,4 +77,18 @@ TEST_CASE("malformed packets are refused with a reason, never half-decoded") {
         CHECK(decode_packet(b.data(), b.size()).error.find("nested") != std::string::npos);
     }
     SUBCASE("empty packet") { CHECK_FALSE(decode_packet("", 0).error.empty()); }
+}
+
+TEST_CASE("encoding refuses a type it does not know instead of sending something else") {
+    OscArgument blob;
+    blob.type = 'b';
+    CHECK_THROWS_AS(encode_message("/x", {blob}), std::invalid_argument);
+    OscArgument symbol;
+    symbol.type = 'S';
+    symbol.text = "umbrella";
+    const auto bytes = encode_message("/x", {symbol});
+    const auto p = decode_packet(bytes.data(), bytes.size());
+    REQUIRE(p.error.empty());
+    CHECK(p.messages[0].types == "S");
+    CHECK(p.messages[0].args[0].text == "umbrella");
 }
