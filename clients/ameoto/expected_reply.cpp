@@ -1,0 +1,29 @@
+#include "clients/ameoto/expected_reply.hpp"
+
+namespace ameoto::client {
+
+std::optional<std::string> expected_reply(const std::string& address) {
+    if (address == "/status") return "/status.reply";
+    if (address == "/sync") return "/synced";
+    if (address == "/quit") return "/done";
+    return std::nullopt;
+}
+
+bool ends_wait(const std::string& sent_address, const std::vector<protocol::OscArgument>& sent_arguments,
+               const protocol::DecodedMessage& reply) {
+    const auto& args = reply.args;
+    const bool first_is_text = !args.empty() && (args[0].type == 's' || args[0].type == 'S');
+    if (reply.address == "/fail") return first_is_text && args[0].text == sent_address;
+    const auto expected = expected_reply(sent_address);
+    if (!expected || reply.address != *expected) return false;
+    if (sent_address == "/sync") {
+        // Another /sync from the same socket cannot be in flight, but an id that does not match is
+        // not ours to end on either.
+        return !args.empty() && args[0].is_number() && !sent_arguments.empty() && sent_arguments[0].is_number() &&
+               args[0].number == sent_arguments[0].number;
+    }
+    if (sent_address == "/quit") return first_is_text && args[0].text == "/quit";
+    return true;
+}
+
+}  // namespace ameoto::client

@@ -1,0 +1,49 @@
+#include "clients/ameoto/option_reader.hpp"
+
+namespace ameoto::client {
+
+OptionReader::OptionReader(std::vector<std::string> words) : words_(std::move(words)) {}
+
+bool OptionReader::next_option() {
+    name_.clear();
+    inline_value_.reset();
+    if (next_ >= words_.size()) return false;
+    const std::string& word = words_[next_];
+    if (word == "--") {
+        ++next_;
+        return false;
+    }
+    if (word.size() < 2 || word[0] != '-') return false;
+    ++next_;
+    const auto equals = word.find('=');
+    if (word.starts_with("--") && equals != std::string::npos) {
+        name_ = word.substr(0, equals);
+        inline_value_ = word.substr(equals + 1);
+    } else {
+        name_ = word;
+    }
+    return true;
+}
+
+std::optional<std::string> OptionReader::value() {
+    if (inline_value_) return inline_value_;
+    if (next_ >= words_.size()) {
+        error_ = name_ + " needs a value";
+        return std::nullopt;
+    }
+    return words_[next_++];
+}
+
+bool OptionReader::flag() {
+    if (!inline_value_) return true;
+    error_ = name_ + " takes no value";
+    return false;
+}
+
+std::string OptionReader::unknown() const { return "unknown option '" + name_ + "'"; }
+
+std::vector<std::string> OptionReader::rest() const {
+    return {words_.begin() + static_cast<std::ptrdiff_t>(next_), words_.end()};
+}
+
+}  // namespace ameoto::client

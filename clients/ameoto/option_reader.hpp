@@ -1,0 +1,43 @@
+#pragma once
+// Reads a subcommand's options off the front of its words: "--name VALUE", "--name=VALUE" and
+// flags, up to the first word that is not an option (or "--"). Options end there so that what
+// follows (an OSC address and its arguments, which may be negative numbers) is never mistaken
+// for an option.
+//
+// Interface:
+//   OptionReader r(words);
+//   while (r.next_option()) {
+//       if (r.is("--json")) { if (!r.flag()) return usage(r.error()); json = true; }
+//       else if (r.is("--port")) { auto v = r.value(); if (!v) return usage(r.error()); ... }
+//       else return usage(r.unknown());
+//   }
+//   std::vector<std::string> rest = r.rest();
+
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace ameoto::client {
+
+class OptionReader {
+public:
+    explicit OptionReader(std::vector<std::string> words);
+
+    bool next_option();                   // consumes the next word if it is an option
+    bool is(std::string_view name) const { return name_ == name; }
+    std::optional<std::string> value();   // the option's value; nullopt (and error()) when missing
+    bool flag();                          // false (and error()) when a value was given: "--json=1"
+    std::string unknown() const;          // the message for an option nobody asked for
+    const std::string& error() const { return error_; }
+    std::vector<std::string> rest() const;
+
+private:
+    std::vector<std::string> words_;
+    std::size_t next_ = 0;
+    std::string name_;
+    std::optional<std::string> inline_value_;
+    std::string error_;
+};
+
+}  // namespace ameoto::client

@@ -1,0 +1,168 @@
+// The real programs: ameotod on the null backend, driven by the ameoto binary as a user would.
+#include <doctest/doctest.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+#include <thread>
+
+#include "process_helpers.hpp"
+
+using ameoto::test::closed_udp_port;
+using ameoto::test::ProgramRun;
+using ameoto::test::run_program;
+using ameoto::test::ServerProcess;
+
+namespace {
+
+const std::string ameoto_bin = AMEOTO_BIN_DIR "/ameoto";
+const std::string ameotod_bin = AMEOTO_BIN_DIR "/ameotod";
+
+// Every run is bounded: a hanging CLI fails the test instead of stalling the suite.
+ProgramRun run_ameoto(std::vector<std::string> words) {
+    words.insert(words.begin(), ameoto_bin);
+    return run_program(words, 5.0);
+}
+
+void require_binaries() {
+    // clients_tests does not depend on these targets (tests/CMakeLists.txt): build everything first.
+    REQUIRE_MESSAGE(std::filesystem::exists(ameoto_bin), ameoto_bin << " is missing: run make in the build folder");
+    REQUIRE_MESSAGE(std::filesystem::exists(ameotod_bin), ameotod_bin << " is missing: run make in the build folder");
+}
+
+// The number after "key": in ameoto status --json output; NaN when absent.
+double json_number(const std::string& json, const std::string& key) {
+    const std::string tag = "\"" + key + "\": ";
+    const auto at = json.find(tag);
+    if (at == std::string::npos) return std::nan("");
+    return std::strtod(json.c_str() + at + tag.size(), nullptr);
+}
+
+std::string describe(const ProgramRun& r) {
+    return "exit " + std::to_string(r.exit_code) + (r.timed_out ? " (timed out)" : "") + "\nstdout:\n" + r.out +
+           "stderr:\n" + r.err;
+}
+
+}  // namespace
+
+TEST_CASE("ameoto drives a real ameotod: send, /fail, status, sync, quit") {
+    require_binaries();
+    ServerProcess server = ServerProcess::start({ameotod_bin, "--backend", "null", "--output", "-", "--port", "0", "--realtime"});
+    const std::string port = std::to_string(server.port());
+
+    // Accepted: no reply comes, so send listens the whole default 0.5 s for a /fail, then exits 0.
+    const ProgramRun rate = run_ameoto({"send", "--port", port, "/rain/rate", "30"});
+    const auto rate_sent = std::chrono::steady_clock::now();
+    INFO(describe(rate));
+    CHECK(rate.exit_code == 0);
+    CHECK(rate.out.empty());
+    CHECK(rate.seconds >= 0.45);
+
+    // Refused: the /fail names the range, and ends the wait at once.
+    const ProgramRun refused = run_ameoto({"send", "--port", port, "/rain/rate", "900"});
+    INFO(describe(refused));
+    CHECK(refused.exit_code == 1);
+    CHECK(refused.out == "/fail \"/rain/rate\" \"argument 1 rate (mm/h): 900 is outside 0..500\"\n");
+    CHECK(refused.seconds < 0.4);
+
+    const ProgramRun early = run_ameoto({"status", "--port", port, "--json"});
+    INFO(describe(early));
+    REQUIRE(early.exit_code == 0);
+    const double rate_early = json_number(early.out, "rain_rate_mm_per_h");
+
+    // The rate ramps over 1 s; a little more and it is there.
+    std::this_thread::sleep_until(rate_sent + std::chrono::milliseconds(1200));
+    const ProgramRun later = run_ameoto({"status", "--port", port, "--json"});
+    INFO(describe(later));
+    REQUIRE(later.exit_code == 0);
+    CHECK(later.out.starts_with("{\"cpu_average_percent\": "));
+    CHECK(later.out.ends_with("}\n"));
+    CHECK(later.out.find("\"backend\": \"null\"") != std::string::npos);
+    CHECK(json_number(later.out, "sample_rate_hz") == 48000.0);
+    CHECK(json_number(later.out, "frames_rendered") > 0.0);
+    const double rate_later = json_number(later.out, "rain_rate_mm_per_h");
+    CHECK(std::abs(rate_later - 30.0) <= std::abs(rate_early - 30.0));
+    CHECK(rate_later == doctest::Approx(30.0).epsilon(0.01));
+
+    const ProgramRun text = run_ameoto({"status", "--port", port});
+    INFO(describe(text));
+    CHECK(text.exit_code == 0);
+    CHECK(text.out.find("\ncpu peak: ") != std::string::npos);
+    CHECK(text.out.find("\nrain rate: 30 mm/h\n") != std::string::npos);
+    CHECK(text.out.find("\nsample rate: 48000 Hz\n") != std::string::npos);
+    CHECK(text.out.ends_with("\nbackend: null\n"));
+
+    // A known reply ends the wait as soon as it comes.
+    const ProgramRun sync = run_ameoto({"send", "--port", port, "--wait", "3", "/sync", "7"});
+    INFO(describe(sync));
+    CHECK(sync.exit_code == 0);
+    CHECK(sync.out == "/synced 7\n");
+    CHECK(sync.seconds < 1.0);
+
+    const ProgramRun drop = run_ameoto({"send", "--port", port, "--wait", "0", "/drop", "3", "0", "0.2", "0.1"});
+    CHECK(drop.exit_code == 0);
+
+    const ProgramRun quit = run_ameoto({"send", "--port", port, "/quit"});
+    INFO(describe(quit));
+    CHECK(quit.exit_code == 0);
+    CHECK(quit.out == "/done \"/quit\"\n");
+    CHECK(quit.seconds < 0.4);
+    CHECK(server.wait_exit(3.0) == std::optional<int>(0));
+}
+
+TEST_CASE("status with nothing listening fails quickly with a clear message") {
+    require_binaries();
+    const std::string port = std::to_string(closed_udp_port());
+    const ProgramRun r = run_ameoto({"status", "--port", port});
+    INFO(describe(r));
+    CHECK(r.exit_code == 1);
+    CHECK(r.out.empty());
+    CHECK(r.err.find("no reply from 127.0.0.1:" + port) != std::string::npos);
+    CHECK(r.err.find("is ameotod running?") != std::string::npos);
+    CHECK(r.seconds < 1.0);
+
+    const ProgramRun s = run_ameoto({"send", "--port", port, "/rain/rate", "30"});
+    INFO(describe(s));
+    CHECK(s.exit_code == 3);
+    CHECK(s.err.find("nothing is listening on 127.0.0.1:" + port) != std::string::npos);
+}
+
+TEST_CASE("the dispatcher: help, version, unknown commands") {
+    require_binaries();
+    for (const auto& words : std::vector<std::vector<std::string>>{{"--help"}, {"help"}, {"-h"}}) {
+        const ProgramRun r = run_ameoto(words);
+        INFO(describe(r));
+        CHECK(r.exit_code == 0);
+        CHECK(r.out.starts_with("usage: ameoto COMMAND"));
+        for (const char* needle : {"mm/h", "drop diameter mm", "m/s", "positions m", "ameoto send /rain/rate 30",
+                                   "ameoto send /drop 3 0 0.2 0.1", "ameoto status"})
+            CHECK_MESSAGE(r.out.find(needle) != std::string::npos, needle);
+    }
+    for (const auto& words : std::vector<std::vector<std::string>>{{"send", "--help"}, {"help", "send"}}) {
+        const ProgramRun r = run_ameoto(words);
+        CHECK(r.exit_code == 0);
+        CHECK(r.out.starts_with("usage: ameoto send"));
+        CHECK(r.out.find("/rain/rate rate") != std::string::npos);
+    }
+    const ProgramRun status_help = run_ameoto({"help", "status"});
+    CHECK(status_help.exit_code == 0);
+    CHECK(status_help.out.find("rain_rate_mm_per_h") != std::string::npos);
+
+    const ProgramRun version = run_ameoto({"--version"});
+    CHECK(version.exit_code == 0);
+    CHECK(version.out.starts_with("ameoto "));
+
+    const ProgramRun none = run_ameoto({});
+    CHECK(none.exit_code == 2);
+    CHECK(none.err.starts_with("usage: ameoto"));
+
+    const ProgramRun unknown = run_ameoto({"play"});
+    CHECK(unknown.exit_code == 2);
+    CHECK(unknown.err == "ameoto: unknown command 'play' (see ameoto --help)\n");
+
+    const ProgramRun missing = run_ameoto({"send"});
+    CHECK(missing.exit_code == 2);
+    CHECK(missing.err.starts_with("ameoto send: missing ADDRESS"));
+}
