@@ -1,0 +1,308 @@
+// ameotod's sd_notify protocol, seen from systemd's side: the test plays the service manager.
+// It binds the datagram socket systemd would pass in $NOTIFY_SOCKET, starts the built ameotod with
+// the null backend, and checks READY=1 (only after the port is bound and audio runs), STATUS=,
+// WATCHDOG=1 at half of $WATCHDOG_USEC, STOPPING=1 on SIGTERM, a clean exit, and that every message
+// comes from the main process (the units say NotifyAccess=main).
+#include <doctest/doctest.h>
+
+#include <fcntl.h>
+#include <poll.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/socket.h>
+#include <sys/un.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <chrono>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <thread>
+#include <vector>
+
+extern char** environ;
+
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+using namespace std::chrono_literals;
+
+bool starts_with(const std::string& s, const std::string& prefix) { return s.compare(0, prefix.size(), prefix) == 0; }
+
+struct TempDir {
+    fs::path path;
+    TempDir() {
+        std::string pattern = (fs::temp_directory_path() / "ameoto-notify-XXXXXX").string();
+        REQUIRE_MESSAGE(mkdtemp(pattern.data()) != nullptr, "mkdtemp: " << std::strerror(errno));
+        path = pattern;
+    }
+    ~TempDir() {
+        std::error_code ec;
+        fs::remove_all(path, ec);
+    }
+    TempDir(const TempDir&) = delete;
+    TempDir& operator=(const TempDir&) = delete;
+};
+
+struct Fd {
+    int fd = -1;
+    explicit Fd(int f = -1) : fd(f) {}
+    ~Fd() {
+        if (fd >= 0) close(fd);
+    }
+    Fd(const Fd&) = delete;
+    Fd& operator=(const Fd&) = delete;
+};
+
+// The socket systemd listens on: AF_UNIX datagrams, with the sender's credentials attached.
+struct NotifySocket {
+    Fd socket;
+    std::string path;
+    explicit NotifySocket(const fs::path& p) : socket(::socket(AF_UNIX, SOCK_DGRAM | SOCK_CLOEXEC | SOCK_NONBLOCK, 0)), path(p.string()) {
+        REQUIRE(socket.fd >= 0);
+        sockaddr_un address{};
+        address.sun_family = AF_UNIX;
+        REQUIRE(path.size() < sizeof address.sun_path);
+        std::memcpy(address.sun_path, path.c_str(), path.size() + 1);
+        REQUIRE_MESSAGE(bind(socket.fd, reinterpret_cast<sockaddr*>(&address), sizeof address) == 0, "bind " << path << ": " << std::strerror(errno));
+        const int on = 1;
+        REQUIRE(setsockopt(socket.fd, SOL_SOCKET, SO_PASSCRED, &on, sizeof on) == 0);
+    }
+};
+
+// ameotod, started the way systemd starts a Type=notify service. Killed and reaped on every path
+// out of the test, so a failed assertion never leaves a daemon running.
+struct Daemon {
+    pid_t pid = -1;
+    Fd out;               // the read end of its stdout
+    int exit_status = -1;  // waitpid status once reaped
+
+    Daemon(const std::string& notify_socket, const std::string& watchdog_usec) {
+        // The daemon's own environment, with systemd's variables replaced by ours.
+        std::vector<std::string> env;
+        for (char** e = environ; *e; ++e) {
+            const std::string entry = *e;
+            if (!starts_with(entry, "NOTIFY_SOCKET=") && !starts_with(entry, "WATCHDOG_USEC=") && !starts_with(entry, "WATCHDOG_PID=") &&
+                !starts_with(entry, "LISTEN_"))
+                env.push_back(entry);
+        }
+        env.push_back("NOTIFY_SOCKET=" + notify_socket);
+        if (!watchdog_usec.empty()) env.push_back("WATCHDOG_USEC=" + watchdog_usec);
+        // sd_watchdog_enabled() ignores WATCHDOG_USEC unless WATCHDOG_PID is the process's own pid;
+        // the shell exports its pid and then becomes ameotod (exec keeps the pid), as systemd does.
+        std::vector<std::string> argv{"/bin/sh",
+                                      "-c",
+                                      std::string(watchdog_usec.empty() ? "" : "WATCHDOG_PID=$$; export WATCHDOG_PID; ") + "exec \"$0\" \"$@\"",
+                                      std::string(AMEOTO_BIN_DIR) + "/ameotod",
+                                      "--backend", "null", "--output", "-", "--port", "0", "--realtime"};
+        std::vector<char*> envp, args;
+        for (auto& s : env) envp.push_back(s.data());
+        envp.push_back(nullptr);
+        for (auto& s : argv) args.push_back(s.data());
+        args.push_back(nullptr);
+
+        int fds[2];
+        REQUIRE(pipe2(fds, O_CLOEXEC) == 0);
+        posix_spawn_file_actions_t actions;
+        posix_spawn_file_actions_init(&actions);
+        posix_spawn_file_actions_adddup2(&actions, fds[1], STDOUT_FILENO);
+        const int spawned = posix_spawn(&pid, args[0], &actions, nullptr, args.data(), envp.data());
+        posix_spawn_file_actions_destroy(&actions);
+        close(fds[1]);
+        out.fd = fds[0];
+        if (spawned != 0) pid = -1;
+        REQUIRE_MESSAGE(spawned == 0, "posix_spawn: " << std::strerror(spawned));
+        fcntl(out.fd, F_SETFL, fcntl(out.fd, F_GETFL) | O_NONBLOCK);
+    }
+
+    ~Daemon() {
+        if (pid > 0 && exit_status < 0) {
+            kill(pid, SIGKILL);
+            int status = 0;
+            while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {}
+        }
+    }
+    Daemon(const Daemon&) = delete;
+    Daemon& operator=(const Daemon&) = delete;
+
+    // Reaps the daemon if it has exited within `timeout`.
+    bool wait_exit(Clock::duration timeout) {
+        const auto deadline = Clock::now() + timeout;
+        while (exit_status < 0) {
+            int status = 0;
+            const pid_t r = waitpid(pid, &status, WNOHANG);
+            if (r == pid) exit_status = status;
+            else if (Clock::now() >= deadline) return false;
+            else std::this_thread::sleep_for(10ms);
+        }
+        return true;
+    }
+};
+
+// Everything the daemon said, in causal order: its stdout lines and its notify messages.
+struct Event {
+    enum Kind { line, notify } kind;
+    std::string text;      // a stdout line, or one VARIABLE=value of a notification
+    Clock::time_point at;
+    pid_t sender = 0;      // notify: the sending process, from SCM_CREDENTIALS
+};
+
+struct Observer {
+    NotifySocket& socket;
+    Daemon& daemon;
+    std::vector<Event> events;
+    std::string partial_line;
+    bool stdout_closed = false;
+
+    void drain_stdout() {
+        char buffer[4096];
+        for (;;) {
+            const ssize_t n = read(daemon.out.fd, buffer, sizeof buffer);
+            if (n == 0) stdout_closed = true;
+            if (n <= 0) return;
+            partial_line.append(buffer, static_cast<std::size_t>(n));
+            for (std::size_t end; (end = partial_line.find('\n')) != std::string::npos;) {
+                events.push_back({Event::line, partial_line.substr(0, end), Clock::now(), 0});
+                partial_line.erase(0, end + 1);
+            }
+        }
+    }
+
+    void drain_socket() {
+        for (;;) {
+            char data[4096];
+            alignas(cmsghdr) char control[CMSG_SPACE(sizeof(ucred))];
+            iovec iov{data, sizeof data - 1};
+            msghdr message{};
+            message.msg_iov = &iov;
+            message.msg_iovlen = 1;
+            message.msg_control = control;
+            message.msg_controllen = sizeof control;
+            const ssize_t n = recvmsg(socket.socket.fd, &message, MSG_CMSG_CLOEXEC);
+            if (n < 0) return;
+            pid_t sender = 0;
+            for (cmsghdr* c = CMSG_FIRSTHDR(&message); c; c = CMSG_NXTHDR(&message, c)) {
+                if (c->cmsg_level == SOL_SOCKET && c->cmsg_type == SCM_CREDENTIALS) {
+                    ucred credentials{};
+                    std::memcpy(&credentials, CMSG_DATA(c), sizeof credentials);
+                    sender = credentials.pid;
+                }
+            }
+            const std::string text(data, static_cast<std::size_t>(n));
+            std::size_t start = 0;
+            while (start < text.size()) {
+                std::size_t end = text.find('\n', start);
+                if (end == std::string::npos) end = text.size();
+                if (end > start) events.push_back({Event::notify, text.substr(start, end - start), Clock::now(), sender});
+                start = end + 1;
+            }
+        }
+    }
+
+    // Reads until `done()` or the timeout; true when done() became true.
+    bool wait_until(const std::function<bool()>& done, Clock::duration timeout) {
+        const auto deadline = Clock::now() + timeout;
+        while (!done()) {
+            const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now());
+            if (left.count() <= 0) return false;
+            pollfd fds[2] = {{socket.socket.fd, POLLIN, 0}, {stdout_closed ? -1 : daemon.out.fd, POLLIN, 0}};
+            poll(fds, 2, static_cast<int>(std::min<long long>(left.count(), 50)) + 1);
+            // ameotod prints a line before the notification that follows from it, so the line is in
+            // the pipe by the time the datagram is here: read stdout first to keep the order causal.
+            drain_stdout();
+            drain_socket();
+        }
+        return true;
+    }
+
+    void watch_for(Clock::duration duration) {
+        wait_until([] { return false; }, duration);
+    }
+
+    // Index of the first event of `kind` whose text starts with `prefix`, or -1.
+    long find(Event::Kind kind, const std::string& prefix) const {
+        for (std::size_t i = 0; i < events.size(); ++i)
+            if (events[i].kind == kind && starts_with(events[i].text, prefix)) return static_cast<long>(i);
+        return -1;
+    }
+    bool has(Event::Kind kind, const std::string& prefix) const { return find(kind, prefix) >= 0; }
+
+    std::string transcript() const {
+        std::string s;
+        for (const auto& e : events) s += (e.kind == Event::line ? "stdout: " : "notify: ") + e.text + "\n";
+        return s;
+    }
+};
+
+}  // namespace
+
+TEST_CASE("ameotod tells systemd READY, STATUS, WATCHDOG and STOPPING at the right moments") {
+    TempDir dir;
+    NotifySocket socket(dir.path / "notify");
+    Daemon daemon(socket.path, "400000");   // WatchdogSec=0.4s: a ping expected every 200 ms
+    Observer seen{socket, daemon, {}, {}, false};
+    INFO("what ameotod said so far:\n" << seen.transcript());
+
+    // READY=1 only once the port is bound and the first audio block has run.
+    REQUIRE_MESSAGE(seen.wait_until([&] { return seen.has(Event::notify, "READY=1"); }, 10s), "no READY=1 within 10 s");
+    const long ready = seen.find(Event::notify, "READY=1");
+    const long listening = seen.find(Event::line, "ameotod: listening on osc.udp://127.0.0.1:");
+    const long running = seen.find(Event::line, "ameotod: running");
+    REQUIRE(listening >= 0);
+    CHECK(seen.events[static_cast<std::size_t>(listening)].text.find(":0/") == std::string::npos);   // --port 0 got a real port
+    REQUIRE(running >= 0);
+    CHECK(listening < running);
+    CHECK(running < ready);
+
+    // The status systemctl shows, sent with READY.
+    REQUIRE(seen.wait_until([&] { return seen.has(Event::notify, "STATUS="); }, 2s));
+    CHECK(seen.events[static_cast<std::size_t>(seen.find(Event::notify, "STATUS="))].text == "STATUS=playing on null");
+
+    // WATCHDOG=1 keeps coming while audio advances: every 200 ms, so about 10 in 2 s.
+    const auto watch_from = Clock::now();
+    seen.watch_for(2s);
+    long pings = 0;
+    for (const auto& e : seen.events)
+        if (e.kind == Event::notify && e.text == "WATCHDOG=1" && e.at > watch_from) ++pings;
+    CHECK(pings >= 3);
+    CHECK(pings <= 15);   // half the interval, not a flood
+    CHECK_FALSE(seen.has(Event::notify, "STOPPING=1"));
+
+    // SIGTERM: STOPPING=1, then a clean exit.
+    REQUIRE(kill(daemon.pid, SIGTERM) == 0);
+    CHECK_MESSAGE(seen.wait_until([&] { return seen.has(Event::notify, "STOPPING=1"); }, 5s), "no STOPPING=1 within 5 s of SIGTERM");
+    REQUIRE_MESSAGE(daemon.wait_exit(5s), "ameotod still runs 5 s after SIGTERM");
+    seen.wait_until([&] { return seen.stdout_closed; }, 1s);
+    CHECK(WIFEXITED(daemon.exit_status));
+    CHECK(WEXITSTATUS(daemon.exit_status) == 0);
+    CHECK(seen.has(Event::line, "ameotod: stopped"));
+    CHECK(seen.find(Event::notify, "STOPPING=1") > ready);
+
+    // NotifyAccess=main: systemd drops messages from any other process.
+    for (const auto& e : seen.events)
+        if (e.kind == Event::notify) CHECK_MESSAGE(e.sender == daemon.pid, e.text << " came from pid " << e.sender << ", not " << daemon.pid);
+}
+
+TEST_CASE("without a watchdog in the environment ameotod sends no WATCHDOG=1") {
+    TempDir dir;
+    NotifySocket socket(dir.path / "notify");
+    Daemon daemon(socket.path, "");
+    Observer seen{socket, daemon, {}, {}, false};
+    INFO("what ameotod said so far:\n" << seen.transcript());
+
+    REQUIRE_MESSAGE(seen.wait_until([&] { return seen.has(Event::notify, "READY=1"); }, 10s), "no READY=1 within 10 s");
+    seen.watch_for(600ms);   // with the watchdog of the test above, this would hold 3 pings
+    CHECK_FALSE(seen.has(Event::notify, "WATCHDOG="));
+
+    REQUIRE(kill(daemon.pid, SIGTERM) == 0);
+    CHECK(seen.wait_until([&] { return seen.has(Event::notify, "STOPPING=1"); }, 5s));
+    REQUIRE(daemon.wait_exit(5s));
+    CHECK(WIFEXITED(daemon.exit_status));
+    CHECK(WEXITSTATUS(daemon.exit_status) == 0);
+}
