@@ -105,7 +105,7 @@ bool Daemon::State::choose_backend() {
             warn("cannot use JACK: " + error);
             return false;
         }
-        say("no JACK server (" + error + "): using the null backend");
+        say(error + ": using the null backend");
     }
     NullBackend::Options n;
     n.sample_rate = options.sample_rate;

@@ -19,6 +19,7 @@ int TransverseNetwork::add_mass(double mass_kg, double ground_damping) {
     ground_damping_.push_back(ground_damping);
     anchor_stiffness_.push_back(0.0);
     force_.push_back(0.0);
+    velocity_.push_back(0.0);
     external_.push_back(0.0);
     return mass_count() - 1;
 }
@@ -68,32 +69,40 @@ void TransverseNetwork::finalize(double time_step_s) {
 }
 
 double TransverseNetwork::sub_step(double dt) {
+    // Every array is read through a local restrict pointer: the force writes cannot alias them, so the
+    // compiler keeps the bases in registers instead of reloading them from `this` after each store.
     const std::size_t n = position_.size();
     double* __restrict x = position_.data();
     double* __restrict xp = previous_.data();
     double* __restrict f = force_.data();
+    double* __restrict v = velocity_.data();
     const double* __restrict ext = external_.data();
     const double* __restrict ka = anchor_stiffness_.data();
     const double* __restrict zg = ground_damping_.data();
+    const double* __restrict inv_m = inverse_mass_.data();
+    const std::int32_t* __restrict la = link_a_.data();
+    const std::int32_t* __restrict lb = link_b_.data();
+    const double* __restrict lk = link_stiffness_.data();
+    const double* __restrict lz = link_damping_.data();
     const double inv_dt = 1.0 / dt;
 
-    // Mass-local forces: external, anchor springs, damping to ground.
-    for (std::size_t i = 0; i < n; ++i) f[i] = ext[i] - ka[i] * x[i] - zg[i] * (x[i] - xp[i]) * inv_dt;
+    // Mass-local forces: external, anchor springs, damping to ground; each velocity computed once.
+    for (std::size_t i = 0; i < n; ++i) {
+        v[i] = (x[i] - xp[i]) * inv_dt;
+        f[i] = ext[i] - ka[i] * x[i] - zg[i] * v[i];
+    }
 
     // Link forces (gather/scatter); equal and opposite, so they cancel in the total.
     const std::size_t links = link_a_.size();
     for (std::size_t l = 0; l < links; ++l) {
-        const auto a = static_cast<std::size_t>(link_a_[l]);
-        const auto b = static_cast<std::size_t>(link_b_[l]);
-        const double stretch = x[a] - x[b];
-        const double rate = ((x[a] - xp[a]) - (x[b] - xp[b])) * inv_dt;
-        const double force = -link_stiffness_[l] * stretch - link_damping_[l] * rate;
+        const auto a = static_cast<std::size_t>(la[l]);
+        const auto b = static_cast<std::size_t>(lb[l]);
+        const double force = -lk[l] * (x[a] - x[b]) - lz[l] * (v[a] - v[b]);
         f[a] += force;
         f[b] -= force;
     }
 
     // Position Verlet: x[n+1] = 2 x[n] - x[n-1] + T^2 F / m.
-    const double* __restrict inv_m = inverse_mass_.data();
     const double dt2 = dt * dt;
     double total = 0.0;
     for (std::size_t i = 0; i < n; ++i) {

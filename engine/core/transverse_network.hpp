@@ -74,7 +74,7 @@ private:
 
     // masses (structure of arrays)
     std::vector<double> position_, previous_, inverse_mass_, ground_damping_, anchor_stiffness_,
-        force_, external_;
+        force_, velocity_, external_;
     // links
     std::vector<std::int32_t> link_a_, link_b_;
     std::vector<double> link_stiffness_, link_damping_;

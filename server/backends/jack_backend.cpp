@@ -8,9 +8,10 @@
 namespace ameoto {
 
 namespace {
-// libjack reports every failed connection attempt on stderr (five lines each time). While the server is
-// away the control thread retries every 500 ms, so those lines are silenced then; ameotod says once
-// that the server went away and once that it is back.
+// libjack reports every failed connection attempt on stderr (five lines each time): when ameotod looks
+// for a server at start-up (--backend auto finds none on most machines) and every 500 ms while the
+// server is away. Those lines are silenced while connecting; ameotod says in one line what happened.
+// Once connected, libjack's messages are shown, prefixed.
 std::atomic<bool> quiet_jack{false};
 void jack_message(const char* text) {
     if (!quiet_jack.load()) std::fprintf(stderr, "ameotod: jack: %s\n", text);
@@ -19,8 +20,10 @@ void jack_message(const char* text) {
 
 std::unique_ptr<JackBackend> JackBackend::open(const Options& options, std::string& error) {
     std::unique_ptr<JackBackend> backend(new JackBackend(options));
-    if (!backend->open_client(error)) return nullptr;
-    return backend;
+    quiet_jack.store(true);
+    const bool ok = backend->open_client(error);
+    quiet_jack.store(false);
+    return ok ? std::move(backend) : nullptr;
 }
 
 JackBackend::~JackBackend() { stop(); }
