@@ -1,29 +1,70 @@
 // The real programs: ameotod on the null backend, driven by the ameoto binary as a user would.
 #include <doctest/doctest.h>
 
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
+#include <stdexcept>
 #include <string>
 #include <thread>
 
-#include "process_helpers.hpp"
+#include "tests/support/child_process.hpp"
+#include "tests/support/daemon_process.hpp"
 
-using ameoto::test::closed_udp_port;
+using namespace std::chrono_literals;
+using ameoto::test::ChildOptions;
+using ameoto::test::DaemonProcess;
 using ameoto::test::ProgramRun;
 using ameoto::test::run_program;
-using ameoto::test::ServerProcess;
 
 namespace {
 
 const std::string ameoto_bin = AMEOTO_BIN_DIR "/ameoto";
 const std::string ameotod_bin = AMEOTO_BIN_DIR "/ameotod";
 
-// Every run is bounded: a hanging CLI fails the test instead of stalling the suite.
+// Children get the test's environment minus these, so a developer's shell settings cannot point
+// the tests at another server.
+const std::vector<std::string> ameoto_variables{"AMEOTO_HOST", "AMEOTO_PORT"};
+
+// ameotod on the null backend, --port 0: it said where it listens (within 5 s) and that it runs.
+DaemonProcess start_server() {
+    ameoto::test::DaemonOptions o;
+    o.listen_timeout = 5s;
+    o.child.unset_env = ameoto_variables;
+    return DaemonProcess({"--backend", "null", "--output", "-", "--realtime"}, {}, o);
+}
+
+// Every run is bounded: a hanging CLI fails the test instead of stalling the suite. stdout and
+// stderr are kept apart.
 ProgramRun run_ameoto(std::vector<std::string> words) {
     words.insert(words.begin(), ameoto_bin);
-    return run_program(words, 5.0);
+    ChildOptions o;
+    o.unset_env = ameoto_variables;
+    o.separate_stderr = true;
+    return run_program(words, 5s, {}, o);
+}
+
+// A port on 127.0.0.1 that nothing listens on (just freed).
+int closed_udp_port() {
+    const int fd = socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0);
+    sockaddr_in a{};
+    a.sin_family = AF_INET;
+    a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    a.sin_port = 0;
+    socklen_t size = sizeof a;
+    if (fd < 0 || bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof a) != 0 ||
+        getsockname(fd, reinterpret_cast<sockaddr*>(&a), &size) != 0)
+        throw std::runtime_error(std::string("cannot find a free UDP port: ") + std::strerror(errno));
+    close(fd);   // the kernel hands out ephemeral ports in turn, so this one stays free for a while
+    return ntohs(a.sin_port);
 }
 
 void require_binaries() {
@@ -49,7 +90,8 @@ std::string describe(const ProgramRun& r) {
 
 TEST_CASE("ameoto drives a real ameotod: send, /fail, status, sync, quit") {
     require_binaries();
-    ServerProcess server = ServerProcess::start({ameotod_bin, "--backend", "null", "--output", "-", "--port", "0", "--realtime"});
+    DaemonProcess server = start_server();
+    CHECK(server.listening_line().starts_with("ameotod: listening on osc.udp://127.0.0.1:"));
     const std::string port = std::to_string(server.port());
 
     // Accepted: no reply comes, so send listens the whole default 0.5 s for a /fail, then exits 0.
@@ -109,7 +151,7 @@ TEST_CASE("ameoto drives a real ameotod: send, /fail, status, sync, quit") {
     CHECK(quit.exit_code == 0);
     CHECK(quit.out == "/done \"/quit\"\n");
     CHECK(quit.seconds < 0.4);
-    CHECK(server.wait_exit(3.0) == std::optional<int>(0));
+    CHECK(server.process().wait(3s) == 0);
 }
 
 TEST_CASE("status with nothing listening fails quickly with a clear message") {

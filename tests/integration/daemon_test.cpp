@@ -10,31 +10,21 @@
 #include <thread>
 
 #include "tests/support/child_process.hpp"
+#include "tests/support/daemon_process.hpp"
 #include "tests/support/osc_test_client.hpp"
+#include "tests/support/temp_dir.hpp"
 #include "tests/support/wav_file.hpp"
 
 using namespace std::chrono_literals;
 using ameoto::protocol::OscArgument;
 using ameoto::test::ChildProcess;
 using ameoto::test::OscTestClient;
+// ameotod ARGS --port 0, listening and running (10 s for each), stopped when it goes out of scope.
+using Daemon = ameoto::test::DaemonProcess;
 
 namespace {
 
 const std::string ameotod = AMEOTO_BIN_DIR "/ameotod";
-
-struct Daemon {
-    std::unique_ptr<ChildProcess> process;
-    int port = -1;
-    Daemon(std::vector<std::string> args, std::vector<std::string> env = {}) {
-        args.insert(args.begin(), ameotod);
-        args.insert(args.end(), {"--port", "0"});
-        process = std::make_unique<ChildProcess>(args, env);
-        const auto line = process->wait_for_line("listening on osc.udp://", 10s);
-        REQUIRE_MESSAGE(line, process->output());
-        port = ameoto::test::port_from_listening_line(*line);
-        REQUIRE_MESSAGE(process->wait_for_line("running", 10s), process->output());
-    }
-};
 
 std::int64_t status_frames(OscTestClient& client) {
     const auto reply = client.request("/status", {}, "/status.reply", 2s);
@@ -58,7 +48,7 @@ TEST_CASE("a /drop over UDP sounds within a block, with silence before it") {
         // A dry start (--rain 0), paced to the clock, with the real-time probe preloaded.
         Daemon d({"--backend", "null", "--output", wav, "--realtime", "--rain", "0", "--block", "256"},
                  {"LD_PRELOAD=" AMEOTO_RT_INTERPOSER, "AMEOTO_RT_REPORT=" + report});
-        OscTestClient client(d.port);
+        OscTestClient client(d.port());
         std::this_thread::sleep_for(300ms);
         before_frame = status_frames(client);
         client.send("/drop", {OscArgument::from_float(4.0f), OscArgument::from_float(0.0f), OscArgument::from_float(0.2f),
@@ -66,7 +56,7 @@ TEST_CASE("a /drop over UDP sounds within a block, with silence before it") {
         REQUIRE(client.request("/sync", {OscArgument::from_int(7)}, "/synced", 2s));
         after_frame = status_frames(client);
         std::this_thread::sleep_for(300ms);
-        CHECK(d.process->stop(SIGTERM, 5s) == 0);
+        CHECK(d.process().stop(SIGTERM, 5s) == 0);
     }
     const auto w = ameoto::test::read_wav(wav);
     REQUIRE_MESSAGE(w.ok, w.error);
@@ -89,7 +79,7 @@ TEST_CASE("a /drop over UDP sounds within a block, with silence before it") {
 
 TEST_CASE("bad messages get /fail with a reason; the server keeps serving") {
     Daemon d({"--backend", "null", "--output", "-", "--realtime"});
-    OscTestClient client(d.port);
+    OscTestClient client(d.port());
     struct Bad {
         std::vector<unsigned char> bytes;
         std::string address, reason;
@@ -121,17 +111,17 @@ TEST_CASE("bad messages get /fail with a reason; the server keeps serving") {
     // A good message after all that still works.
     client.send("/rain/rate", {OscArgument::from_int(30)});
     CHECK_FALSE(client.wait_for("/fail", 300ms));
-    CHECK(d.process->running());
+    CHECK(d.process().running());
 }
 
 TEST_CASE("/quit answers /done and stops cleanly") {
     const std::string wav = ameoto::test::temp_path("quit.wav");
     Daemon d({"--backend", "null", "--output", wav, "--realtime"});
-    OscTestClient client(d.port);
+    OscTestClient client(d.port());
     const auto done = client.request("/quit", {}, "/done", 2s);
     REQUIRE(done);
     CHECK(done->args[0].text == "/quit");
-    CHECK(d.process->wait(5s) == 0);
+    CHECK(d.process().wait(5s) == 0);
     CHECK(ameoto::test::read_wav(wav).ok);
 }
 
@@ -139,8 +129,8 @@ TEST_CASE("SIGTERM leaves a WAV that reads back whole") {
     const std::string wav = ameoto::test::temp_path("sigterm.wav");
     Daemon d({"--backend", "null", "--output", wav, "--realtime", "--rain", "20"});
     std::this_thread::sleep_for(1200ms);
-    CHECK(d.process->stop(SIGTERM, 5s) == 0);
-    const auto line = d.process->wait_for_line("wrote ", 1s);
+    CHECK(d.process().stop(SIGTERM, 5s) == 0);
+    const auto line = d.process().wait_for_line("wrote ", 1s);
     REQUIRE(line);
     const long long reported = std::stoll(line->substr(line->find("wrote ") + 6));
     const auto w = ameoto::test::read_wav(wav);
@@ -161,10 +151,10 @@ TEST_CASE("SIGHUP closes the WAV and continues in a new file; neither is overwri
     const std::string wav = ameoto::test::temp_path("hup.wav");
     Daemon d({"--backend", "null", "--output", wav, "--realtime"});
     std::this_thread::sleep_for(300ms);
-    d.process->signal(SIGHUP);
-    REQUIRE(d.process->wait_for_line("SIGHUP", 2s));
+    d.process().signal(SIGHUP);
+    REQUIRE(d.process().wait_for_line("SIGHUP", 2s));
     std::this_thread::sleep_for(300ms);
-    CHECK(d.process->stop(SIGTERM, 5s) == 0);
+    CHECK(d.process().stop(SIGTERM, 5s) == 0);
     const auto first = ameoto::test::read_wav(wav);
     const std::string second_path = wav.substr(0, wav.size() - 4) + "-1.wav";
     const auto second = ameoto::test::read_wav(second_path);
@@ -193,7 +183,7 @@ TEST_CASE("offline renders are exact in length and reproducible to the sample") 
 TEST_CASE("start-up errors are clear and exit non-zero") {
     SUBCASE("a port in use") {
         Daemon first({"--backend", "null", "--output", "-", "--realtime"});
-        ChildProcess second({ameotod, "--backend", "null", "--output", "-", "--port", std::to_string(first.port)});
+        ChildProcess second({ameotod, "--backend", "null", "--output", "-", "--port", std::to_string(first.port())});
         CHECK(second.wait(10s) == 1);
         CHECK(second.output().find("cannot listen") != std::string::npos);
     }

@@ -63,9 +63,4 @@ std::optional<protocol::DecodedMessage> OscTestClient::request(const std::string
     return wait_for(reply_address, timeout);
 }
 
-int port_from_listening_line(const std::string& line) {
-    const auto colon = line.rfind(':');
-    return colon == std::string::npos ? -1 : std::stoi(line.substr(colon + 1));
-}
-
 }  // namespace ameoto::test

@@ -35,7 +35,4 @@ private:
     int port_;
 };
 
-// The port in a line "ameotod: listening on osc.udp://127.0.0.1:PORT/".
-int port_from_listening_line(const std::string& line);
-
 }  // namespace ameoto::test

@@ -5,10 +5,8 @@
 // comes from the main process (the units say NotifyAccess=main).
 #include <doctest/doctest.h>
 
-#include <fcntl.h>
 #include <poll.h>
 #include <signal.h>
-#include <spawn.h>
 #include <sys/socket.h>
 #include <sys/un.h>
 #include <sys/wait.h>
@@ -17,38 +15,25 @@
 #include <algorithm>
 #include <cerrno>
 #include <chrono>
-#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <functional>
 #include <string>
-#include <thread>
 #include <vector>
 
-extern char** environ;
+#include "tests/support/child_process.hpp"
+#include "tests/support/temp_dir.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 using namespace std::chrono_literals;
+using ameoto::test::ChildOptions;
+using ameoto::test::ChildProcess;
+using ameoto::test::TempDir;
 
 bool starts_with(const std::string& s, const std::string& prefix) { return s.compare(0, prefix.size(), prefix) == 0; }
-
-struct TempDir {
-    fs::path path;
-    TempDir() {
-        std::string pattern = (fs::temp_directory_path() / "ameoto-notify-XXXXXX").string();
-        REQUIRE_MESSAGE(mkdtemp(pattern.data()) != nullptr, "mkdtemp: " << std::strerror(errno));
-        path = pattern;
-    }
-    ~TempDir() {
-        std::error_code ec;
-        fs::remove_all(path, ec);
-    }
-    TempDir(const TempDir&) = delete;
-    TempDir& operator=(const TempDir&) = delete;
-};
 
 struct Fd {
     int fd = -1;
@@ -76,74 +61,23 @@ struct NotifySocket {
     }
 };
 
-// ameotod, started the way systemd starts a Type=notify service. Killed and reaped on every path
-// out of the test, so a failed assertion never leaves a daemon running.
-struct Daemon {
-    pid_t pid = -1;
-    Fd out;               // the read end of its stdout
-    int exit_status = -1;  // waitpid status once reaped
-
-    Daemon(const std::string& notify_socket, const std::string& watchdog_usec) {
-        // The daemon's own environment, with systemd's variables replaced by ours.
-        std::vector<std::string> env;
-        for (char** e = environ; *e; ++e) {
-            const std::string entry = *e;
-            if (!starts_with(entry, "NOTIFY_SOCKET=") && !starts_with(entry, "WATCHDOG_USEC=") && !starts_with(entry, "WATCHDOG_PID=") &&
-                !starts_with(entry, "LISTEN_"))
-                env.push_back(entry);
-        }
-        env.push_back("NOTIFY_SOCKET=" + notify_socket);
-        if (!watchdog_usec.empty()) env.push_back("WATCHDOG_USEC=" + watchdog_usec);
-        // sd_watchdog_enabled() ignores WATCHDOG_USEC unless WATCHDOG_PID is the process's own pid;
-        // the shell exports its pid and then becomes ameotod (exec keeps the pid), as systemd does.
-        std::vector<std::string> argv{"/bin/sh",
-                                      "-c",
-                                      std::string(watchdog_usec.empty() ? "" : "WATCHDOG_PID=$$; export WATCHDOG_PID; ") + "exec \"$0\" \"$@\"",
-                                      std::string(AMEOTO_BIN_DIR) + "/ameotod",
-                                      "--backend", "null", "--output", "-", "--port", "0", "--realtime"};
-        std::vector<char*> envp, args;
-        for (auto& s : env) envp.push_back(s.data());
-        envp.push_back(nullptr);
-        for (auto& s : argv) args.push_back(s.data());
-        args.push_back(nullptr);
-
-        int fds[2];
-        REQUIRE(pipe2(fds, O_CLOEXEC) == 0);
-        posix_spawn_file_actions_t actions;
-        posix_spawn_file_actions_init(&actions);
-        posix_spawn_file_actions_adddup2(&actions, fds[1], STDOUT_FILENO);
-        const int spawned = posix_spawn(&pid, args[0], &actions, nullptr, args.data(), envp.data());
-        posix_spawn_file_actions_destroy(&actions);
-        close(fds[1]);
-        out.fd = fds[0];
-        if (spawned != 0) pid = -1;
-        REQUIRE_MESSAGE(spawned == 0, "posix_spawn: " << std::strerror(spawned));
-        fcntl(out.fd, F_SETFL, fcntl(out.fd, F_GETFL) | O_NONBLOCK);
-    }
-
-    ~Daemon() {
-        if (pid > 0 && exit_status < 0) {
-            kill(pid, SIGKILL);
-            int status = 0;
-            while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {}
-        }
-    }
-    Daemon(const Daemon&) = delete;
-    Daemon& operator=(const Daemon&) = delete;
-
-    // Reaps the daemon if it has exited within `timeout`.
-    bool wait_exit(Clock::duration timeout) {
-        const auto deadline = Clock::now() + timeout;
-        while (exit_status < 0) {
-            int status = 0;
-            const pid_t r = waitpid(pid, &status, WNOHANG);
-            if (r == pid) exit_status = status;
-            else if (Clock::now() >= deadline) return false;
-            else std::this_thread::sleep_for(10ms);
-        }
-        return true;
-    }
-};
+// ameotod, started the way systemd starts a Type=notify service: its stdout read by the test, its
+// stderr kept apart. Stopped and reaped on every path out of the test (ChildProcess), so a failed
+// assertion never leaves a daemon running.
+ChildProcess start_daemon(const std::string& notify_socket, const std::string& watchdog_usec) {
+    // The daemon's own environment, with systemd's variables replaced by ours.
+    ChildOptions options;
+    options.unset_env = {"NOTIFY_SOCKET", "WATCHDOG_USEC", "WATCHDOG_PID", "LISTEN_*"};
+    options.separate_stderr = true;
+    std::vector<std::string> env{"NOTIFY_SOCKET=" + notify_socket};
+    if (!watchdog_usec.empty()) env.push_back("WATCHDOG_USEC=" + watchdog_usec);
+    // sd_watchdog_enabled() ignores WATCHDOG_USEC unless WATCHDOG_PID is the process's own pid;
+    // the shell exports its pid and then becomes ameotod (exec keeps the pid), as systemd does.
+    return ChildProcess({"/bin/sh", "-c",
+                         std::string(watchdog_usec.empty() ? "" : "WATCHDOG_PID=$$; export WATCHDOG_PID; ") + "exec \"$0\" \"$@\"",
+                         std::string(AMEOTO_BIN_DIR) + "/ameotod", "--backend", "null", "--output", "-", "--port", "0", "--realtime"},
+                        env, options);
+}
 
 // Everything the daemon said, in causal order: its stdout lines and its notify messages.
 struct Event {
@@ -155,23 +89,16 @@ struct Event {
 
 struct Observer {
     NotifySocket& socket;
-    Daemon& daemon;
+    ChildProcess& daemon;
     std::vector<Event> events;
-    std::string partial_line;
+    std::size_t consumed = 0;   // how much of daemon.output() has become events
     bool stdout_closed = false;
 
     void drain_stdout() {
-        char buffer[4096];
-        for (;;) {
-            const ssize_t n = read(daemon.out.fd, buffer, sizeof buffer);
-            if (n == 0) stdout_closed = true;
-            if (n <= 0) return;
-            partial_line.append(buffer, static_cast<std::size_t>(n));
-            for (std::size_t end; (end = partial_line.find('\n')) != std::string::npos;) {
-                events.push_back({Event::line, partial_line.substr(0, end), Clock::now(), 0});
-                partial_line.erase(0, end + 1);
-            }
-        }
+        const std::string& out = daemon.output();   // reads what is in the pipe, without blocking
+        for (std::size_t end; (end = out.find('\n', consumed)) != std::string::npos; consumed = end + 1)
+            events.push_back({Event::line, out.substr(consumed, end - consumed), Clock::now(), 0});
+        stdout_closed = daemon.output_closed();
     }
 
     void drain_socket() {
@@ -211,7 +138,7 @@ struct Observer {
         while (!done()) {
             const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now());
             if (left.count() <= 0) return false;
-            pollfd fds[2] = {{socket.socket.fd, POLLIN, 0}, {stdout_closed ? -1 : daemon.out.fd, POLLIN, 0}};
+            pollfd fds[2] = {{socket.socket.fd, POLLIN, 0}, {stdout_closed ? -1 : daemon.output_fd(), POLLIN, 0}};
             poll(fds, 2, static_cast<int>(std::min<long long>(left.count(), 50)) + 1);
             // ameotod prints a line before the notification that follows from it, so the line is in
             // the pipe by the time the datagram is here: read stdout first to keep the order causal.
@@ -236,6 +163,7 @@ struct Observer {
     std::string transcript() const {
         std::string s;
         for (const auto& e : events) s += (e.kind == Event::line ? "stdout: " : "notify: ") + e.text + "\n";
+        if (!daemon.error_output().empty()) s += "stderr:\n" + daemon.error_output();
         return s;
     }
 };
@@ -243,10 +171,10 @@ struct Observer {
 }  // namespace
 
 TEST_CASE("ameotod tells systemd READY, STATUS, WATCHDOG and STOPPING at the right moments") {
-    TempDir dir;
-    NotifySocket socket(dir.path / "notify");
-    Daemon daemon(socket.path, "400000");   // WatchdogSec=0.4s: a ping expected every 200 ms
-    Observer seen{socket, daemon, {}, {}, false};
+    TempDir dir("ameoto-notify");
+    NotifySocket socket(dir.path() / "notify");
+    ChildProcess daemon = start_daemon(socket.path, "400000");   // WatchdogSec=0.4s: a ping expected every 200 ms
+    Observer seen{socket, daemon, {}, 0, false};
     INFO("what ameotod said so far:\n" << seen.transcript());
 
     // READY=1 only once the port is bound and the first audio block has run.
@@ -275,34 +203,34 @@ TEST_CASE("ameotod tells systemd READY, STATUS, WATCHDOG and STOPPING at the rig
     CHECK_FALSE(seen.has(Event::notify, "STOPPING=1"));
 
     // SIGTERM: STOPPING=1, then a clean exit.
-    REQUIRE(kill(daemon.pid, SIGTERM) == 0);
+    REQUIRE(kill(daemon.pid(), SIGTERM) == 0);
     CHECK_MESSAGE(seen.wait_until([&] { return seen.has(Event::notify, "STOPPING=1"); }, 5s), "no STOPPING=1 within 5 s of SIGTERM");
-    REQUIRE_MESSAGE(daemon.wait_exit(5s), "ameotod still runs 5 s after SIGTERM");
+    REQUIRE_MESSAGE(daemon.wait(5s) != -1, "ameotod still runs 5 s after SIGTERM");
     seen.wait_until([&] { return seen.stdout_closed; }, 1s);
-    CHECK(WIFEXITED(daemon.exit_status));
-    CHECK(WEXITSTATUS(daemon.exit_status) == 0);
+    CHECK(WIFEXITED(daemon.exit_status()));
+    CHECK(WEXITSTATUS(daemon.exit_status()) == 0);
     CHECK(seen.has(Event::line, "ameotod: stopped"));
     CHECK(seen.find(Event::notify, "STOPPING=1") > ready);
 
     // NotifyAccess=main: systemd drops messages from any other process.
     for (const auto& e : seen.events)
-        if (e.kind == Event::notify) CHECK_MESSAGE(e.sender == daemon.pid, e.text << " came from pid " << e.sender << ", not " << daemon.pid);
+        if (e.kind == Event::notify) CHECK_MESSAGE(e.sender == daemon.pid(), e.text << " came from pid " << e.sender << ", not " << daemon.pid());
 }
 
 TEST_CASE("without a watchdog in the environment ameotod sends no WATCHDOG=1") {
-    TempDir dir;
-    NotifySocket socket(dir.path / "notify");
-    Daemon daemon(socket.path, "");
-    Observer seen{socket, daemon, {}, {}, false};
+    TempDir dir("ameoto-notify");
+    NotifySocket socket(dir.path() / "notify");
+    ChildProcess daemon = start_daemon(socket.path, "");
+    Observer seen{socket, daemon, {}, 0, false};
     INFO("what ameotod said so far:\n" << seen.transcript());
 
     REQUIRE_MESSAGE(seen.wait_until([&] { return seen.has(Event::notify, "READY=1"); }, 10s), "no READY=1 within 10 s");
     seen.watch_for(600ms);   // with the watchdog of the test above, this would hold 3 pings
     CHECK_FALSE(seen.has(Event::notify, "WATCHDOG="));
 
-    REQUIRE(kill(daemon.pid, SIGTERM) == 0);
+    REQUIRE(kill(daemon.pid(), SIGTERM) == 0);
     CHECK(seen.wait_until([&] { return seen.has(Event::notify, "STOPPING=1"); }, 5s));
-    REQUIRE(daemon.wait_exit(5s));
-    CHECK(WIFEXITED(daemon.exit_status));
-    CHECK(WEXITSTATUS(daemon.exit_status) == 0);
+    REQUIRE(daemon.wait(5s) != -1);
+    CHECK(WIFEXITED(daemon.exit_status()));
+    CHECK(WEXITSTATUS(daemon.exit_status()) == 0);
 }

@@ -5,14 +5,6 @@
 // /usr/local/bin/ameotod replaced by the freshly built ameotod.
 #include <doctest/doctest.h>
 
-#include <fcntl.h>
-#include <spawn.h>
-#include <sys/stat.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
-#include <cerrno>
-#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -20,29 +12,17 @@
 #include <string>
 #include <vector>
 
-extern char** environ;
+#include "tests/support/child_process.hpp"
+#include "tests/support/temp_dir.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
+using namespace std::chrono_literals;
+using ameoto::test::ProgramRun;
+using ameoto::test::TempDir;
 
 const std::string installed_binary = "/usr/local/bin/ameotod";
-
-// A fresh folder under the system temp dir, removed with everything in it.
-struct TempDir {
-    fs::path path;
-    TempDir() {
-        std::string pattern = (fs::temp_directory_path() / "ameoto-units-XXXXXX").string();
-        REQUIRE_MESSAGE(mkdtemp(pattern.data()) != nullptr, "mkdtemp: " << std::strerror(errno));
-        path = pattern;
-    }
-    ~TempDir() {
-        std::error_code ec;
-        fs::remove_all(path, ec);
-    }
-    TempDir(const TempDir&) = delete;
-    TempDir& operator=(const TempDir&) = delete;
-};
 
 std::string read_text(const fs::path& path) {
     std::ifstream in(path, std::ios::binary);
@@ -68,55 +48,10 @@ std::vector<std::string> lines_of(const std::string& text) {
 
 bool starts_with(const std::string& s, const std::string& prefix) { return s.compare(0, prefix.size(), prefix) == 0; }
 
-struct RunResult {
-    int exit_code = -1;     // -1: did not exit normally
-    std::string output;     // stdout and stderr together
-};
-
-// Runs argv (looked up in PATH) with extra environment entries, capturing stdout and stderr.
-RunResult run(const std::vector<std::string>& argv, const std::vector<std::string>& extra_env) {
-    std::vector<std::string> env_strings;
-    for (char** e = environ; *e; ++e) {
-        const std::string entry = *e;
-        bool overridden = false;
-        for (const auto& x : extra_env) overridden |= starts_with(entry, x.substr(0, x.find('=') + 1));
-        if (!overridden) env_strings.push_back(entry);
-    }
-    env_strings.insert(env_strings.end(), extra_env.begin(), extra_env.end());
-    std::vector<char*> envp, args;
-    for (auto& s : env_strings) envp.push_back(s.data());
-    envp.push_back(nullptr);
-    std::vector<std::string> argv_copy = argv;
-    for (auto& s : argv_copy) args.push_back(s.data());
-    args.push_back(nullptr);
-
-    int fds[2];
-    REQUIRE(pipe2(fds, O_CLOEXEC) == 0);
-    posix_spawn_file_actions_t actions;
-    posix_spawn_file_actions_init(&actions);
-    posix_spawn_file_actions_adddup2(&actions, fds[1], STDOUT_FILENO);
-    posix_spawn_file_actions_adddup2(&actions, fds[1], STDERR_FILENO);
-    pid_t pid = -1;
-    const int spawned = posix_spawnp(&pid, args[0], &actions, nullptr, args.data(), envp.data());
-    posix_spawn_file_actions_destroy(&actions);
-    close(fds[1]);
-    RunResult result;
-    if (spawned != 0) {
-        close(fds[0]);
-        result.output = "cannot run " + argv[0] + ": " + std::strerror(spawned);
-        return result;
-    }
-    char buffer[4096];
-    for (;;) {
-        const ssize_t n = read(fds[0], buffer, sizeof buffer);
-        if (n > 0) result.output.append(buffer, static_cast<std::size_t>(n));
-        else if (n == 0 || errno != EINTR) break;
-    }
-    close(fds[0]);
-    int status = 0;
-    while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {}
-    if (WIFEXITED(status)) result.exit_code = WEXITSTATUS(status);
-    return result;
+// Runs argv (looked up in PATH) with extra environment entries; out holds stdout and stderr together.
+// A program that cannot be started gives exit code -1 and says so in out.
+ProgramRun run(const std::vector<std::string>& argv, const std::vector<std::string>& extra_env) {
+    return ameoto::test::run_program(argv, 120s, extra_env);
 }
 
 struct Unit {
@@ -142,12 +77,12 @@ std::string with_built_binary(std::string text) {
 }
 
 bool verify_supports_recursive_errors() {
-    static const bool supported = run({"systemd-analyze", "--help"}, {}).output.find("--recursive-errors") != std::string::npos;
+    static const bool supported = run({"systemd-analyze", "--help"}, {}).out.find("--recursive-errors") != std::string::npos;
     return supported;
 }
 
 struct Verdict {
-    RunResult run;
+    ProgramRun run;
     fs::path file;
     std::vector<std::string> blamed;   // lines about our unit: must be none
     std::vector<std::string> other;    // lines about anything else except a host's jack.service: must be none
@@ -172,7 +107,7 @@ bool about_host_jack_unit(const std::string& line) {
 // Copies `text` into a temp folder as `unit.installed` and runs systemd-analyze verify on it.
 // `unit_path`: a folder searched before the usual ones (SYSTEMD_UNIT_PATH), for stand-in units.
 Verdict verify(const Unit& unit, const std::string& text, const TempDir& dir, const fs::path& unit_path = {}) {
-    const fs::path folder = dir.path / (unit.user ? "user" : "system");
+    const fs::path folder = dir.path() / (unit.user ? "user" : "system");
     fs::create_directories(folder);
     Verdict v;
     v.file = folder / unit.installed;
@@ -184,14 +119,14 @@ Verdict verify(const Unit& unit, const std::string& text, const TempDir& dir, co
         // `--user verify` starts a user-mode manager in-process, which wants $XDG_RUNTIME_DIR/systemd.
         // In a container or CI job without a login session it is unset ("Failed to lookup
         // RuntimeDirectory path: No such device or address"), so give it an empty private one.
-        const fs::path runtime = dir.path / "runtime";
+        const fs::path runtime = dir.path() / "runtime";
         fs::create_directories(runtime);
         fs::permissions(runtime, fs::perms::owner_all, fs::perm_options::replace);
         env.push_back("XDG_RUNTIME_DIR=" + runtime.string());
         // The user manager also reads ~/.config/systemd/user and friends; point it at an empty
         // home so that neither the tester's own units nor an unreadable $HOME (a test run under
         // another uid) show up in the output.
-        const fs::path home = dir.path / "home";
+        const fs::path home = dir.path() / "home";
         fs::create_directories(home);
         for (const char* variable : {"HOME", "XDG_CONFIG_HOME", "XDG_DATA_HOME", "XDG_STATE_HOME", "XDG_CACHE_HOME"})
             env.push_back(std::string(variable) + "=" + (variable == std::string("HOME") ? home : home / variable).string());
@@ -206,7 +141,7 @@ Verdict verify(const Unit& unit, const std::string& text, const TempDir& dir, co
     argv.push_back(v.file.string());
     v.run = run(argv, env);
 
-    for (const auto& line : lines_of(v.run.output)) {
+    for (const auto& line : lines_of(v.run.out)) {
         if (line.find(v.file.string()) != std::string::npos || line.find(unit.installed) != std::string::npos)
             v.blamed.push_back(line);
         else if (!about_host_jack_unit(line))
@@ -217,7 +152,7 @@ Verdict verify(const Unit& unit, const std::string& text, const TempDir& dir, co
 
 std::string describe(const Verdict& v) {
     return "systemd-analyze verify " + v.file.string() + " exited " + std::to_string(v.run.exit_code) + " and printed:\n" +
-           v.run.output;
+           v.run.out;
 }
 
 // The value of the last `Key=` line in the unit ("" when absent; systemd lets later lines win).
@@ -237,15 +172,15 @@ bool has_line(const std::string& text, const std::string& line) {
 }  // namespace
 
 TEST_CASE("systemd-analyze is available for these tests") {
-    const RunResult r = run({"systemd-analyze", "--version"}, {});
-    REQUIRE_MESSAGE(r.exit_code == 0, "systemd-analyze is needed to check the unit files: " << r.output);
-    MESSAGE("using " << lines_of(r.output).at(0));
+    const ProgramRun r = run({"systemd-analyze", "--version"}, {});
+    REQUIRE_MESSAGE(r.exit_code == 0, "systemd-analyze is needed to check the unit files: " << r.out);
+    MESSAGE("using " << lines_of(r.out).at(0));
 }
 
 TEST_CASE("systemd-analyze verify passes on both units") {
     for (const Unit* unit : {&system_unit, &user_unit}) {
         CAPTURE(unit->source);
-        TempDir dir;
+        TempDir dir("ameoto-units");
         const Verdict v = verify(*unit, with_built_binary(unit_text(*unit)), dir);
         INFO(describe(v));
         CHECK(v.run.exit_code == 0);
@@ -279,7 +214,7 @@ TEST_CASE("the verify check catches broken units") {
             const auto at = text.find(b.from);
             REQUIRE_MESSAGE(at != std::string::npos, "the unit no longer has " << b.from);
             text.replace(at, std::strlen(b.from), b.to);
-            TempDir dir;
+            TempDir dir("ameoto-units");
             const Verdict v = verify(*unit, b.exit_code_fails ? text : with_built_binary(text), dir);
             INFO(describe(v));
             CHECK_FALSE(v.passed());
@@ -295,14 +230,14 @@ TEST_CASE("a broken jack.service installed on the machine does not fail our unit
     // warnings, which the check tolerates.
     for (const Unit* unit : {&system_unit, &user_unit}) {
         CAPTURE(unit->source);
-        TempDir dir;
-        const fs::path stand_ins = dir.path / "stand-ins";
+        TempDir dir("ameoto-units");
+        const fs::path stand_ins = dir.path() / "stand-ins";
         fs::create_directories(stand_ins);
         write_text(stand_ins / "jack.service", "[Unit]\nDescription=bad JACK\n[Service]\nType=bogus\nExecStart=/nonexistent/jackd\nFooBar=1\n");
         const Verdict v = verify(*unit, with_built_binary(unit_text(*unit)), dir, stand_ins);
         INFO(describe(v));
         CHECK(v.passed());
-        if (!verify_supports_recursive_errors()) CHECK(v.run.output.find("jack.service:") != std::string::npos);
+        if (!verify_supports_recursive_errors()) CHECK(v.run.out.find("jack.service:") != std::string::npos);
     }
 }
 

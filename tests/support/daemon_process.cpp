@@ -1,0 +1,38 @@
+#include "tests/support/daemon_process.hpp"
+
+#include <stdexcept>
+
+namespace ameoto::test {
+namespace {
+
+std::vector<std::string> command_line(std::vector<std::string> arguments) {
+    arguments.insert(arguments.begin(), AMEOTO_BIN_DIR "/ameotod");
+    arguments.insert(arguments.end(), {"--port", "0"});
+    return arguments;
+}
+
+std::string within(std::chrono::milliseconds t) { return "within " + std::to_string(t.count()) + " ms"; }
+
+}  // namespace
+
+DaemonProcess::DaemonProcess(std::vector<std::string> arguments, const std::vector<std::string>& env, const DaemonOptions& options)
+    : process_(command_line(std::move(arguments)), env, options.child) {
+    // A throw from here on destroys process_, which stops ameotod.
+    const auto line = process_.wait_for_line("listening on osc.udp://", options.listen_timeout);
+    if (!line)
+        throw std::runtime_error("ameotod did not say where it listens " + within(options.listen_timeout) +
+                                 "; it printed:\n" + process_.output() + process_.error_output());
+    listening_line_ = *line;
+    port_ = port_from_listening_line(*line);
+    if (port_ <= 0) throw std::runtime_error("ameotod listens on no usable port: " + *line);
+    if (!process_.wait_for_line("running", options.running_timeout))
+        throw std::runtime_error("ameotod did not say \"running\" " + within(options.running_timeout) + "; it printed:\n" +
+                                 process_.output() + process_.error_output());
+}
+
+int port_from_listening_line(const std::string& line) {
+    const auto colon = line.rfind(':');
+    return colon == std::string::npos ? -1 : std::stoi(line.substr(colon + 1));
+}
+
+}  // namespace ameoto::test
