@@ -13,6 +13,7 @@
 #include <thread>
 
 #include "tests/support/child_process.hpp"
+#include "tests/support/jack_server.hpp"
 #include "tests/support/daemon_process.hpp"
 #include "tests/support/osc_test_client.hpp"
 #include "tests/support/temp_dir.hpp"
@@ -21,63 +22,12 @@
 using namespace std::chrono_literals;
 using ameoto::protocol::OscArgument;
 using ameoto::test::ChildProcess;
+using ameoto::test::JackServer;
 using ameoto::test::OscTestClient;
 
 namespace {
 
 const std::string ameotod = AMEOTO_BIN_DIR "/ameotod";
-
-// A private jackd per test: its own server name, so a JACK server the user runs is never touched.
-class JackServer {
-public:
-    JackServer() : name_("ameoto-test-" + std::to_string(getpid()) + "-" + std::to_string(counter_++)) { start(); }
-    ~JackServer() {
-        stop();
-        // jackd leaves semaphores and shared memory in /dev/shm: those named after this server always
-        // go; the ones all JACK servers of this user share (jack-shm-registry, jack-UID-N, jack_db-UID)
-        // go only when no other jackd runs, so a user's own JACK server is never disturbed.
-        const bool alone = !other_jackd_running();
-        const std::string uid = std::to_string(getuid());
-        std::error_code ec;
-        for (const auto& entry : std::filesystem::directory_iterator("/dev/shm", ec)) {
-            const std::string f = entry.path().filename().string();
-            const bool ours = f.find(name_) != std::string::npos;
-            const bool shared = f == "jack-shm-registry" || f.rfind("jack-" + uid + "-", 0) == 0 || f == "jack_db-" + uid;
-            if (ours || (alone && shared)) std::filesystem::remove(entry.path(), ec);
-        }
-    }
-    static bool other_jackd_running() {
-        std::error_code ec;
-        for (const auto& entry : std::filesystem::directory_iterator("/proc", ec)) {
-            std::ifstream comm(entry.path() / "comm");
-            std::string name;
-            if (comm >> name && name == "jackd") return true;
-        }
-        return false;
-    }
-    void start() {
-        // --no-realtime goes before -d: it is a server option, not a driver option.
-        process_ = std::make_unique<ChildProcess>(
-            std::vector<std::string>{"/usr/bin/jackd", "--no-realtime", "-n", name_, "-d", "dummy", "-r", "48000", "-p", "256"});
-        ChildProcess wait({"/usr/bin/jack_wait", "-w", "-t", "10"}, env());
-        REQUIRE_MESSAGE(wait.wait(15s) == 0, process_->output());
-    }
-    void stop() {
-        if (process_) process_->stop(SIGTERM, 5s);
-        process_.reset();
-    }
-    std::vector<std::string> env() const { return {"JACK_DEFAULT_SERVER=" + name_, "JACK_NO_AUDIO_RESERVATION=1"}; }
-    std::vector<std::string> env(const std::vector<std::string>& more) const {
-        auto e = env();
-        e.insert(e.end(), more.begin(), more.end());
-        return e;
-    }
-
-private:
-    static inline std::atomic<int> counter_{0};
-    std::string name_;
-    std::unique_ptr<ChildProcess> process_;
-};
 
 // ameotod ARGS --backend jack --port 0 on that server: listening within 15 s, then running within 10 s.
 ameoto::test::DaemonProcess jack_daemon(const JackServer& jack, std::vector<std::string> args, const std::vector<std::string>& env = {}) {

@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "tests/support/child_process.hpp"
+#include "tests/support/jack_server.hpp"
 #include "tests/support/temp_dir.hpp"
 
 namespace {
@@ -64,19 +65,23 @@ struct NotifySocket {
 // ameotod, started the way systemd starts a Type=notify service: its stdout read by the test, its
 // stderr kept apart. Stopped and reaped on every path out of the test (ChildProcess), so a failed
 // assertion never leaves a daemon running.
-ChildProcess start_daemon(const std::string& notify_socket, const std::string& watchdog_usec) {
+ChildProcess start_daemon(const std::string& notify_socket, const std::string& watchdog_usec,
+                          std::vector<std::string> backend = {"--backend", "null", "--output", "-", "--realtime"},
+                          const std::vector<std::string>& more_env = {}) {
     // The daemon's own environment, with systemd's variables replaced by ours.
     ChildOptions options;
     options.unset_env = {"NOTIFY_SOCKET", "WATCHDOG_USEC", "WATCHDOG_PID", "LISTEN_*"};
     options.separate_stderr = true;
     std::vector<std::string> env{"NOTIFY_SOCKET=" + notify_socket};
+    env.insert(env.end(), more_env.begin(), more_env.end());
     if (!watchdog_usec.empty()) env.push_back("WATCHDOG_USEC=" + watchdog_usec);
     // sd_watchdog_enabled() ignores WATCHDOG_USEC unless WATCHDOG_PID is the process's own pid;
     // the shell exports its pid and then becomes ameotod (exec keeps the pid), as systemd does.
-    return ChildProcess({"/bin/sh", "-c",
-                         std::string(watchdog_usec.empty() ? "" : "WATCHDOG_PID=$$; export WATCHDOG_PID; ") + "exec \"$0\" \"$@\"",
-                         std::string(AMEOTO_BIN_DIR) + "/ameotod", "--backend", "null", "--output", "-", "--port", "0", "--realtime"},
-                        env, options);
+    std::vector<std::string> argv{"/bin/sh", "-c",
+                                  std::string(watchdog_usec.empty() ? "" : "WATCHDOG_PID=$$; export WATCHDOG_PID; ") + "exec \"$0\" \"$@\"",
+                                  std::string(AMEOTO_BIN_DIR) + "/ameotod", "--port", "0"};
+    argv.insert(argv.end(), backend.begin(), backend.end());
+    return ChildProcess(argv, env, options);
 }
 
 // Everything the daemon said, in causal order: its stdout lines and its notify messages.
@@ -233,4 +238,39 @@ TEST_CASE("without a watchdog in the environment ameotod sends no WATCHDOG=1") {
     REQUIRE(daemon.wait(5s) != -1);
     CHECK(WIFEXITED(daemon.exit_status()));
     CHECK(WEXITSTATUS(daemon.exit_status()) == 0);
+}
+
+TEST_CASE("WATCHDOG=1 stops while audio stalls (JACK server gone) and resumes when it plays again") {
+    // The rule: the watchdog is fed only while the audio cycle advances, so systemd restarts a
+    // daemon whose audio is stuck. A real jackd (dummy driver) is stopped to stall the audio thread.
+    ameoto::test::JackServer jack;
+    TempDir dir("ameoto-notify");
+    NotifySocket socket(dir.path() / "notify");
+    ChildProcess daemon = start_daemon(socket.path, "400000", {"--backend", "jack", "--jack-name", "ameoto_wd"}, jack.env());
+    Observer seen{socket, daemon, {}, 0, false};
+    INFO("what ameotod said so far:\n" << seen.transcript());
+    REQUIRE_MESSAGE(seen.wait_until([&] { return seen.has(Event::notify, "READY=1"); }, 15s), "no READY=1 within 15 s");
+
+    auto pings_between = [&](Clock::time_point from, Clock::time_point to) {
+        long n = 0;
+        for (const auto& e : seen.events)
+            if (e.kind == Event::notify && e.text == "WATCHDOG=1" && e.at > from && e.at <= to) ++n;
+        return n;
+    };
+    auto t0 = Clock::now();
+    seen.watch_for(1s);
+    CHECK(pings_between(t0, Clock::now()) >= 2);            // playing: fed every 200 ms
+
+    jack.stop();
+    REQUIRE(seen.wait_until([&] { return seen.has(Event::notify, "STATUS=waiting for the JACK server"); }, 10s));
+    seen.watch_for(300ms);                                   // a ping already under way may still land
+    t0 = Clock::now();
+    seen.watch_for(1500ms);
+    CHECK(pings_between(t0, Clock::now()) == 0);             // stalled: no ping for 1.5 s (WatchdogSec 0.4 s)
+
+    jack.start();
+    REQUIRE(seen.wait_until([&] { return seen.has(Event::line, "ameotod: JACK server is back"); }, 10s));
+    t0 = Clock::now();
+    seen.watch_for(1s);
+    CHECK(pings_between(t0, Clock::now()) >= 2);            // playing again: fed again
 }

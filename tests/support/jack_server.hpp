@@ -1,0 +1,38 @@
+#pragma once
+// A private JACK server for a test: jackd2 with the dummy driver, no real-time, 48 kHz, 256 frames.
+//
+// Interface:
+//   JackServer jack;                  // starts jackd under a unique server name, waits with jack_wait;
+//                                     // throws std::runtime_error with jackd's output if it does not come up
+//   ChildProcess p(argv, jack.env()); // JACK_DEFAULT_SERVER=<its name>: clients find this server only
+//   jack.stop(); jack.start();        // a crash and a return, for reconnection tests
+//   ~JackServer                       // stops jackd by its PID and removes the /dev/shm files it left
+//
+// Its own server name means a JACK server the user runs is never touched, and tests can run side by side.
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "tests/support/child_process.hpp"
+
+namespace ameoto::test {
+
+class JackServer {
+public:
+    JackServer();
+    ~JackServer();
+    JackServer(const JackServer&) = delete;
+    JackServer& operator=(const JackServer&) = delete;
+
+    void start();
+    void stop();
+    const std::string& name() const { return name_; }
+    std::vector<std::string> env(const std::vector<std::string>& more = {}) const;
+
+private:
+    std::string name_;
+    std::unique_ptr<ChildProcess> process_;
+};
+
+}  // namespace ameoto::test
