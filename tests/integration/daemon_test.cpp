@@ -77,6 +77,49 @@ TEST_CASE("a /drop over UDP sounds within a block, with silence before it") {
     CHECK(rt.find("entries 0\n") == std::string::npos);
 }
 
+TEST_CASE("a timetagged bundle plays its /drop at the bundle's time; a late bundle plays at once and is counted") {
+    using ameoto::protocol::Timetag;
+    const std::string wav = ameoto::test::temp_path("bundle.wav");
+    long long before_frame = 0;
+    double sent_at = 0.0;
+    std::int64_t late = -1;
+    {
+        Daemon d({"--backend", "null", "--output", wav, "--realtime", "--rain", "0"});
+        OscTestClient client(d.port());
+        std::this_thread::sleep_for(300ms);
+        auto wall = [] {
+            timespec t{};
+            clock_gettime(CLOCK_REALTIME, &t);
+            return static_cast<double>(t.tv_sec) + t.tv_nsec * 1e-9;
+        };
+        const auto drop = ameoto::protocol::encode_message(
+            "/drop", {OscArgument::from_float(4.0f), OscArgument::from_float(0.0f), OscArgument::from_float(0.2f), OscArgument::from_float(0.0f)});
+        before_frame = status_frames(client);
+        sent_at = wall();
+        // 400 ms ahead: the server must hold it and play it then, not now.
+        client.send_raw(ameoto::protocol::encode_bundle(Timetag::from_unix_seconds(sent_at + 0.4), {drop}));
+        std::this_thread::sleep_for(800ms);
+        // One second in the past: played at once, and /status counts it as late.
+        client.send_raw(ameoto::protocol::encode_bundle(Timetag::from_unix_seconds(wall() - 1.0), {drop}));
+        REQUIRE(client.request("/sync", {OscArgument::from_int(1)}, "/synced", 2s));
+        const auto status = client.request("/status", {}, "/status.reply", 2s);
+        REQUIRE(status);
+        late = status->args[7].integer;
+        CHECK(d.process().stop(SIGTERM, 5s) == 0);
+    }
+    CHECK(late == 1);
+    const auto w = ameoto::test::read_wav(wav);
+    REQUIRE(w.ok);
+    const long long onset = w.first_nonzero_frame();
+    // The status before the send says which frame was current then (to within a block); the drop must
+    // sound 400 ms (19200 frames) later, give or take two blocks and the scheduling slack of a shared
+    // machine (30 ms). A drop played on arrival would sound about 19000 frames too early.
+    const long long expected = before_frame + 19200;
+    INFO("onset " << onset << ", expected about " << expected);
+    CHECK(onset >= expected - 2 * 256 - 1440);
+    CHECK(onset <= expected + 2 * 256 + 1440);
+}
+
 TEST_CASE("bad messages get /fail with a reason; the server keeps serving") {
     Daemon d({"--backend", "null", "--output", "-", "--realtime"});
     OscTestClient client(d.port());
