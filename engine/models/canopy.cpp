@@ -62,12 +62,7 @@ void Canopy::step(double* panel_forces) {
 
 int Canopy::reset_unstable() {
     int resets = 0;
-    for (auto& p : panels_) {
-        if (!p.network.finite()) {
-            p.network.reset();
-            ++resets;
-        }
-    }
+    for (auto& p : panels_) resets += p.network.guard() ? 1 : 0;   // non-finite or runaway energy
     return resets;
 }
 

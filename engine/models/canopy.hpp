@@ -7,7 +7,8 @@
 //   canopy.sample_point(rng)       // a point uniform over the canopy's area (for rain)
 //   canopy.apply_force(hit, N)     // a vertical force on one mass for the next step
 //   canopy.step(panel_forces)      // one sample: fills one net force per panel (N); no allocation
-//   canopy.reset_unstable()        // resets any panel whose state went non-finite; returns how many
+//   canopy.reset_unstable()        // runtime guard: resets any panel whose state went non-finite or
+//                                  // whose energy ran away (core/stability.hpp); returns how many
 //
 // Geometry (seed section 5.1.2, Fig. 10-11): seen from above, panel k is the triangle between the
 // umbrella's centre and two neighbouring rib tips at radius R, centred on azimuth 2 pi k / N. Canopy

@@ -151,7 +151,8 @@ void Renderer::process(int frames, float* const* outputs) {
         render_sample(outputs, n);
     }
     frame_ += static_cast<std::uint64_t>(frames);
-    // Runtime guard: a panel whose state went non-finite is reset and counted, never left to explode.
+    // Runtime guard (core/stability.hpp): a panel whose state went non-finite or whose energy ran away is
+    // reset and counted, never left to explode.
     stats_.body_resets += static_cast<std::uint64_t>(canopy_.reset_unstable());
     stats_.active_impacts = impacts_.active();
     stats_.rain_rate_mm_per_h = rain_.rate();

@@ -51,7 +51,7 @@ struct RendererStats {
     std::uint64_t impacts_dropped = 0;    // impacts lost because the pulse pool was full
     std::uint64_t late_commands = 0;      // timed commands that arrived after their sample
     std::uint64_t busy_commands = 0;      // commands refused because the pending list was full
-    std::uint64_t body_resets = 0;        // panels reset by the runtime guard (non-finite state)
+    std::uint64_t body_resets = 0;        // panels reset by the runtime guard (non-finite or runaway)
     int active_impacts = 0;
     double rain_rate_mm_per_h = 0.0;      // current (ramping) rate
 };

@@ -1,4 +1,5 @@
-// Tests for engine/core/transverse_network: the explicit CORDIS (position Verlet) mass-spring network.
+// Tests for engine/core/transverse_network: the mass-spring network, its integrators chosen per body, and
+// the runtime guard.
 #include <doctest/doctest.h>
 
 #include <algorithm>
@@ -7,7 +8,10 @@
 #include <stdexcept>
 #include <vector>
 
+#include "engine/core/random.hpp"
 #include "engine/core/transverse_network.hpp"
+#include "tests/engine/core/integrators/test_bodies.hpp"
+#include "tests/support/rt_probe_scope.hpp"
 
 namespace {
 
@@ -15,7 +19,7 @@ constexpr double kT = 1.0 / 48000.0;
 
 // Angular frequency (rad/s) of a recorded oscillation from its zero crossings (linearly interpolated):
 // (crossings - 1) half periods between the first and the last crossing.
-double zero_crossing_omega(const std::vector<double>& x, double dt) {
+double crossing_omega(const std::vector<double>& x, double dt) {
     double first = -1.0, last = -1.0;
     int crossings = 0;
     for (std::size_t n = 1; n < x.size(); ++n) {
@@ -88,10 +92,10 @@ TEST_CASE("transverse_network: an undamped anchored mass oscillates at the warpe
         }
         const double warped = (2.0 / dt) * std::asin(omega0 * dt / 2.0);
         // physics.md s.3 and s.5 item 4: omega = (2/T) asin(omega0 T / 2), 0.1 %.
-        CHECK(zero_crossing_omega(x, kT) == doctest::Approx(warped).epsilon(1e-3));
+        CHECK(crossing_omega(x, kT) == doctest::Approx(warped).epsilon(1e-3));
         // At omega0 T = 1.5 the warping (13 %) is far larger than the tolerance, so this test can tell
         // the warped frequency from the continuous one.
-        if (w0t >= 1.0) CHECK(std::abs(zero_crossing_omega(x, kT) - omega0) / omega0 > 0.01);
+        if (w0t >= 1.0) CHECK(std::abs(crossing_omega(x, kT) - omega0) / omega0 > 0.01);
     }
 }
 
@@ -304,4 +308,153 @@ TEST_CASE("transverse_network: reset returns every mass to rest; non-finite stat
     CHECK_FALSE(net.finite());
     net.reset();
     CHECK(net.finite());
+}
+
+namespace {
+constexpr ameoto::Integrator kAll[] = {ameoto::Integrator::explicit_verlet, ameoto::Integrator::symplectic_euler,
+                                        ameoto::Integrator::trapezoidal, ameoto::Integrator::backward_euler,
+                                        ameoto::Integrator::modal};
+}
+
+TEST_CASE("transverse_network: every integrator steps and guards without allocating") {
+    for (auto integrator : kAll) {
+        CAPTURE(ameoto::integrator_name(integrator));
+        auto body = ameoto::test::lattice_membrane(50, 0.06, 1000.0, 20.0, 2e-6);
+        auto options = ameoto::test::options_for(integrator);
+        options.guard.check_every_steps = 3;   // the guard's own check inside step() is audited too
+        body.network.finalize(kT, options);
+        REQUIRE(body.network.integrator() == integrator);
+        body.network.apply_force(7, 0.3);
+        body.network.step();
+        ameoto::test::RtAudit audit;
+        double sum = 0.0;
+        {
+            ameoto::test::RtAudit::Scope scope;
+            for (int n = 0; n < 100; ++n) {
+                body.network.apply_force(n % 50, 0.01);
+                sum += body.network.step();
+            }
+            sum += body.network.position(3) + body.network.velocity(3) + body.network.kinetic_plus_potential_energy();
+            body.network.guard();
+            body.network.reset();
+        }
+        CHECK(audit.entries() > 0);
+        CHECK(audit.violations() == 0);   // brief: no allocation per step for every method
+        CHECK(std::isfinite(sum));
+    }
+}
+
+TEST_CASE("transverse_network: every integrator conserves the momentum of a free network") {
+    for (auto integrator : kAll) {
+        CAPTURE(ameoto::integrator_name(integrator));
+        auto net = ameoto::test::free_chain();
+        net.finalize(kT, ameoto::test::options_for(integrator));
+        net.apply_force(0, 2.0);
+        net.apply_force(2, -0.5);
+        const double f0 = net.step();
+        // The net force is the momentum change over T: the impulse 1.5 N * T (rounding only).
+        CHECK(f0 == doctest::Approx(1.5).epsilon(1e-9));
+        auto momentum = [&] {
+            double p = 0.0;
+            for (int i = 0; i < net.mass_count(); ++i) p += net.mass(i) * net.velocity(i);
+            return p;
+        };
+        const double p0 = momentum();
+        CHECK(p0 == doctest::Approx(1.5 * kT).epsilon(1e-9));
+        double worst = 0.0, worst_force = 0.0;
+        for (int n = 0; n < 10000; ++n) {
+            worst_force = std::max(worst_force, std::abs(net.step()));
+            worst = std::max(worst, std::abs(momentum() - p0) / std::abs(p0));
+        }
+        // Internal links cancel in pairs (network_arrays.hpp); implicit solves keep 1'S a = 1'rhs, the
+        // modal rigid mode carries all momentum. Rounding only: 1e-9 relative over 1e4 steps (positions
+        // grow like n v T; see the explicit test above for the bound), net force 1e-9 of the impulse's.
+        CHECK(worst < 1e-9);
+        CHECK(worst_force < 1e-9 * 1.5);
+    }
+}
+
+TEST_CASE("transverse_network: step() returns the momentum change over the step, for every integrator") {
+    for (auto integrator : kAll) {
+        CAPTURE(ameoto::integrator_name(integrator));
+        auto body = ameoto::test::lattice_membrane(20, 0.06, 1000.0, 20.0, 2e-6);
+        body.network.finalize(kT, ameoto::test::options_for(integrator));
+        auto momentum = [&] {
+            double p = 0.0;
+            for (int i = 0; i < body.network.mass_count(); ++i) p += body.network.mass(i) * body.network.velocity(i);
+            return p;
+        };
+        double p_before = 0.0, worst = 0.0, scale = 0.0;
+        for (int n = 0; n < 2000; ++n) {
+            if (n % 300 == 0) body.network.apply_force(n % 20, 0.4);
+            const double f = body.network.step();
+            const double p = momentum();
+            worst = std::max(worst, std::abs(f - (p - p_before) / kT));
+            scale = std::max(scale, std::abs(f));
+            p_before = p;
+        }
+        // transverse_network.hpp: f = sum m (v[n+1] - v[n]) / T; rounding only (1e-9 of the largest f).
+        CHECK(worst <= 1e-9 * scale);
+    }
+}
+
+TEST_CASE("transverse_network: the runtime guard resets a runaway body and counts it") {
+    // An explicit body run past its bound (policy none) with the guard checking every step: the energy
+    // passes 1e6 times the injected amplitude squared long before it overflows (stability.hpp).
+    const double m = 1e-3;
+    ameoto::TransverseNetwork net = ameoto::test::one_oscillator(m, 2.2 / kT);   // omega T = 2.2
+    auto o = ameoto::test::options_for(ameoto::Integrator::explicit_verlet, ameoto::StabilityPolicy::none);
+    o.guard.check_every_steps = 1;
+    net.finalize(kT, o);
+    net.apply_force(0, 1.0);
+    const double injected = 0.5 * kT * kT / m;   // e_0 = 1/2 (T f)^2 / m
+    double worst_energy = 0.0;
+    int steps = 0;
+    while (net.guard_resets() == 0 && steps < 1000) {
+        const double f = net.step();
+        CHECK(std::isfinite(f));
+        worst_energy = std::max(worst_energy, net.kinetic_plus_potential_energy());
+        ++steps;
+    }
+    CHECK(net.guard_resets() == 1);
+    CHECK(steps < 100);   // |pole| = 2.2^2/2 - 1 + sqrt(...) ~ 2.5: 1e6 in energy within ~10 steps
+    CHECK(worst_energy <= 1e6 * injected * 1.0001);   // never let past the limit by more than a step's rounding
+    CHECK(net.position(0) == 0.0);   // reset to rest
+    CHECK(net.finite());
+
+    SUBCASE("a stable body under random rain never trips it") {
+        auto body = ameoto::test::lattice_membrane(50, 0.06, 1000.0, 20.0, 2e-6);
+        auto go = ameoto::test::options_for(ameoto::Integrator::explicit_verlet);
+        go.guard.check_every_steps = 64;
+        body.network.finalize(kT, go);
+        ameoto::Random rng(2);
+        for (int n = 0; n < 48000 * 5; ++n) {
+            if (rng.uniform() < 0.02) body.network.apply_force(static_cast<int>(rng.uniform() * 50) % 50, 0.05 * rng.uniform());
+            body.network.step();
+        }
+        CHECK(body.network.guard_resets() == 0);
+    }
+    SUBCASE("nor does a resonant drive at its lowest mode") {
+        auto body = ameoto::test::lattice_membrane(50, 0.06, 1000.0, 2.0, 0.0);   // Q ~ omega / alpha ~ 700
+        body.network.finalize(kT, ameoto::test::options_for(ameoto::Integrator::explicit_verlet));
+        const double w1 = ameoto::decompose_modes(body.network.arrays()).omega[0];
+        for (int n = 0; n < 48000 * 3; ++n) {
+            body.network.apply_force(10, 0.01 * std::sin(w1 * n * kT));
+            body.network.step();
+            if (n % 256 == 0) body.network.guard();
+        }
+        CHECK(body.network.guard_resets() == 0);
+    }
+    SUBCASE("a caller-set energy limit") {
+        auto body = ameoto::test::lattice_membrane(20);
+        auto lo = ameoto::test::options_for(ameoto::Integrator::trapezoidal);
+        lo.guard.energy_limit_J = 1e-9;
+        body.network.finalize(kT, lo);
+        body.network.apply_force(3, 1.0);
+        body.network.step();
+        CHECK(body.network.kinetic_plus_potential_energy() > 1e-9);
+        CHECK(body.network.guard());
+        CHECK(body.network.guard_resets() == 1);
+        CHECK(body.network.kinetic_plus_potential_energy() == 0.0);
+    }
 }

@@ -1,0 +1,212 @@
+#pragma once
+// A CORDIS-ANIMA mass-interaction body in 3-D: point masses joined by links that have a rest length,
+// some of them breakable, under gravity and air drag. Structure-of-arrays storage.
+//
+// Interface:
+//   Body3D body;                                              // build phase (allocates)
+//   int m = body.add_mass(mass_kg, Vec3{x, y, z});
+//   int f = body.add_fixed_point(Vec3{...});                  // never moves, infinite mass
+//   int l = body.add_spring(a, b, k, z, rest_length);         // spring-damper along the link axis
+//   body.add_contact(a, b, k, z, rest_length);                // pushes only while |d| < rest_length
+//   body.add_breakable(a, b, k, z, rest_length, break_force); // spring-damper that breaks at |F| > threshold
+//   body.set_gravity(Vec3{0, 0, -9.80665});
+//   body.set_linear_drag(m, c);                               // -c v, N s/m (seed: 1.77e-8, body3d_drag.hpp)
+//   body.set_quadratic_drag(m, b);                            // -b |v| v, b = rho_air C_d A / 2, kg/m
+//   body.set_integrator(Integrator::explicit_verlet | Integrator::symplectic_euler);   // false for others
+//   body.set_energy_limit(joules);                            // runtime guard (default: non-finite only)
+//   Body3DStability s = body.finalize(T);                     // bound, sub-steps; allocates the event list
+//   ---- render phase: never allocates ----
+//   body.apply_force(m, Vec3{...});                           // external force for the next step
+//   bool ok = body.step();                                    // one output step (all sub-steps); false if
+//                                                             // the guard reset the body (or if the body
+//                                                             // was not finalized: then it does nothing)
+//   for (const LinkBreak& e : body.breaks()) ...              // links that broke during that step
+//   body.set_position(m, p); body.set_velocity(m, v); body.reset();
+//   body.position(m), velocity(m), momentum(), energy(), resets(), link_broken(l), stability() ...
+//
+// Links (seed section 4.1, in 3-D): d = x1 - x2, L = |d|, u = d / L. The link acts along its axis only:
+//   F1 = -F2 = s u,   s = -k (L - l0) - z ((v1 - v2) . u)
+// (CORDIS-ANIMA's F1 = -F2 = -k((x1 - l1) - (x2 - l2)) - z (v1 - v2), with the rest length measured
+// along the axis and the damper acting on the axial relative speed only, so a link never resists
+// rotation of the pair). At L = 0 the axis is undefined and the link exerts no force.
+//   - spring: always acts.
+//   - contact (unilateral, a penalty force for collisions): acts only while L < l0, and only pushes:
+//     s = max(0, s), so its damper never glues two masses together.
+//   - breakable (seed section 4.4): a spring-damper; in the sub-step where |s| first exceeds its
+//     break force the link breaks instead of acting. The break is recorded as a LinkBreak event in a
+//     fixed-capacity list (capacity = number of breakable links: a link breaks once, so the list
+//     cannot overflow within one step), cleared at the start of each step() and read after it. A
+//     broken link keeps its slot and a flag, and is skipped from then on; nothing is erased.
+// Internal links exert equal and opposite forces, so they conserve momentum (to rounding).
+//
+// External forces per mass: gravity m g, linear drag -c v (the seed's model, section 4.5), quadratic
+// drag -b |v| v with b = rho_air C_d A / 2 (body3d_drag.hpp gives C_d and b for water drops), and
+// apply_force(), which is held over the sub-steps of one step() and then cleared.
+//
+// Integrators (selectable per body; the engine's Integrator enum, integrators/integrator.hpp; Body3D
+// runs its two explicit schemes: the implicit and modal ones need a fixed linear system, which a body
+// whose links break and make contact is not):
+//   explicit_verlet:  x[n+1] = 2 x[n] - x[n-1] + T^2 F / m, with v[n] = (x[n] - x[n-1]) / T in the
+//                     dampers and drag (the CORDIS explicit scheme, as in transverse_network.cpp).
+//   symplectic_euler: v[n+1] = v[n] + T F(x[n], v[n]) / m;  x[n+1] = x[n] + T v[n+1].
+// In exact arithmetic the two give the same trajectory: substituting v[n] = (x[n] - x[n-1]) / T into
+// symplectic Euler gives the CORDIS update. They differ in what is stored: CORDIS keeps x[n-1] and
+// recovers v by a difference of positions, which loses eps |x| / T of velocity each step; symplectic
+// Euler keeps v, which loses only eps |v|. So symplectic Euler conserves momentum far more tightly and
+// gives velocities without cancellation, at no extra cost. Both share one stability condition.
+//
+// Stability (physics.md section 3): per mode, stable iff omega^2 T^2 + 2 gamma T < 4 (the Jury test
+// on z^2 - (2 - w^2T^2 - gT) z + (1 - gT), the same characteristic polynomial for both schemes).
+// omega_max^2 and gamma_max are bounded with Gershgorin on M^-1 K and M^-1 C, block by block: the 3x3
+// stiffness block of a link has eigenvalues k (along the axis) and k (1 - l0 / L) (across it), both at
+// most k in magnitude while L >= l0 / 2, so a link adds k to each end's diagonal and k off it: a link
+// to another free mass counts twice, a link to a fixed point once (as an anchor in
+// transverse_network.cpp). Contact links count as if active. gamma adds link dampers the same way,
+// linear drag c / m, and quadratic drag linearised at a speed bound: d(b|v|v)/dv = 2 b |v| / m at
+// |v| = speed_bound (default 20 m/s, twice a raindrop's terminal speed; set_speed_bound()). finalize()
+// picks the fewest sub-steps with margin (omega^2 T'^2 + 2 gamma T') / 4 < 0.9 and refuses (throws)
+// beyond 4096. finalize(T, n) forces n sub-steps (for tests, or for a caller that accepts the guard);
+// the report's stable() then says whether that is safe.
+//
+// Runtime guard: after each step, if any position is non-finite or the body's energy (kinetic plus
+// the links' elastic energy; gravity's potential is left out because a falling body's is unbounded)
+// exceeds the caller's limit, the body is reset (every mass back to its position at finalize(), zero
+// velocity, all links intact) and resets() increments: a diverging body is muted and counted, never
+// left to explode. The energy is the one the step measured anyway, at the start of its last sub-step
+// (no extra pass over the links), so the guard lags by one sub-step: a stable body cannot grow much in
+// one sub-step, and an unstable one (forced sub-steps) is let through at most one sub-step's growth
+// past the limit. Positions are checked after the last update.
+
+#include <cstdint>
+#include <limits>
+#include <span>
+#include <vector>
+
+#include "engine/core/body3d_vec3.hpp"
+#include "engine/core/integrators/integrator.hpp"
+
+namespace ameoto {
+
+enum class LinkKind : std::uint8_t { spring, contact, breakable };
+
+struct Body3DStability {
+    double omega_max_bound = 0.0;   // rad/s, Gershgorin upper bound
+    double gamma_max_bound = 0.0;   // 1/s, damping rate bound
+    double time_step = 0.0;         // s, the caller's output step
+    int sub_steps = 1;              // internal steps per output step
+    double margin() const;          // (omega^2 T'^2 + 2 gamma T') / 4 at the chosen sub-step
+    bool stable() const { return margin() < 1.0; }
+};
+
+// One link that broke during the last step().
+struct LinkBreak {
+    std::int32_t link = 0;
+    std::int32_t a = 0, b = 0;   // its masses
+    double force = 0.0;          // N, the axial force that broke it (positive: pushing a and b apart)
+    std::int32_t sub_step = 0;   // which sub-step of the step
+};
+
+class Body3D {
+public:
+    static constexpr double no_break = std::numeric_limits<double>::infinity();
+
+    // ---- build phase ----
+    int add_mass(double mass_kg, Vec3 position);
+    int add_fixed_point(Vec3 position);
+    int add_link(int a, int b, LinkKind kind, double stiffness, double damping, double rest_length,
+                 double break_force = no_break);
+    int add_spring(int a, int b, double k, double z, double rest_length) {
+        return add_link(a, b, LinkKind::spring, k, z, rest_length);
+    }
+    int add_contact(int a, int b, double k, double z, double rest_length) {
+        return add_link(a, b, LinkKind::contact, k, z, rest_length);
+    }
+    int add_breakable(int a, int b, double k, double z, double rest_length, double break_force) {
+        return add_link(a, b, LinkKind::breakable, k, z, rest_length, break_force);
+    }
+    void set_gravity(Vec3 g) { gravity_ = g; }
+    void set_linear_drag(int mass, double c_n_s_per_m);
+    void set_quadratic_drag(int mass, double b_kg_per_m);
+    void set_speed_bound(double m_per_s) { speed_bound_ = m_per_s; }
+    void set_energy_limit(double joules) { energy_limit_ = joules; }
+
+    // Bounds omega_max and gamma_max, picks sub-steps (or takes forced_sub_steps > 0), records the
+    // current positions as the state reset() returns to, sizes the event list. Allocates.
+    const Body3DStability& finalize(double time_step_s, int forced_sub_steps = 0);
+
+    // ---- render phase: no allocation ----
+    bool set_integrator(Integrator integrator);   // any time; state carries over; false (and no change)
+                                                  // for a scheme Body3D does not run
+    void apply_force(int mass, Vec3 newtons);
+    bool step();
+    std::span<const LinkBreak> breaks() const { return {events_.data(), event_count_}; }
+    void set_position(int mass, Vec3 p);          // keeps the mass's velocity
+    void set_velocity(int mass, Vec3 v);          // ignored for fixed points
+    void reset();
+
+    // ---- queries ----
+    int mass_count() const { return static_cast<int>(x_.size()); }
+    int link_count() const { return static_cast<int>(link_a_.size()); }
+    Integrator integrator() const { return integrator_; }
+    Vec3 position(int m) const;
+    Vec3 velocity(int m) const;                   // CORDIS: backward difference over the last sub-step
+    double mass(int m) const { return mass_[idx(m)]; }   // 0 for a fixed point
+    bool is_fixed(int m) const { return fixed_[idx(m)] != 0; }
+    double total_mass() const;
+    Vec3 centre_of_mass() const;
+    Vec3 momentum() const;                        // sum of m v over free masses
+    double kinetic_energy() const;
+    double elastic_energy() const;                // sum of k (L - l0)^2 / 2 over acting links
+    double energy() const { return kinetic_energy() + elastic_energy(); }
+    int link_a(int l) const { return link_a_[idx(l)]; }
+    int link_b(int l) const { return link_b_[idx(l)]; }
+    LinkKind link_kind(int l) const { return kind_[idx(l)]; }
+    double rest_length(int l) const { return rest_[idx(l)]; }
+    bool link_broken(int l) const { return broken_[idx(l)] != 0; }
+    int broken_link_count() const;
+    // True if the link holds its masses together as one piece (for connected_components.hpp): an
+    // unbroken spring or breakable link. Contacts touch, they do not bind.
+    bool link_bonds(int l) const { return !link_broken(l) && kind_[idx(l)] != LinkKind::contact; }
+    const Body3DStability& stability() const { return stability_; }
+    double sub_step_time() const { return sub_dt_; }
+    long resets() const { return resets_; }
+    long dropped_breaks() const { return dropped_breaks_; }   // events lost to a full list (never expected)
+
+private:
+    static std::size_t idx(int i) { return static_cast<std::size_t>(i); }
+    void sub_step(int index);
+    void check_link_args(int a, int b) const;
+
+    // masses (structure of arrays)
+    std::vector<double> x_, y_, z_;          // position, m
+    std::vector<double> px_, py_, pz_;       // position one sub-step earlier
+    std::vector<double> vx_, vy_, vz_;       // velocity (state for symplectic Euler; scratch for CORDIS)
+    std::vector<double> fx_, fy_, fz_;       // force accumulator
+    std::vector<double> ex_, ey_, ez_;       // external force for the current step
+    std::vector<double> x0_, y0_, z0_;       // positions reset() returns to
+    std::vector<double> mass_, inv_mass_;    // 0 and 0 for fixed points
+    std::vector<double> linear_drag_, quadratic_drag_;
+    std::vector<std::uint8_t> fixed_;
+    // links
+    std::vector<std::int32_t> link_a_, link_b_;
+    std::vector<double> stiffness_, damping_, rest_, break_force_;
+    std::vector<LinkKind> kind_;
+    std::vector<std::uint8_t> broken_;
+    // events
+    std::vector<LinkBreak> events_;
+    std::size_t event_count_ = 0;
+
+    Vec3 gravity_{};
+    Integrator integrator_ = Integrator::explicit_verlet;
+    double speed_bound_ = 20.0;
+    double energy_limit_ = std::numeric_limits<double>::infinity();
+    Body3DStability stability_;
+    double sub_dt_ = 0.0;
+    double last_energy_ = 0.0;       // measured during the last sub-step, for the guard
+    double last_position_sum_ = 0.0; // sum of all coordinates after the last sub-step (finite check)
+    long resets_ = 0;
+    long dropped_breaks_ = 0;
+    bool finalized_ = false;
+};
+
+}  // namespace ameoto
