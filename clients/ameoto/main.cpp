@@ -1,12 +1,13 @@
 // ameoto: the command-line client of ameotod. This file only dispatches: `ameoto COMMAND ...`
 // runs the subcommand of that name with the words after it; each subcommand lives in its own
-// files (send_command, status_command) and parses its own options. A new subcommand is one row
-// in `commands` plus its line in general_usage() (usage.cpp).
+// files (send_command, status_command, bench_command) and parses its own options. A new
+// subcommand is one row in `commands` plus its line in general_usage() (usage.cpp).
 #include <iostream>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "clients/ameoto/bench_command.hpp"
 #include "clients/ameoto/command_io.hpp"
 #include "clients/ameoto/exit_status.hpp"
 #include "clients/ameoto/send_command.hpp"
@@ -26,6 +27,7 @@ struct Subcommand {
 constexpr Subcommand commands[] = {
     {"send", run_send, send_usage},
     {"status", run_status, status_usage},
+    {"bench", run_bench, bench_usage},
 };
 
 const Subcommand* find_command(std::string_view name) {

@@ -69,9 +69,10 @@ std::string general_usage() {
                "Commands:\n"
                "  send      send one OSC message and print the server's replies\n"
                "  status    print the server's state: CPU load, drops, xruns, rain rate, ...\n"
+               "  bench     measure the physics engine on this machine (no server needed)\n"
                "  help      this text, or a command's: ameoto help send\n"
                "\n"
-               "Options of every command:\n") +
+               "Options (--host and --port: send and status):\n") +
            target_help +
            "  --help              the command's help\n"
            "\n"

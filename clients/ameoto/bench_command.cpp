@@ -1,0 +1,46 @@
+#include "clients/ameoto/bench_command.hpp"
+
+#include "clients/ameoto/bench_engine.hpp"
+#include "clients/ameoto/bench_options.hpp"
+#include "clients/ameoto/exit_status.hpp"
+
+namespace ameoto::client {
+
+std::string bench_usage() {
+    return "usage: ameoto bench engine [--json] [--seconds S] [--sizes N,N,...] [--runs R] [--no-faust]\n"
+           "\n"
+           "Measures the physics engine on this machine (no server needed): every method (the\n"
+           "transverse network with each integrator, the grid membrane in float and double) on\n"
+           "umbrella panels of the given sizes, then on Faust's mi-faust triangleMesh.dsp beside\n"
+           "Faust's own code when faust is installed (scripts/install-bench-deps), with the ratio.\n"
+           "Prints ns per sample, per mass update and per link update, % of one core and the\n"
+           "realtime factor at 48 kHz. Progress goes to stderr.\n"
+           "\n"
+           "Options:\n"
+           "  --json              one JSON object per measurement, one per line (fields: docs/bench.md)\n"
+           "  --seconds S         CPU time spent measuring each method at each size, 0.01..600\n"
+           "                      (default 0.5; a tenth warms up, the rest is split into the runs)\n"
+           "  --sizes N,N,...     panel sizes in masses, 1..200000 each (default 55,1000,10000)\n"
+           "  --runs R            timed runs per measurement, 1..101; the median is reported (default 5)\n"
+           "  --no-faust          skip the comparison with Faust\n"
+           "\n"
+           "Exit status: 0 measured; 2 usage error.\n"
+           "\n"
+           "Examples:\n"
+           "  ameoto bench engine\n"
+           "  ameoto bench engine --sizes 10000 --seconds 2\n"
+           "  ameoto bench engine --json | jq 'select(.mesh == \"canopy panel\") | .realtime_factor'\n";
+}
+
+int run_bench(const CommandWords& words, const CommandIo& io) {
+    BenchOptions options;
+    std::string error;
+    switch (parse_bench_options(words, options, error)) {
+        case BenchParse::help: io.out << bench_usage(); return exit_status::ok;
+        case BenchParse::error: io.err << "ameoto bench: " << error << "\n(see ameoto bench --help)\n"; return exit_status::usage;
+        case BenchParse::run: break;
+    }
+    return run_engine_bench(options, io);
+}
+
+}  // namespace ameoto::client

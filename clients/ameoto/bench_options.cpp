@@ -1,0 +1,122 @@
+#include "clients/ameoto/bench_options.hpp"
+
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+
+namespace ameoto::client {
+namespace {
+
+std::optional<double> parse_number(const std::string& text) {
+    if (text.empty()) return std::nullopt;
+    char* end = nullptr;
+    errno = 0;
+    const double v = std::strtod(text.c_str(), &end);
+    if (errno != 0 || end != text.c_str() + text.size() || !std::isfinite(v)) return std::nullopt;
+    return v;
+}
+
+std::optional<long> parse_integer(const std::string& text) {
+    if (text.empty() || text[0] == '+' || text[0] == '-' || text[0] == ' ') return std::nullopt;
+    char* end = nullptr;
+    errno = 0;
+    const long v = std::strtol(text.c_str(), &end, 10);
+    if (errno != 0 || end != text.c_str() + text.size()) return std::nullopt;
+    return v;
+}
+
+}  // namespace
+
+std::optional<std::vector<int>> parse_sizes(const std::string& text) {
+    std::vector<int> sizes;
+    std::size_t start = 0;
+    while (true) {
+        const std::size_t comma = text.find(',', start);
+        const auto n = parse_integer(text.substr(start, comma == std::string::npos ? std::string::npos : comma - start));
+        if (!n || *n < 1 || *n > 200000) return std::nullopt;
+        sizes.push_back(static_cast<int>(*n));
+        if (comma == std::string::npos) break;
+        start = comma + 1;
+    }
+    if (sizes.size() > 16) return std::nullopt;
+    return sizes;
+}
+
+BenchParse parse_bench_options(const CommandWords& words, BenchOptions& options, std::string& error) {
+    for (std::size_t w = 0; w < words.size(); ++w) {
+        const std::string& word = words[w];
+        std::string name = word, value;
+        bool inline_value = false;
+        if (word.starts_with("--") && word.find('=') != std::string::npos) {
+            name = word.substr(0, word.find('='));
+            value = word.substr(word.find('=') + 1);
+            inline_value = true;
+        }
+        auto take_value = [&]() -> bool {
+            if (inline_value) return true;
+            if (w + 1 >= words.size()) {
+                error = name + " needs a value";
+                return false;
+            }
+            value = words[++w];
+            return true;
+        };
+        auto no_value = [&]() -> bool {
+            if (!inline_value) return true;
+            error = name + " takes no value";
+            return false;
+        };
+        if (name == "--help" || name == "-h") {
+            return BenchParse::help;
+        } else if (name == "--json") {
+            if (!no_value()) return BenchParse::error;
+            options.json = true;
+        } else if (name == "--no-faust") {
+            if (!no_value()) return BenchParse::error;
+            options.faust = false;
+        } else if (name == "--seconds") {
+            if (!take_value()) return BenchParse::error;
+            const auto v = parse_number(value);
+            if (!v || *v < 0.01 || *v > 600.0) {
+                error = "--seconds '" + value + "': give the seconds per measurement, 0.01..600";
+                return BenchParse::error;
+            }
+            options.seconds = *v;
+        } else if (name == "--sizes") {
+            if (!take_value()) return BenchParse::error;
+            const auto v = parse_sizes(value);
+            if (!v) {
+                error = "--sizes '" + value + "': give up to 16 mass counts 1..200000, separated by commas (55,1000,10000)";
+                return BenchParse::error;
+            }
+            options.sizes = *v;
+        } else if (name == "--runs") {
+            if (!take_value()) return BenchParse::error;
+            const auto v = parse_integer(value);
+            if (!v || *v < 1 || *v > 101) {
+                error = "--runs '" + value + "': give the number of timed runs, 1..101";
+                return BenchParse::error;
+            }
+            options.runs = static_cast<int>(*v);
+        } else if (word.starts_with("-")) {
+            error = "unknown option '" + name + "'";
+            return BenchParse::error;
+        } else if (options.suite.empty()) {
+            options.suite = word;
+        } else {
+            error = "unexpected argument '" + word + "'";
+            return BenchParse::error;
+        }
+    }
+    if (options.suite.empty()) {
+        error = "which suite? (ameoto bench engine)";
+        return BenchParse::error;
+    }
+    if (options.suite != "engine") {
+        error = "unknown suite '" + options.suite + "' (the suites: engine)";
+        return BenchParse::error;
+    }
+    return BenchParse::run;
+}
+
+}  // namespace ameoto::client
