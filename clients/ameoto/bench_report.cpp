@@ -42,41 +42,17 @@ double BenchMeasurement::core_percent() const { return 100.0 * ns_per_sample * 1
 
 double BenchMeasurement::realtime_factor() const { return 1e9 / (sample_rate_hz * ns_per_sample); }
 
-std::string json_number(double value) {
-    if (!std::isfinite(value)) return "null";
-    char buffer[64];
-    std::snprintf(buffer, sizeof buffer, "%.6g", value);
-    return buffer;
-}
-
-std::string json_quoted(const std::string& text) {
-    std::string out = "\"";
-    for (const unsigned char c : text) {
-        if (c == '"' || c == '\\') {
-            out += '\\';
-            out += static_cast<char>(c);
-        } else if (c < 0x20) {
-            char hex[8];
-            std::snprintf(hex, sizeof hex, "\\u%04x", c);
-            out += hex;
-        } else {
-            out += static_cast<char>(c);
-        }
-    }
-    return out + "\"";
-}
-
 std::string format_measurement_json(const BenchMeasurement& m) {
     const bool ok = m.measured();
     auto number = [&](double v) { return json_number(ok ? v : NAN); };
     auto optional = [&](const std::optional<double>& v) { return v ? json_number(*v) : std::string("null"); };
     std::string out = "{";
     out += "\"suite\":\"engine\"";
-    out += ",\"mesh\":" + json_quoted(m.mesh);
-    out += ",\"method\":" + json_quoted(m.method);
-    out += ",\"body\":" + json_quoted(m.body);
-    out += ",\"integrator\":" + json_quoted(m.integrator);
-    out += ",\"precision\":" + json_quoted(m.precision);
+    out += ",\"mesh\":" + json_string(m.mesh);
+    out += ",\"method\":" + json_string(m.method);
+    out += ",\"body\":" + json_string(m.body);
+    out += ",\"integrator\":" + json_string(m.integrator);
+    out += ",\"precision\":" + json_string(m.precision);
     out += ",\"target_masses\":" + std::to_string(m.target_masses);
     out += ",\"masses\":" + std::to_string(m.masses);
     out += ",\"links\":" + std::to_string(m.links);
@@ -93,7 +69,7 @@ std::string format_measurement_json(const BenchMeasurement& m) {
     out += ",\"samples_per_run\":" + std::to_string(ok ? m.samples_per_run : 0);
     out += ",\"faust_ratio\":" + optional(m.faust_ratio);
     out += ",\"faust_difference\":" + optional(m.faust_difference);
-    out += ",\"note\":" + json_quoted(m.note);
+    out += ",\"note\":" + json_string(m.note);
     return out + "}\n";
 }
 

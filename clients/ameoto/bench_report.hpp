@@ -19,6 +19,8 @@
 #include <optional>
 #include <string>
 
+#include "clients/ameoto/json_text.hpp"
+
 namespace ameoto::client {
 
 struct BenchMeasurement {
@@ -47,8 +49,6 @@ struct BenchMeasurement {
     double realtime_factor() const;
 };
 
-std::string json_number(double value);   // 6 significant digits, or null when not finite
-std::string json_quoted(const std::string& text);
 std::string format_measurement_json(const BenchMeasurement& m);
 std::string format_table_header();
 std::string format_table_row(const BenchMeasurement& m);

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "clients/ameoto/json_text.hpp"
 #include "clients/ameoto/reply_format.hpp"
 
 namespace ameoto::client {
@@ -36,23 +37,6 @@ std::string fixed_trimmed(double v, int decimals) {
     }
     if (s == "-0") s = "0";
     return s;
-}
-
-std::string json_string(const std::string& text) {
-    std::string out = "\"";
-    for (const unsigned char c : text) {
-        if (c == '"' || c == '\\') {
-            out += '\\';
-            out += static_cast<char>(c);
-        } else if (c < 0x20) {
-            char hex[8];
-            std::snprintf(hex, sizeof hex, "\\u%04x", c);
-            out += hex;
-        } else {
-            out += static_cast<char>(c);
-        }
-    }
-    return out + "\"";
 }
 
 // The value as the server's float carried it: 3.1f prints as 3.1, not 3.0999999046325684.

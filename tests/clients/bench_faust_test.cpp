@@ -14,26 +14,12 @@
 #include "clients/ameoto/bench_mesh.hpp"
 #include "clients/ameoto/bench_methods.hpp"
 
+#include "tests/clients/bench_test_bodies.hpp"
+
 using namespace ameoto::client;
 
-namespace {
-
-std::vector<double> render(const BenchMethod& method, long samples) {
-    auto body = method.build(mi_triangle_mesh());
-    std::vector<double> y(static_cast<std::size_t>(samples));
-    PluckDrive drive;
-    body->pluck(samples, drive, y.data());
-    return y;
-}
-
-const BenchMethod& method_named(const std::string& name) {
-    for (const auto& m : bench_methods())
-        if (m.name() == name) return m;
-    FAIL("no method " << name);
-    return bench_methods().front();
-}
-
-}  // namespace
+using ameoto::client::test::method_named;
+using ameoto::client::test::render;
 
 TEST_CASE("bench: the driver Faust wraps around its class") {
     const std::string arch = faust_architecture();

@@ -68,7 +68,7 @@ TEST_CASE("bench report: what was not measured is null, never NaN") {
     CHECK(json_number(INFINITY) == "null");
     CHECK(json_number(-0.125) == "-0.125");
     CHECK(json_number(1234567.0) == "1.23457e+06");
-    CHECK(json_quoted("tab\there") == "\"tab\\u0009here\"");
+    CHECK(json_string("tab\there") == "\"tab\\u0009here\"");
 }
 
 TEST_CASE("bench report: the table row lines up under the header") {
