@@ -21,6 +21,8 @@
 #include <string>
 #include <vector>
 
+#include "engine/models/liquid.hpp"
+#include "engine/models/membrane.hpp"
 #include "engine/render/command.hpp"
 #include "protocol/osc_codec.hpp"
 
@@ -35,17 +37,23 @@ struct ArgumentSpec {
     double min = 0.0, max = 0.0;
     bool optional = false;
     const char* help = "";
+    const char* example = "";  // a valid value, for docs and the tests that walk the table
 };
 
 enum class Action {
     enqueue,   // send `command` to the audio thread
     status,    // reply /status.reply now
     quit,      // reply /done /quit and stop
+    set_liquid,             // build the drops' liquid off the audio thread, then swap it in
+    set_surface_material,   // build the surface in that material off the audio thread, then swap it in
 };
 
 struct Request {
     Action action = Action::enqueue;
     Command command{};
+    std::optional<Liquid> liquid;              // set_liquid
+    std::string surface;                       // set_surface_material
+    std::optional<MembraneMaterial> material;  // set_surface_material
 };
 
 struct Validation {
@@ -56,6 +64,9 @@ struct Validation {
 
 struct ProtocolContext {
     std::vector<std::string> surfaces{"umbrella"};
+    // Custom liquids and materials defined earlier over OSC, by name (presets are always known).
+    std::function<std::optional<Liquid>(const std::string& name)> custom_liquid;
+    std::function<std::optional<MembraneMaterial>(const std::string& name)> custom_material;
     // true when (x, y) in m lies on the named surface; the daemon asks the engine's geometry.
     std::function<bool(const std::string& surface, double x, double y)> on_surface;
 };

@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <ctime>
 #include <iostream>
+#include <map>
 
 #include "protocol/address_table.hpp"
 #include "server/backends/jack_backend.hpp"
@@ -18,6 +19,7 @@
 #include "server/realtime/audio_bridge.hpp"
 #include "server/realtime/rt_probe.hpp"
 #include "server/systemd_notify.hpp"
+#include "server/worker.hpp"
 
 namespace ameoto {
 namespace {
@@ -47,6 +49,22 @@ std::string packet_address(const unsigned char* data, std::size_t size) {
     return address.empty() || address[0] != '/' ? std::string("") : address;
 }
 
+// A live surface may take at most this many sub-steps per sample: each multiplies the canopy's cost, and
+// the audio thread must keep its deadline (seed-nylon needs 27 at 48 kHz: about 3 cores). Stiffer
+// materials are refused with their bound; offline renders may still use them.
+constexpr int max_live_sub_steps = 4;
+
+void check_live_cost(const Canopy& canopy, const MembraneMaterial& material, double sample_rate) {
+    const StabilityReport& s = canopy.panel(0).network.stability();
+    if (s.sub_steps <= max_live_sub_steps) return;
+    char text[320];
+    std::snprintf(text, sizeof text,
+                  "material '%s' needs %d sub-steps per sample at %.0f Hz (omega_max T = %.1f for the explicit scheme): more than "
+                  "the %d a live surface may take; render it offline or choose a softer material",
+                  material.name.c_str(), s.sub_steps, sample_rate, s.omega_max_bound / sample_rate, max_live_sub_steps);
+    throw std::invalid_argument(text);
+}
+
 // OSC's i is 32 bits; a counter past that reports the largest value instead of wrapping negative.
 std::int32_t saturate_int32(std::uint64_t v) { return v > 2147483647u ? 2147483647 : static_cast<std::int32_t>(v); }
 
@@ -64,6 +82,10 @@ struct Daemon::State {
     JackBackend* jack = nullptr;        // the same object as backend, when it is JACK
     NullBackend* null = nullptr;
     std::unique_ptr<AudioBridge> bridge;
+    std::unique_ptr<Canopy> geometry;   // the control thread's own copy of the surface, for validating points
+    std::map<std::string, Liquid> custom_liquids;
+    std::map<std::string, MembraneMaterial> custom_materials;
+    std::unique_ptr<Worker> worker;
     std::unique_ptr<UdpEndpoint> udp;
     ClientTable<UdpEndpoint::Endpoint> clients;
     protocol::ProtocolContext context;
@@ -132,8 +154,18 @@ void Daemon::State::build_scene() {
     config.seed = options.seed;
     if (options.rain_mm_per_h) config.rain_rate_mm_per_h = *options.rain_mm_per_h;
     bridge = std::make_unique<AudioBridge>(std::make_unique<Renderer>(config), 4096);
-    const Canopy& canopy = bridge->canopy();
-    context.on_surface = [&canopy](const std::string&, double x, double y) { return canopy.locate(x, y).panel >= 0; };
+    // The audio thread's canopy can be swapped at any time; validation uses this copy of the geometry.
+    geometry = std::make_unique<Canopy>(config.canopy, config.material, 1.0 / config.sample_rate);
+    context.on_surface = [this](const std::string&, double x, double y) { return geometry->locate(x, y).panel >= 0; };
+    context.custom_liquid = [this](const std::string& name) -> std::optional<Liquid> {
+        const auto found = custom_liquids.find(name);
+        return found == custom_liquids.end() ? std::nullopt : std::optional<Liquid>(found->second);
+    };
+    context.custom_material = [this](const std::string& name) -> std::optional<MembraneMaterial> {
+        const auto found = custom_materials.find(name);
+        return found == custom_materials.end() ? std::nullopt : std::optional<MembraneMaterial>(found->second);
+    };
+    worker = std::make_unique<Worker>(io);
 }
 
 void Daemon::State::reply(const UdpEndpoint::Endpoint& to, const std::string& address, const std::vector<protocol::OscArgument>& args) {
@@ -178,6 +210,46 @@ void Daemon::State::on_packet(const unsigned char* data, std::size_t size, const
                 reply(sender, "/done", {protocol::OscArgument::from_string("/quit")});
                 asio::post(io, [this] { shutdown(); });
                 break;
+            case protocol::Action::set_liquid: {
+                const Liquid& liquid = *v.request.liquid;
+                if (!find_liquid(liquid.name)) custom_liquids[liquid.name] = liquid;
+                // The impulse model needs the density; the drops' own calibration comes with the full drop model.
+                Command c;
+                c.kind = CommandKind::set_liquid_density;
+                c.values[0] = liquid.density;
+                c.reply_to = clients.index_of(sender);
+                if (!bridge->send(c)) reply(sender, "/fail", protocol::fail_arguments(message.address, "busy: command queue full"));
+                break;
+            }
+            case protocol::Action::set_surface_material: {
+                const MembraneMaterial material = *v.request.material;
+                if (!membrane_material(material.name)) custom_materials[material.name] = material;
+                const std::uint16_t reply_to = clients.index_of(sender);
+                const RendererConfig config = bridge->config();
+                // Built on the worker: a stiff material's stability check and lattice take time, and a refusal
+                // (the bound, from build_membrane) must not disturb the sound.
+                worker->submit<std::unique_ptr<Canopy>>(
+                    [config, material] {
+                        auto canopy = std::make_unique<Canopy>(config.canopy, material, 1.0 / config.sample_rate);
+                        check_live_cost(*canopy, material, config.sample_rate);
+                        return canopy;
+                    },
+                    [this, reply_to, address = message.address](std::unique_ptr<Canopy> canopy) {
+                        Command c;
+                        c.kind = CommandKind::swap_canopy;
+                        c.object = canopy.get();
+                        c.reply_to = reply_to;
+                        if (bridge->send(c)) {
+                            canopy.release();   // the audio thread owns it now
+                        } else {
+                            reply(clients.at(reply_to), "/fail", protocol::fail_arguments(address, "busy: command queue full"));
+                        }
+                    },
+                    [this, reply_to, address = message.address](const std::string& error) {
+                        reply(clients.at(reply_to), "/fail", protocol::fail_arguments(address, error));
+                    });
+                break;
+            }
             case protocol::Action::enqueue: {
                 Command c = v.request.command;
                 c.reply_to = clients.index_of(sender);
@@ -196,7 +268,12 @@ void Daemon::State::poll() {
     RendererEvent e;
     while (bridge->poll_event(e)) {
         const auto& to = clients.at(e.reply_to);
-        if (e.kind == RendererEventKind::synced) {
+        if (e.kind == RendererEventKind::retired) {
+            delete static_cast<Canopy*>(e.object);   // freed here, never on the audio thread
+        } else if (e.kind == RendererEventKind::swapped) {
+            reply(to, "/done", {protocol::OscArgument::from_string(e.command == CommandKind::swap_canopy ? "/material/surface"
+                                                                                                         : "/material/liquid")});
+        } else if (e.kind == RendererEventKind::synced) {
             reply(to, "/synced", {protocol::OscArgument::from_int(e.id)});
         } else {
             const char* address = e.command == CommandKind::drop ? "/drop" : e.command == CommandKind::rain_rate ? "/rain/rate" : "/sync";

@@ -1,12 +1,15 @@
 #include "clients/ameoto/expected_reply.hpp"
 
+#include "protocol/address_table.hpp"
+
 namespace ameoto::client {
 
 std::optional<std::string> expected_reply(const std::string& address) {
-    if (address == "/status") return "/status.reply";
-    if (address == "/sync") return "/synced";
-    if (address == "/quit") return "/done";
-    return std::nullopt;
+    // The protocol table says what each address answers ("/done /quit (...)" -> "/done"): one source.
+    const protocol::AddressSpec* spec = protocol::find_address(address);
+    if (!spec || !*spec->reply) return std::nullopt;
+    const std::string reply = spec->reply;
+    return reply.substr(0, reply.find(' '));
 }
 
 bool ends_wait(const std::string& sent_address, const std::vector<protocol::OscArgument>& sent_arguments,
@@ -22,7 +25,8 @@ bool ends_wait(const std::string& sent_address, const std::vector<protocol::OscA
         return !args.empty() && args[0].is_number() && !sent_arguments.empty() && sent_arguments[0].is_number() &&
                args[0].number == sent_arguments[0].number;
     }
-    if (sent_address == "/quit") return first_is_text && args[0].text == "/quit";
+    // /done names what it answers (/quit, /material/surface, ...): only our own ends the wait.
+    if (*expected == "/done") return first_is_text && args[0].text == sent_address;
     return true;
 }
 

@@ -1,24 +1,66 @@
 #include "engine/models/canopy.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <string>
 
 #include "engine/core/physical_constants.hpp"
 
 namespace ameoto {
+namespace {
 
-Canopy::Canopy(const CanopyGeometry& geometry, const MembraneMaterial& material, double time_step_s)
+// "" when the geometry is valid, else why not.
+std::string geometry_problem(const CanopyGeometry& g) {
+    if (g.panels < 3 || g.panels > 64) return "a canopy has 3 to 64 panels";
+    if (!(g.radius_m > 0.0) || !std::isfinite(g.radius_m)) return "canopy radius must be positive";
+    if (g.masses_per_panel < 1) return "a panel needs at least one mass";
+    if (!(g.curvature_radius_m > g.radius_m))
+        return "the radius of curvature must exceed the canopy's radius (infinity: flat)";
+    return {};
+}
+
+// Counter-clockwise: the hem (free), then the right rib and the left rib (fixed).
+std::vector<PolygonEdge> panel_outline(const CanopyGeometry& g) {
+    const double half_angle = constants::pi / g.panels;
+    const double w = g.radius_m * std::sin(half_angle), h = g.radius_m * std::cos(half_angle);
+    return {{{-w, 0.0}, false}, {{w, 0.0}, true}, {{0.0, h}, true}};
+}
+
+}  // namespace
+
+MaterialCheck Canopy::check(const CanopyGeometry& geometry, const MembraneMaterial& material, double time_step_s,
+                            const NetworkOptions& options) {
+    const std::string problem = geometry_problem(geometry);
+    if (!problem.empty()) return MaterialCheck{false, problem, {}};
+    // Every panel is the same body: one verdict for all.
+    return check_membrane_material(panel_outline(geometry), geometry.masses_per_panel, material, time_step_s, options);
+}
+
+Canopy::Canopy(const CanopyGeometry& geometry, const MembraneMaterial& material, double time_step_s,
+               const NetworkOptions& options)
     : geometry_(geometry) {
-    if (geometry.panels < 3 || geometry.panels > 64) throw std::invalid_argument("a canopy has 3 to 64 panels");
-    if (!(geometry.radius_m > 0.0)) throw std::invalid_argument("canopy radius must be positive");
+    const std::string problem = geometry_problem(geometry);
+    if (!problem.empty()) throw std::invalid_argument(problem);
+    const MaterialCheck valid = validate_membrane_material(material);
+    if (!valid.ok) throw std::invalid_argument(valid.reason);
     const double half_angle = constants::pi / geometry.panels;
     half_width_ = geometry.radius_m * std::sin(half_angle);
     height_ = geometry.radius_m * std::cos(half_angle);
-    // Counter-clockwise: the hem (free), then the right rib and the left rib (fixed).
-    outline_ = {{{-half_width_, 0.0}, false}, {{half_width_, 0.0}, true}, {{0.0, height_}, true}};
-    // Every panel is the same body; build it once and copy it.
-    const Membrane prototype = build_membrane(outline_, geometry.masses_per_panel, material, time_step_s);
+    outline_ = panel_outline(geometry);
+    // Every panel is the same body; build it once and copy it (throws StabilityError when refused).
+    const Membrane prototype = build_membrane(outline_, geometry.masses_per_panel, material, time_step_s, options);
     panels_.assign(static_cast<std::size_t>(geometry.panels), prototype);
+    nodes_ = prototype.network.mass_count();
+    rest_.resize(static_cast<std::size_t>(geometry.panels * nodes_));
+    normal_.resize(rest_.size());
+    for (int k = 0; k < geometry.panels; ++k) {
+        for (int i = 0; i < nodes_; ++i) {
+            const Point2 p = to_canopy(k, prototype.lattice.nodes[static_cast<std::size_t>(i)]);
+            rest_[index(k, i)] = {p.x, p.y, rest_height(p.x, p.y)};
+            normal_[index(k, i)] = surface_normal(p.x, p.y);
+        }
+    }
 }
 
 double Canopy::panel_azimuth(int panel) const { return 2.0 * constants::pi * panel / geometry_.panels; }
@@ -28,6 +70,37 @@ Point2 Canopy::to_local(int panel, double x, double y) const {
     const double along = x * std::cos(a) + y * std::sin(a);      // distance out from the shaft
     const double across = -x * std::sin(a) + y * std::cos(a);
     return {across, height_ - along};
+}
+
+Point2 Canopy::to_canopy(int panel, Point2 local) const {
+    const double a = panel_azimuth(panel);
+    const double along = height_ - local.y, across = local.x;
+    return {along * std::cos(a) - across * std::sin(a), along * std::sin(a) + across * std::cos(a)};
+}
+
+double Canopy::rest_height(double x, double y) const {
+    if (flat()) return 0.0;
+    const double rc = geometry_.curvature_radius_m, r2 = x * x + y * y;
+    return -r2 / (std::sqrt(rc * rc - r2) + rc);   // sqrt(Rc^2 - r^2) - Rc without cancellation
+}
+
+Vec3 Canopy::surface_normal(double x, double y) const {
+    if (flat()) return {0.0, 0.0, 1.0};
+    const double rc = geometry_.curvature_radius_m;
+    const double nx = x / rc, ny = y / rc;
+    return {nx, ny, std::sqrt(std::max(0.0, 1.0 - nx * nx - ny * ny))};
+}
+
+Vec3 Canopy::node_position(int panel, int node) const {
+    return rest_position(panel, node) + displacement(panel, node) * normal(panel, node);
+}
+
+double Canopy::displacement(int panel, int node) const {
+    return panels_[static_cast<std::size_t>(panel)].network.position(node);
+}
+
+double Canopy::normal_velocity(int panel, int node) const {
+    return panels_[static_cast<std::size_t>(panel)].network.velocity(node);
 }
 
 CanopyHit Canopy::locate(double x, double y) const {

@@ -1,22 +1,45 @@
 #pragma once
-// An umbrella canopy: N identical panels, each a membrane fixed on its two ribs and free at its hem.
+// An umbrella canopy: N identical panels, each a membrane fixed on its two ribs and free at its hem,
+// on a spherical cap.
 //
 // Interface:
-//   Canopy canopy(CanopyGeometry{}, MembraneMaterial::nylon_canopy(), time_step_s);   // allocates
+//   Canopy canopy(CanopyGeometry{}, MembraneMaterial::nylon_canopy(), time_step_s);   // allocates;
+//   Canopy c(geometry, material, T, NetworkOptions{...});   // integrator and stability policy per panel;
+//                                  // throws std::invalid_argument (bad geometry or material, with the
+//                                  // reason) or StabilityError (refused: the bound in the message)
+//   Canopy::check(geometry, material, T, options)   // the same verdict without building: MaterialCheck
 //   canopy.locate(x, y)            // -> {panel, node} under a point in canopy coordinates, or panel -1
-//   canopy.sample_point(rng)       // a point uniform over the canopy's area (for rain)
-//   canopy.apply_force(hit, N)     // a vertical force on one mass for the next step
+//   canopy.sample_point(rng)       // a point uniform over the canopy's plan area (for rain)
+//   canopy.apply_force(hit, N)     // a force along the node's normal n for the next step
 //   canopy.step(panel_forces)      // one sample: fills one net force per panel (N); no allocation
 //   canopy.reset_unstable()        // runtime guard: resets any panel whose state went non-finite or
 //                                  // whose energy ran away (core/stability.hpp); returns how many
+//   canopy.rest_position(k, i), canopy.normal(k, i)     // node i of panel k: 3-D rest point, unit normal
+//   canopy.node_position(k, i)     // rest + u n: where the membrane is now
+//   canopy.displacement(k, i), canopy.normal_velocity(k, i)   // u (m) and du/dt (m/s) along n
+//   canopy.rest_height(x, y), canopy.surface_normal(x, y)     // the rest surface over a plan point
 //
 // Geometry (seed section 5.1.2, Fig. 10-11): seen from above, panel k is the triangle between the
-// umbrella's centre and two neighbouring rib tips at radius R, centred on azimuth 2 pi k / N. Canopy
-// coordinates: x, y in m from the shaft, horizontal. Curvature is ignored here (a flat projection);
-// the canopy's plan area is N R^2 sin(2 pi / N) / 2 (0.707 m^2 for 8 panels of 0.5 m).
+// umbrella's centre and two neighbouring rib tips at plan radius R, centred on azimuth 2 pi k / N.
+// Canopy coordinates: x, y in m from the shaft, horizontal; z up, 0 at the top of the shaft. The plan
+// area is N R^2 sin(2 pi / N) / 2 (0.707 m^2 for 8 panels of 0.5 m).
+// Curvature: the rest surface is a spherical cap of radius Rc centred on the shaft,
+//   z(x, y) = sqrt(Rc^2 - r^2) - Rc = -r^2 / (sqrt(Rc^2 - r^2) + Rc),   r^2 = x^2 + y^2,
+//   n(x, y) = (x / Rc, y / Rc, sqrt(1 - r^2 / Rc^2))   (unit, outward and up),
+// Rc = infinity (the default) is flat: z = 0, n = (0, 0, 1). Rc must exceed R (the rim slope is
+// asin(R / Rc)). Every node has a 3-D rest position (its plan point lifted onto the cap) and the cap's
+// normal there; the membrane moves along that normal, so a node is at rest + u n.
+// Approximation (shallow shell, Marguerre's theory at zeroth order): the lattice, its masses (s times
+// the node's plan area) and its springs are those of the flat plan-view panel; only the direction of
+// motion and the positions are curved. Neglected: the coupling of transverse motion to in-plane
+// stretching through the curvature (curvature stiffening, which raises the lowest modes of a shell),
+// and the surface's larger true area (a factor 1 / n_z, up to 1 / cos(asin(R / Rc)) at the rim:
+// 3.3 % for Rc = 2 m, 15 % for Rc = 1 m, with R = 0.5 m). Valid while the slope stays small.
 
+#include <limits>
 #include <vector>
 
+#include "engine/core/body3d_vec3.hpp"
 #include "engine/core/random.hpp"
 #include "engine/models/membrane.hpp"
 
@@ -24,8 +47,9 @@ namespace ameoto {
 
 struct CanopyGeometry {
     int panels = 8;
-    double radius_m = 0.5;
+    double radius_m = 0.5;                  // plan radius of the rib tips
     int masses_per_panel = 50;
+    double curvature_radius_m = std::numeric_limits<double>::infinity();   // Rc; infinity: flat
 };
 
 struct CanopyHit {
@@ -35,7 +59,11 @@ struct CanopyHit {
 
 class Canopy {
 public:
-    Canopy(const CanopyGeometry& geometry, const MembraneMaterial& material, double time_step_s);
+    Canopy(const CanopyGeometry& geometry, const MembraneMaterial& material, double time_step_s,
+           const NetworkOptions& options = NetworkOptions{});
+
+    static MaterialCheck check(const CanopyGeometry& geometry, const MembraneMaterial& material, double time_step_s,
+                               const NetworkOptions& options = NetworkOptions{});
 
     CanopyHit locate(double x, double y) const;
     Point2 sample_point(Random& rng) const;
@@ -44,19 +72,36 @@ public:
     int reset_unstable();
 
     int panel_count() const { return static_cast<int>(panels_.size()); }
+    int nodes_per_panel() const { return nodes_; }
     double panel_azimuth(int panel) const;      // rad, direction of the panel's centre line
     Point2 panel_centroid(int panel) const;     // m, canopy coordinates
     double area() const;                        // m^2, plan area of all panels
+    double node_area() const { return panels_.front().lattice.node_area; }   // m^2, plan area per node
     const CanopyGeometry& geometry() const { return geometry_; }
     const Membrane& panel(int k) const { return panels_[static_cast<std::size_t>(k)]; }
+
+    Vec3 rest_position(int panel, int node) const { return rest_[index(panel, node)]; }
+    Vec3 normal(int panel, int node) const { return normal_[index(panel, node)]; }
+    Vec3 node_position(int panel, int node) const;
+    double displacement(int panel, int node) const;
+    double normal_velocity(int panel, int node) const;
+    double rest_height(double x, double y) const;
+    Vec3 surface_normal(double x, double y) const;
+    bool flat() const { return !(geometry_.curvature_radius_m < std::numeric_limits<double>::infinity()); }
 
 private:
     // Local panel frame: hem along y = 0 from (-w, 0) to (w, 0), apex (the shaft) at (0, h).
     Point2 to_local(int panel, double x, double y) const;
+    Point2 to_canopy(int panel, Point2 local) const;
+    std::size_t index(int panel, int node) const {
+        return static_cast<std::size_t>(panel) * static_cast<std::size_t>(nodes_) + static_cast<std::size_t>(node);
+    }
     CanopyGeometry geometry_;
     double half_width_ = 0.0, height_ = 0.0;
+    int nodes_ = 0;
     std::vector<PolygonEdge> outline_;
     std::vector<Membrane> panels_;
+    std::vector<Vec3> rest_, normal_;   // per panel and node, panel-major
 };
 
 }  // namespace ameoto

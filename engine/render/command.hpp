@@ -14,6 +14,8 @@ enum class CommandKind : std::uint8_t {
     drop,        // values: diameter m, speed m/s (0 = terminal), x m, y m
     rain_rate,   // values[0]: rain rate, mm/h (the one non-SI field: the rain statistics are written in it)
     sync,        // id: reply /synced id once applied
+    swap_canopy,        // object: a Canopy built off the audio thread; the old one rings out, then returns
+    set_liquid_density, // values[0]: kg/m^3 of the drops from now on
 };
 
 struct Command {
@@ -23,11 +25,14 @@ struct Command {
     std::int32_t id = 0;
     std::uint64_t frame = 0;     // sample time at which to apply it, when timed
     double values[4] = {0, 0, 0, 0};
+    void* object = nullptr;      // swap_canopy: ownership passes to the renderer
 };
 
 enum class RendererEventKind : std::uint8_t {
     synced,     // a /sync was reached: reply /synced id
     busy,       // a command could not be scheduled (the pending list was full): reply /fail busy
+    swapped,    // a swap_canopy or set_liquid_density took effect: reply /done
+    retired,    // object: a Canopy the audio thread no longer uses; the control thread deletes it
 };
 
 struct RendererEvent {
@@ -35,6 +40,7 @@ struct RendererEvent {
     CommandKind command = CommandKind::sync;
     std::uint16_t reply_to = 0;
     std::int32_t id = 0;
+    void* object = nullptr;
 };
 
 static_assert(std::is_trivially_copyable_v<Command>);

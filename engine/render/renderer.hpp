@@ -17,6 +17,10 @@
 // size: the rain is drawn per sample, so JACK at 256 frames and an offline render at 4096 frames
 // produce the same samples.
 //
+// Material changes: swap_canopy installs a canopy built off the audio thread (by pointer); the old one
+// keeps ringing for 0.5 s with no new impacts, summed into the output, then goes back to the control
+// thread in a `retired` event to be freed there. Nothing is allocated or freed here.
+//
 // Sound: each canopy panel is heard as a baffled piston at the listener (Rayleigh integral, far-field
 // approximation): p = rho0 / (2 pi r) * (sum of the panel's normal accelerations times their areas)
 // = rho0 / (2 pi r) * F_net / s, with F_net the panel's net force (models/canopy.hpp) and s its areal
@@ -71,18 +75,29 @@ public:
     std::uint64_t frame() const { return frame_; }
     const RendererStats& stats() const { return stats_; }
     const RendererConfig& config() const { return config_; }
-    const Canopy& canopy() const { return canopy_; }
+    const Canopy& canopy() const { return *canopy_; }   // audio thread (or before audio starts) only
+    ~Renderer();
+    Renderer(const Renderer&) = delete;
+    Renderer& operator=(const Renderer&) = delete;
 
 private:
     void apply(const Command& command);
     void start_impact(double diameter_m, double speed_m_per_s, double x, double y);
     void push_event(const RendererEvent& event);
     void render_sample(float* const* outputs, int offset);
+    void swap_canopy(const Command& command);
+    bool push_event_checked(const RendererEvent& event);
 
     RendererConfig config_;
     double dt_;
     Random rng_;
-    Canopy canopy_;
+    // The canopy in use, and the one it replaced, ringing out for fade_samples after a material change
+    // so the change makes no click; both owned (raw pointers: ownership crosses threads by value).
+    Canopy* canopy_ = nullptr;
+    Canopy* fading_ = nullptr;
+    int fade_left_ = 0;
+    double liquid_density_;
+    std::vector<double> fading_force_;
     RainSpawner rain_;
     ImpactPool impacts_;
     std::uint64_t frame_ = 0;

@@ -25,6 +25,17 @@ AudioBridge::AudioBridge(std::unique_ptr<Renderer> renderer, std::size_t queue_c
 
 double AudioBridge::take_cpu_peak_percent() { return 100.0 * load_peak_.exchange(0.0, std::memory_order_relaxed); }
 
+AudioBridge::~AudioBridge() {
+    // Audio has stopped (the backend is stopped before the bridge goes). Objects still travelling in
+    // either queue are freed here; the renderer frees what it holds.
+    Command command;
+    while (commands_.try_pop(command))
+        if (command.kind == CommandKind::swap_canopy) delete static_cast<Canopy*>(command.object);
+    RendererEvent event;
+    while (events_.try_pop(event))
+        if (event.kind == RendererEventKind::retired) delete static_cast<Canopy*>(event.object);
+}
+
 AudioSnapshot AudioBridge::snapshot() const {
     AudioSnapshot s;
     s.cpu_average_percent = 100.0 * load_average_.load(std::memory_order_relaxed);
@@ -70,8 +81,10 @@ void AudioBridge::process(int frames, float* const* outputs) {
     Command command;
     while (commands_.try_pop(command)) renderer_->schedule(command);
     renderer_->process(frames, outputs);
+    // Take an event from the renderer only when the queue has room for it: events that hand back an
+    // object (a retired canopy) must never be dropped; the rest wait in the renderer's own list.
     RendererEvent event;
-    while (renderer_->poll_event(event))
+    while (events_.size_approx() < events_.capacity() && renderer_->poll_event(event))
         if (!events_.try_push(event)) events_lost_.fetch_add(1, std::memory_order_relaxed);
 
     const RendererStats& st = renderer_->stats();

@@ -44,6 +44,7 @@ struct AudioSnapshot {
 class AudioBridge {
 public:
     AudioBridge(std::unique_ptr<Renderer> renderer, std::size_t queue_capacity);
+    ~AudioBridge();
 
     // control thread
     bool send(const Command& command) { return commands_.try_push(command); }
@@ -55,7 +56,7 @@ public:
     std::uint64_t frame_for(double unix_seconds) const;
     double sample_rate() const { return sample_rate_; }
     int channels() const { return channels_; }
-    const Canopy& canopy() const { return renderer_->canopy(); }   // immutable geometry only
+    const RendererConfig& config() const { return renderer_->config(); }   // fixed at construction
 
     // audio thread
     void process(int frames, float* const* outputs);

@@ -120,6 +120,40 @@ TEST_CASE("a timetagged bundle plays its /drop at the bundle's time; a late bund
     CHECK(onset <= expected + 2 * 256 + 1440);
 }
 
+TEST_CASE("materials change live: /done once in use, refusals with the bound, no real-time violations") {
+    const std::string report = ameoto::test::temp_path("materials-rt.txt");
+    {
+        Daemon d({"--backend", "null", "--output", "-", "--realtime", "--rain", "30"},
+                 {"LD_PRELOAD=" AMEOTO_RT_INTERPOSER, "AMEOTO_RT_REPORT=" + report});
+        OscTestClient client(d.port());
+        auto s = [](const char* v) { return OscArgument::from_string(v); };
+        auto f = [](double v) { return OscArgument::from_float(static_cast<float>(v)); };
+        auto done = client.request("/material/surface", {s("umbrella"), s("vinyl")}, "/done", 5s);
+        REQUIRE(done);
+        CHECK(done->args[0].text == "/material/surface");
+        // A custom material, stored under its name, then used again by name.
+        REQUIRE(client.request("/material/surface", {s("umbrella"), s("rubber"), f(0.5), f(300), f(30), f(1e-5)}, "/done", 5s));
+        REQUIRE(client.request("/material/surface", {s("umbrella"), s("rubber")}, "/done", 5s));
+        // Too stiff to run live: refused with its bound, and the sound goes on.
+        const auto refused = client.request("/material/surface", {s("umbrella"), s("seed-nylon")}, "/fail", 10s);
+        REQUIRE(refused);
+        CHECK(refused->args[1].text.find("sub-steps") != std::string::npos);
+        CHECK(refused->args[1].text.find("omega_max T") != std::string::npos);
+        REQUIRE(client.request("/material/liquid", {s("milk")}, "/done", 5s));
+        REQUIRE(client.request("/material/liquid", {s("syrup"), f(1300), f(0.07), f(5)}, "/done", 5s));
+        const auto bad = client.request("/material/liquid", {s("water"), f(1000), f(0.07), f(0.001)}, "/fail", 2s);
+        REQUIRE(bad);
+        CHECK(bad->args[1].text.find("preset") != std::string::npos);
+        const auto status = client.request("/status", {}, "/status.reply", 2s);
+        REQUIRE(status);
+        CHECK(d.process().stop(SIGTERM, 5s) == 0);
+    }
+    const std::string rt = read_report(report);
+    INFO(rt);
+    CHECK(rt.find("violations 0\n") != std::string::npos);
+    CHECK(rt.find("entries 0\n") == std::string::npos);
+}
+
 TEST_CASE("bad messages get /fail with a reason; the server keeps serving") {
     Daemon d({"--backend", "null", "--output", "-", "--realtime"});
     OscTestClient client(d.port());

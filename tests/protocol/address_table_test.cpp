@@ -103,7 +103,7 @@ TEST_CASE("every address in the table refuses NaN, wrong types and extra argumen
         std::vector<OscArgument> good;
         for (const auto& a : spec.arguments) {
             if (a.optional) break;
-            if (a.kind == ArgumentKind::text) good.push_back(s("umbrella"));
+            if (a.kind == ArgumentKind::text) good.push_back(s(a.example));
             else if (a.kind == ArgumentKind::integer) good.push_back(i(0));
             else good.push_back(f(std::max(a.min, std::min(a.max, 0.1))));
         }
@@ -134,4 +134,37 @@ TEST_CASE("/status, /sync and /quit map to their actions") {
     REQUIRE(v.ok);
     CHECK(v.request.command.kind == CommandKind::sync);
     CHECK(v.request.command.id == -12);
+}
+
+TEST_CASE("every text argument in the table carries a valid example") {
+    for (const AddressSpec& spec : address_table())
+        for (const auto& a : spec.arguments)
+            if (a.kind == ArgumentKind::text) {
+                INFO(std::string(spec.address) << " " << a.name);
+                CHECK(std::string(a.example).size() > 0);
+            }
+}
+
+TEST_CASE("/material/surface and /material/liquid: presets, custom definitions, and refusals") {
+    const ProtocolContext c = context();
+    auto v = validate(message("/material/surface", {s("umbrella"), s("vinyl")}), c);
+    REQUIRE(v.ok);
+    CHECK(v.request.action == Action::set_surface_material);
+    CHECK(v.request.material->name == "vinyl");
+    v = validate(message("/material/surface", {s("umbrella"), s("rubber"), f(0.5), f(300), f(30), d(1e-5)}), c);
+    REQUIRE(v.ok);
+    CHECK(v.request.material->tension == doctest::Approx(300));
+    CHECK(validate(message("/material/surface", {s("umbrella"), s("rubber"), f(0.5)}), c).reason.find("all four") != std::string::npos);
+    CHECK(validate(message("/material/surface", {s("pond"), s("nylon")}), c).reason.find("no surface") != std::string::npos);
+    CHECK(validate(message("/material/surface", {s("umbrella"), s("nylon"), f(1), f(1), f(1), d(0)}), c).reason.find("preset") !=
+          std::string::npos);
+    v = validate(message("/material/liquid", {s("milk")}), c);
+    REQUIRE(v.ok);
+    CHECK(v.request.liquid->density == doctest::Approx(1030));
+    v = validate(message("/material/liquid", {s("syrup"), f(1300), f(0.07), f(5)}), c);
+    REQUIRE(v.ok);
+    CHECK(v.request.action == Action::set_liquid);
+    CHECK(validate(message("/material/liquid", {s("tea")}), c).reason.find("no liquid named 'tea'") != std::string::npos);
+    CHECK(validate(message("/material/liquid", {s("a/b")}), c).reason.find("letters, digits") != std::string::npos);
+    CHECK(validate(message("/material/liquid", {s("syrup"), f(13000000), f(0.07), f(5)}), c).reason.find("outside") != std::string::npos);
 }

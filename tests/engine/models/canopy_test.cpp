@@ -160,3 +160,100 @@ TEST_CASE("canopy: rejects bad geometry") {
     CHECK_THROWS_AS(ameoto::Canopy(ameoto::CanopyGeometry{65, 0.5, 50}, mat, kT), std::invalid_argument);
     CHECK_THROWS_AS(ameoto::Canopy(ameoto::CanopyGeometry{8, 0.0, 50}, mat, kT), std::invalid_argument);
 }
+
+TEST_CASE("canopy: flat by default; nodes carry 3-D rest positions and normals") {
+    const auto& c = default_canopy();
+    CHECK(c.flat());
+    CHECK(c.nodes_per_panel() == c.panel(0).network.mass_count());
+    for (int k = 0; k < c.panel_count(); ++k) {
+        for (int i = 0; i < c.nodes_per_panel(); ++i) {
+            const auto p = c.rest_position(k, i), n = c.normal(k, i);
+            CHECK(p.z == 0.0);
+            CHECK(n.x == 0.0);
+            CHECK(n.y == 0.0);
+            CHECK(n.z == 1.0);
+            // The node's plan point is where locate() finds that node (canopy.hpp: plan lattice).
+            const auto hit = c.locate(p.x, p.y);
+            CHECK(hit.panel == k);
+            CHECK(hit.node == i);
+        }
+    }
+}
+
+TEST_CASE("canopy: curvature puts the nodes on a spherical cap, moving along its normal") {
+    const double rc = 1.2, r = 0.5;
+    ameoto::Canopy curved(ameoto::CanopyGeometry{8, r, 50, rc}, ameoto::MembraneMaterial::nylon_canopy(), kT);
+    const auto& flat = default_canopy();
+    CHECK_FALSE(curved.flat());
+    REQUIRE(curved.nodes_per_panel() == flat.nodes_per_panel());
+    const ameoto::Vec3 centre{0.0, 0.0, -rc};   // canopy.hpp: z = 0 at the shaft's top
+    for (int k = 0; k < curved.panel_count(); ++k) {
+        for (int i = 0; i < curved.nodes_per_panel(); ++i) {
+            const auto p = curved.rest_position(k, i), n = curved.normal(k, i), q = flat.rest_position(k, i);
+            // Same plan point as the flat canopy, lifted onto the sphere |p - centre| = Rc (rounding).
+            CHECK(p.x == doctest::Approx(q.x).epsilon(1e-15));
+            CHECK(p.y == doctest::Approx(q.y).epsilon(1e-15));
+            CHECK(ameoto::norm(p - centre) == doctest::Approx(rc).epsilon(1e-14));
+            // Unit normal along the radius, pointing out and up.
+            CHECK(ameoto::norm(n) == doctest::Approx(1.0).epsilon(1e-14));
+            const auto radial = (p - centre) / rc;
+            CHECK(ameoto::norm(n - radial) < 1e-14);
+            CHECK(n.z > 0.0);
+            CHECK(curved.rest_height(p.x, p.y) == p.z);
+        }
+    }
+    // Rim height sqrt(Rc^2 - R^2) - Rc (a 0.109 m deep cap for Rc = 1.2 m), shaft at 0.
+    CHECK(curved.rest_height(r, 0.0) == doctest::Approx(std::sqrt(rc * rc - r * r) - rc).epsilon(1e-14));
+    CHECK(curved.rest_height(0.0, 0.0) == 0.0);
+    // A force moves the node along its normal: position = rest + u n.
+    std::vector<double> forces(8);
+    const auto hit = curved.locate(0.3, 0.1);
+    REQUIRE(hit.panel >= 0);
+    curved.apply_force(hit, 1.0);
+    curved.step(forces.data());
+    const double u = curved.displacement(hit.panel, hit.node);
+    CHECK(u > 0.0);
+    const auto moved = curved.node_position(hit.panel, hit.node) - curved.rest_position(hit.panel, hit.node);
+    CHECK(ameoto::norm(moved - u * curved.normal(hit.panel, hit.node)) < 1e-16);   // rounding of |rest| ~ 0.3 m
+    CHECK(curved.normal_velocity(hit.panel, hit.node) == doctest::Approx(u / kT).epsilon(1e-12));   // from rest
+    // The dynamics are the flat panel's (shallow shell, canopy.hpp): the same net force.
+    ameoto::Canopy flat2(ameoto::CanopyGeometry{}, ameoto::MembraneMaterial::nylon_canopy(), kT);
+    std::vector<double> flat_forces(8);
+    flat2.apply_force(hit, 1.0);
+    flat2.step(flat_forces.data());
+    CHECK(flat_forces == forces);
+}
+
+TEST_CASE("canopy: geometry and materials are checked, with reasons; stability policies apply") {
+    const auto nylon = ameoto::MembraneMaterial::nylon_canopy();
+    CHECK_THROWS_AS(ameoto::Canopy(ameoto::CanopyGeometry{8, 0.5, 50, 0.5}, nylon, kT), std::invalid_argument);
+    CHECK_THROWS_AS(ameoto::Canopy(ameoto::CanopyGeometry{8, 0.5, 50, 0.3}, nylon, kT), std::invalid_argument);
+    CHECK_THROWS_AS(ameoto::Canopy(ameoto::CanopyGeometry{8, 0.5, 0}, nylon, kT), std::invalid_argument);
+    const auto geometry = ameoto::Canopy::check(ameoto::CanopyGeometry{8, 0.5, 50, 0.4}, nylon, kT);
+    CHECK_FALSE(geometry.ok);
+    CHECK(geometry.reason.find("radius of curvature") != std::string::npos);
+
+    // An invalid material is refused with its reason (membrane.hpp ranges).
+    const auto bad = ameoto::MembraneMaterial::custom("mud", 0.06, -5.0, 20.0, 2e-6);
+    const auto verdict = ameoto::Canopy::check(ameoto::CanopyGeometry{}, bad, kT);
+    CHECK_FALSE(verdict.ok);
+    CHECK(verdict.reason.find("tension -5 N/m is outside") != std::string::npos);
+    try {
+        ameoto::Canopy c(ameoto::CanopyGeometry{}, bad, kT);
+        FAIL("an invalid material must be refused");
+    } catch (const std::invalid_argument& e) {
+        CHECK(std::string(e.what()) == verdict.reason);
+    }
+
+    // The seed's nylon: sub-steps by default (27 at 48 kHz, docs/engine.md), refused under 'refuse'.
+    const auto seed = ameoto::MembraneMaterial::seed_nylon();
+    const ameoto::Canopy sub(ameoto::CanopyGeometry{}, seed, kT);
+    CHECK(sub.panel(0).network.stability().sub_steps == 27);
+    ameoto::NetworkOptions refuse;
+    refuse.stability.policy = ameoto::StabilityPolicy::refuse;
+    CHECK_THROWS_AS(ameoto::Canopy(ameoto::CanopyGeometry{}, seed, kT, refuse), ameoto::StabilityError);
+    const auto refused = ameoto::Canopy::check(ameoto::CanopyGeometry{}, seed, kT, refuse);
+    CHECK_FALSE(refused.ok);
+    CHECK(refused.reason.find("omega_max T = 51") != std::string::npos);
+    CHECK(ameoto::Canopy::check(ameoto::CanopyGeometry{}, seed, kT).stability.sub_steps == 27);
+}

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <limits>
 #include <map>
 #include <string>
 #include <vector>
@@ -327,4 +328,155 @@ TEST_CASE("membrane: the seed umbrella (about 50 masses, 0.12 kg, k = 1.2e9 N/m,
         CHECK(all_finite(out));
         CHECK(m.network.guard_resets() == 0);
     }
+}
+
+TEST_CASE("membrane: materials by name") {
+    // membrane.hpp: the presets and the "pvc" alias; anything else is unknown.
+    const auto& names = ameoto::membrane_material_names();
+    CHECK(names == std::vector<std::string>{"nylon", "seed-nylon", "vinyl"});
+    for (const auto& n : names) {
+        const auto m = ameoto::membrane_material(n);
+        REQUIRE(m.has_value());
+        CHECK(m->name == n);
+        CHECK(ameoto::validate_membrane_material(*m).ok);
+    }
+    CHECK(ameoto::membrane_material("pvc")->name == "vinyl");
+    CHECK_FALSE(ameoto::membrane_material("silk").has_value());
+    CHECK_FALSE(ameoto::membrane_material("").has_value());
+}
+
+TEST_CASE("membrane: the presets carry the documented figures") {
+    // Nylon: areal density in the 0.05 .. 0.07 kg/m^2 of canopy taffeta (issue 4); exact figures as documented.
+    const auto nylon = ameoto::MembraneMaterial::nylon_canopy();
+    CHECK(nylon.areal_density >= 0.05);
+    CHECK(nylon.areal_density <= 0.07);
+    CHECK(nylon.tension == 1000.0);
+    // Vinyl: 0.1 .. 0.2 mm of PVC at 1250 .. 1400 kg/m^3 is 0.125 .. 0.28 kg/m^2 (membrane.hpp; brief: 0.15 .. 0.25).
+    const auto vinyl = ameoto::MembraneMaterial::vinyl();
+    CHECK(vinyl.areal_density >= 0.15);
+    CHECK(vinyl.areal_density <= 0.25);
+    CHECK(vinyl.tension == 200.0);
+    // PVC is lossier than nylon: its loss factor eta = alpha / w + beta w is higher across 50 Hz .. 5 kHz.
+    for (double f : {50.0, 100.0, 300.0, 1000.0, 2000.0, 5000.0}) {
+        CAPTURE(f);
+        const double w = 2.0 * kPi * f;
+        const double eta_vinyl = vinyl.mass_damping / w + vinyl.stiffness_damping * w;
+        const double eta_nylon = nylon.mass_damping / w + nylon.stiffness_damping * w;
+        CHECK(eta_vinyl > 2.0 * eta_nylon);
+        // Documented bands (membrane.hpp): vinyl 0.06 .. 0.2 over 50 Hz .. 2 kHz, nylon 0.013 .. 0.034 over 100 Hz .. 2 kHz.
+        if (f <= 2000.0) {
+            CHECK(eta_vinyl >= 0.06);
+            CHECK(eta_vinyl <= 0.21);
+        }
+        if (f >= 100.0 && f <= 2000.0) {
+            CHECK(eta_nylon >= 0.0125);
+            CHECK(eta_nylon <= 0.034);
+        }
+    }
+}
+
+TEST_CASE("membrane: custom materials are validated, with the reason") {
+    const auto good = ameoto::MembraneMaterial::custom("drumhead", 0.3, 3000.0, 5.0, 1e-6);
+    CHECK(ameoto::validate_membrane_material(good).ok);
+    CHECK(ameoto::validate_membrane_material(good).reason.empty());
+    struct Bad {
+        ameoto::MembraneMaterial m;
+        const char* names;   // the quantity the reason must name
+    };
+    const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
+    const Bad bad[] = {
+        {ameoto::MembraneMaterial::custom("a", 0.0, 100.0, 1.0, 1e-6), "areal density 0 kg/m^2 is outside"},
+        {ameoto::MembraneMaterial::custom("a", -0.1, 100.0, 1.0, 1e-6), "areal density -0.1"},
+        {ameoto::MembraneMaterial::custom("a", 500.0, 100.0, 1.0, 1e-6), "plate, not a membrane"},
+        {ameoto::MembraneMaterial::custom("a", 0.1, nan, 1.0, 1e-6), "tension nan"},
+        {ameoto::MembraneMaterial::custom("a", 0.1, 0.01, 1.0, 1e-6), "sags under its own weight"},
+        {ameoto::MembraneMaterial::custom("a", 0.1, inf, 1.0, 1e-6), "tension inf"},
+        {ameoto::MembraneMaterial::custom("a", 0.1, 100.0, -1.0, 1e-6), "negative damping feeds energy in"},
+        {ameoto::MembraneMaterial::custom("a", 0.1, 100.0, 1.0, -1e-6), "stiffness damping beta -1e-06"},
+        {ameoto::MembraneMaterial::custom("a", 0.1, 100.0, 1.0, 0.1), "overdamped"},
+        {ameoto::MembraneMaterial::custom("", 0.1, 100.0, 1.0, 1e-6), "needs a name"},
+    };
+    for (const auto& b : bad) {
+        CAPTURE(b.names);
+        const auto check = ameoto::validate_membrane_material(b.m);
+        CHECK_FALSE(check.ok);
+        CAPTURE(check.reason);
+        CHECK(check.reason.find(b.names) != std::string::npos);
+        // check_membrane_material gives the same verdict without building anything.
+        const auto built = ameoto::check_membrane_material(umbrella_panel(), 50, b.m, kT);
+        CHECK_FALSE(built.ok);
+        CHECK(built.reason == check.reason);
+    }
+    // Several problems at once: all named.
+    const auto two = ameoto::validate_membrane_material(ameoto::MembraneMaterial::custom("b", -1.0, -1.0, 0.0, 0.0));
+    CHECK(two.reason.find("areal density") != std::string::npos);
+    CHECK(two.reason.find("tension") != std::string::npos);
+}
+
+TEST_CASE("membrane: a custom material too stiff for the integrator is refused with the bound, or sub-stepped") {
+    // 1e7 N/m on 0.06 kg/m^2: c = 12900 m/s, 100 times nylon's, so omega_max T ~ 17 at 48 kHz on the
+    // 50-mass panel (nylon: 0.169, canopy test): beyond the explicit bound 2 (physics.md s.3).
+    const auto stiff = ameoto::MembraneMaterial::custom("steel-ish", 0.06, 1e7, 0.0, 0.0);
+    REQUIRE(ameoto::validate_membrane_material(stiff).ok);   // in range: only the integrator objects
+    ameoto::NetworkOptions refuse;
+    refuse.stability.policy = ameoto::StabilityPolicy::refuse;
+    const auto refused = ameoto::check_membrane_material(umbrella_panel(), 50, stiff, kT, refuse);
+    CHECK_FALSE(refused.ok);
+    CAPTURE(refused.reason);
+    CHECK(refused.reason.find("omega_max T = ") != std::string::npos);
+    CHECK(refused.reason.find("exceeds 2 for the explicit Verlet scheme") != std::string::npos);
+    CHECK_THROWS_AS(ameoto::build_membrane(umbrella_panel(), 50, stiff, kT, refuse), ameoto::StabilityError);
+
+    const auto sub = ameoto::check_membrane_material(umbrella_panel(), 50, stiff, kT);   // default: sub_step
+    CHECK(sub.ok);
+    CHECK(sub.stability.sub_steps > 8);   // omega T ~ 17 needs omega T' < 1.9
+    CHECK(sub.stability.margin() < 0.9);
+    auto m = ameoto::build_membrane(umbrella_panel(), 50, stiff, kT);
+    CHECK(all_finite(strike(m, 2000)));
+
+    // Too stiff even for the sub-step limit: refused, naming the sub-steps it would need.
+    ameoto::NetworkOptions few;
+    few.stability.max_sub_steps = 4;
+    const auto capped = ameoto::check_membrane_material(umbrella_panel(), 50, stiff, kT, few);
+    CHECK_FALSE(capped.ok);
+    CHECK(capped.reason.find("sub-steps, more than the limit 4") != std::string::npos);
+    // An implicit integrator runs it at one step.
+    ameoto::NetworkOptions trap;
+    trap.integrator = ameoto::Integrator::trapezoidal;
+    CHECK(ameoto::check_membrane_material(umbrella_panel(), 50, stiff, kT, trap).ok);
+}
+
+TEST_CASE("table: the materials on the default umbrella panel") {
+    // Modes of the default panel (8 x 0.5 m canopy, ~50 masses) for each preset at 48 kHz; docs/engine.md
+    // "Materials". Checks: the same lattice with k = T / sqrt 3 and m = s A scales every mode by the
+    // wave speed c = sqrt(T / s) (exact up to the eigen-solver's rounding); nylon's lowest mode is the
+    // documented 217 Hz.
+    struct Row {
+        ameoto::MembraneMaterial m;
+        double f1 = 0.0;
+    };
+    std::vector<Row> rows;
+    for (const auto& n : ameoto::membrane_material_names()) rows.push_back({*ameoto::membrane_material(n)});
+    static bool printed = false;
+    const bool print = std::getenv("AMEOTO_PRINT_TABLES") != nullptr && !printed;
+    printed = true;
+    if (print)
+        std::printf("\n| material | s kg/m^2 | T N/m | c m/s | masses | lowest modes Hz | highest Hz | eta, lowest mode | "
+                    "omega_max T (Gershgorin) | sub-steps |\n|---|---|---|---|---|---|---|---|---|---|\n");
+    for (auto& r : rows) {
+        const auto mem = ameoto::build_membrane(umbrella_panel(), 50, r.m, kT);
+        const auto modes = ameoto::decompose_modes(mem.network.arrays());
+        const auto f = [&](Eigen::Index k) { return modes.omega[k] / (2.0 * kPi); };
+        r.f1 = f(0);
+        const double eta = 2.0 * modes.damping_rate[0] / modes.omega[0];
+        const auto& st = mem.network.stability();
+        if (print)
+            std::printf("| %s | %.4g | %.4g | %.4g | %d | %.0f, %.0f, %.0f, %.0f | %.0f | %.2g | %.3g | %d |\n",
+                        r.m.name.c_str(), r.m.areal_density, r.m.tension, r.m.wave_speed(), mem.network.mass_count(),
+                        f(0), f(1), f(2), f(3), f(modes.omega.size() - 1), eta, st.omega_max_bound * kT, st.sub_steps);
+    }
+    const double c_nylon = rows[0].m.wave_speed(), c_vinyl = rows[2].m.wave_speed();
+    CHECK(rows[2].f1 / rows[0].f1 == doctest::Approx(c_vinyl / c_nylon).epsilon(1e-9));
+    CHECK(rows[0].f1 == doctest::Approx(217.0).epsilon(0.01));   // docs/engine.md, 1 %
+    CHECK(rows[1].f1 > 24000.0);                                  // seed-nylon: ultrasonic (membrane.hpp)
 }
