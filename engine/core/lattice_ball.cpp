@@ -25,12 +25,6 @@ struct Site {
     std::int64_t key;   // 36 * squared distance from the centre, in lattice units
 };
 
-struct Choice {
-    int centre = 0;
-    std::int64_t last_key = 0, next_key = 0;
-    int count = 0;
-    long error = std::numeric_limits<long>::max();
-};
 
 std::vector<Site> sites_around(int centre, int reach) {
     const auto& c = kCentres6[static_cast<std::size_t>(centre)];
@@ -57,67 +51,126 @@ int seed_mass_count(double diameter_m) {
     return std::max(1, static_cast<int>(std::lround(d_mm * d_mm * d_mm)));
 }
 
-LatticeBallInfo add_lattice_ball(Body3D& body, const LatticeBallSpec& spec) {
-    if (!(spec.diameter > 0.0) || !std::isfinite(spec.diameter)) throw std::invalid_argument("ball diameter must be positive");
-    if (!(spec.density > 0.0)) throw std::invalid_argument("ball density must be positive");
-    const int target = spec.target_masses > 0 ? spec.target_masses : seed_mass_count(spec.diameter);
-    if (target > 200000) throw std::invalid_argument("lattice ball: more than 200000 masses requested");
+namespace {
 
-    // Sites occupy 2 cubic lattice units each (4 per cube of side 2), so N sites fill a sphere of radius
-    // (3 N / 2 pi)^(1/3) units. Enumerating a cube of half-side `reach` finds every site within
-    // reach - 1 of any candidate centre (|centre| <= 1 per axis).
+// Enumerating a cube of half-side `reach` finds every site within reach - 1 of any candidate centre
+// (|centre| <= 1 per axis). Sites occupy 2 cubic lattice units each (4 per cube of side 2), so N sites
+// fill a sphere of radius (3 N / 2 pi)^(1/3) units: half as far again, plus 3, holds every count near N.
+int reach_for(int target) {
     const double radius_units = std::cbrt(3.0 * target / (2.0 * constants::pi));
-    const int reach = static_cast<int>(std::ceil(1.5 * radius_units)) + 3;
-    const std::int64_t complete_key = 36LL * (reach - 1) * (reach - 1);
+    return static_cast<int>(std::ceil(1.5 * radius_units)) + 3;
+}
 
-    Choice best;
+// For each candidate centre, the counts that end a complete shell within `reach`, ascending.
+using ShellTable = std::array<std::vector<LatticeBallChoice>, kCentres6.size()>;
+
+ShellTable shell_table(int reach) {
+    const std::int64_t complete_key = 36LL * (reach - 1) * (reach - 1);
+    ShellTable table;
     for (int c = 0; c < static_cast<int>(kCentres6.size()); ++c) {
         auto sites = sites_around(c, reach);
         std::sort(sites.begin(), sites.end(), [](const Site& a, const Site& b) { return a.key < b.key; });
         for (std::size_t n = 0; n + 1 < sites.size() && sites[n + 1].key <= complete_key; ++n) {
             if (sites[n + 1].key == sites[n].key) continue;   // not the end of a shell
-            const int count = static_cast<int>(n + 1);
-            const long error = std::labs(static_cast<long>(count) - target);
-            if (error < best.error) best = {c, sites[n].key, sites[n + 1].key, count, error};
+            table[static_cast<std::size_t>(c)].push_back({c, sites[n].key, sites[n + 1].key, static_cast<int>(n + 1)});
         }
     }
+    return table;
+}
 
-    // Lattice unit -> metres: the sphere's radius sits half way between the last shell and the next.
-    const double radius = 0.5 * spec.diameter;
+// The count nearest the target; ties go to the earlier centre, then the smaller count. A table for a
+// larger reach only adds counts far above the target, so the choice does not depend on the reach.
+LatticeBallChoice choose(int target, const ShellTable& table) {
+    LatticeBallChoice best;
+    long best_error = std::numeric_limits<long>::max();
+    for (const auto& shells : table)
+        for (const auto& candidate : shells) {
+            const long error = std::labs(static_cast<long>(candidate.count) - target);
+            if (error < best_error) {
+                best = candidate;
+                best_error = error;
+            }
+        }
+    return best;
+}
+
+}  // namespace
+
+std::vector<LatticeBallChoice> lattice_ball_choices(int max_target) {
+    const int top = std::max(1, max_target);
+    if (top > 200000) throw std::invalid_argument("lattice ball: more than 200000 masses requested");
+    const ShellTable table = shell_table(reach_for(top));
+    std::vector<LatticeBallChoice> choices;
+    choices.reserve(static_cast<std::size_t>(top));
+    for (int t = 1; t <= top; ++t) choices.push_back(choose(t, table));
+    return choices;
+}
+
+LatticeBallShape lattice_ball_shape(int target_masses) {
+    const int target = std::max(1, target_masses);
+    if (target > 200000) throw std::invalid_argument("lattice ball: more than 200000 masses requested");
+    return lattice_ball_shape(choose(target, shell_table(reach_for(target))));
+}
+
+LatticeBallShape lattice_ball_shape(const LatticeBallChoice& best) {
+    // The sites of the chosen shells, in the enumeration's (i, j, k) order, which does not depend on
+    // the reach as long as it holds them all.
+    const int reach = static_cast<int>(std::ceil(std::sqrt(static_cast<double>(best.last_key)) / 6.0)) + 2;
+    // Lattice unit -> metres of a 1 m ball: its radius (0.5) sits half way between the last shell and
+    // the next.
     const double mid_units = (std::sqrt(static_cast<double>(best.last_key)) + std::sqrt(static_cast<double>(best.next_key))) / 12.0;
-    const double unit = radius / mid_units;
-    const auto& c6 = kCentres6[static_cast<std::size_t>(best.centre)];
+    const double unit = 0.5 / mid_units;
+    const auto& c6 = kCentres6[static_cast<std::size_t>(best.centre_kind)];
     const double cx = c6[0] / 6.0, cy = c6[1] / 6.0, cz = c6[2] / 6.0;
 
     std::vector<Site> chosen;
-    for (const auto& s : sites_around(best.centre, reach))
+    for (const auto& s : sites_around(best.centre_kind, reach))
         if (s.key <= best.last_key) chosen.push_back(s);
     Vec3 mean{};
     for (const auto& s : chosen) mean = mean + Vec3{s.i - cx, s.j - cy, s.k - cz};
     mean = mean / static_cast<double>(chosen.size());
 
-    LatticeBallInfo info;
-    info.first_mass = body.mass_count();
-    info.first_link = body.link_count();
-    info.mass_count = static_cast<int>(chosen.size());
-    info.spacing = std::sqrt(2.0) * unit;
-    info.total_mass = spec.density * constants::pi * spec.diameter * spec.diameter * spec.diameter / 6.0;
-    info.node_mass = info.total_mass / info.mass_count;
-    info.sphere_offset = norm(mean) * unit;
-
+    LatticeBallShape shape;
+    shape.spacing = std::sqrt(2.0) * unit;
+    shape.sphere_offset = norm(mean) * unit;
+    shape.centre_kind = best.centre_kind;
+    shape.last_shell_key = best.last_key;
     std::unordered_map<std::int64_t, int> index;
     for (const auto& s : chosen) {
-        const Vec3 p = spec.centre + unit * (Vec3{s.i - cx, s.j - cy, s.k - cz} - mean);
-        index[pack(s.i, s.j, s.k)] = body.add_mass(info.node_mass, p);
+        index[pack(s.i, s.j, s.k)] = shape.mass_count();
+        shape.position.push_back(unit * (Vec3{s.i - cx, s.j - cy, s.k - cz} - mean));
     }
     for (const auto& s : chosen) {
         const int a = index.at(pack(s.i, s.j, s.k));
         for (const auto& o : kHalfNeighbours) {
             const auto it = index.find(pack(s.i + o[0], s.j + o[1], s.k + o[2]));
             if (it == index.end()) continue;
-            body.add_link(a, it->second, spec.link_kind, spec.stiffness, spec.damping, info.spacing, spec.break_force);
+            shape.link_a.push_back(a);
+            shape.link_b.push_back(it->second);
         }
     }
+    return shape;
+}
+
+LatticeBallInfo add_lattice_ball(Body3D& body, const LatticeBallSpec& spec) {
+    if (!(spec.diameter > 0.0) || !std::isfinite(spec.diameter)) throw std::invalid_argument("ball diameter must be positive");
+    if (!(spec.density > 0.0)) throw std::invalid_argument("ball density must be positive");
+    const int target = spec.target_masses > 0 ? spec.target_masses : seed_mass_count(spec.diameter);
+    if (target > 200000) throw std::invalid_argument("lattice ball: more than 200000 masses requested");
+    const LatticeBallShape shape = lattice_ball_shape(target);
+
+    LatticeBallInfo info;
+    info.first_mass = body.mass_count();
+    info.first_link = body.link_count();
+    info.mass_count = shape.mass_count();
+    info.spacing = spec.diameter * shape.spacing;
+    info.total_mass = spec.density * constants::pi * spec.diameter * spec.diameter * spec.diameter / 6.0;
+    info.node_mass = info.total_mass / info.mass_count;
+    info.sphere_offset = spec.diameter * shape.sphere_offset;
+    for (const Vec3& p : shape.position) body.add_mass(info.node_mass, spec.centre + spec.diameter * p);
+    for (int l = 0; l < shape.link_count(); ++l)
+        body.add_link(info.first_mass + shape.link_a[static_cast<std::size_t>(l)], info.first_mass + shape.link_b[static_cast<std::size_t>(l)],
+                      spec.link_kind, spec.stiffness, spec.damping, info.spacing, spec.break_force);
     info.link_count = body.link_count() - info.first_link;
     return info;
 }

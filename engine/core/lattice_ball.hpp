@@ -8,6 +8,9 @@
 //   LatticeBall ball = make_lattice_ball(spec);          // a new Body3D (not finalized) + info
 //   LatticeBallInfo info = add_lattice_ball(body, spec);  // or append to an existing body
 //   info.first_mass, mass_count, first_link, link_count, spacing, node_mass, total_mass, sphere_offset
+//   LatticeBallShape shape = lattice_ball_shape(target);  // the geometry alone, for a 1 m diameter ball
+//                                                         // centred on its centre of mass: scale by D
+//   auto choices = lattice_ball_choices(max_target);      // which shells for every target up to max
 //
 // Why FCC: every site has 12 equidistant neighbours forming tetrahedra and octahedra, the 3-D analogue
 // of the triangular lattice (most isotropic) and the tetrahedral mesh of the seed's Fig. 8 (Van Duyne &
@@ -27,7 +30,9 @@
 // Mass: each mass is rho (pi D^3 / 6) / count, so the ball's mass is the drop's to rounding. Each link
 // has rest length h, the initial distance: the ball starts at rest, unstressed.
 
+#include <cstdint>
 #include <limits>
+#include <vector>
 
 #include "engine/core/body3d.hpp"
 #include "engine/core/physical_constants.hpp"
@@ -59,8 +64,35 @@ struct LatticeBall {
     LatticeBallInfo info;
 };
 
+// The ball's geometry for a diameter of 1 m, its centre of mass at the origin: add_lattice_ball places
+// centre + D * position[i] and links link_a[l] - link_b[l] (in this order) at rest length D * spacing.
+struct LatticeBallShape {
+    std::vector<Vec3> position;                   // per mass, m per m of diameter
+    std::vector<std::int32_t> link_a, link_b;     // each nearest-neighbour pair once
+    double spacing = 0.0;                         // nearest-neighbour distance per m of diameter
+    double sphere_offset = 0.0;                   // centre of mass to cutting sphere's centre, per m
+    int centre_kind = 0;                          // which of the five candidate centres (identity:
+    long long last_shell_key = 0;                 // two shapes with equal kind and key are the same)
+    int mass_count() const { return static_cast<int>(position.size()); }
+    int link_count() const { return static_cast<int>(link_a.size()); }
+};
+
 // The seed's mass count for a drop of diameter D: round((D / 1 mm)^3), at least 1.
 int seed_mass_count(double diameter_m);
+
+// Which shells of which centre give the count nearest a target (what lattice_ball_shape picks).
+struct LatticeBallChoice {
+    int centre_kind = 0;
+    long long last_key = 0, next_key = 0;   // 36 x squared radius of the last shell taken, of the next
+    int count = 1;                          // masses
+};
+
+// target_masses <= 0: one mass. Allocates; about 2 ms at 512 masses.
+LatticeBallShape lattice_ball_shape(int target_masses);
+// The choice for every target 1..max_target (element t - 1), from one enumeration: for a table of
+// shapes (the drop pool's), far faster than max_target calls of lattice_ball_shape(int).
+std::vector<LatticeBallChoice> lattice_ball_choices(int max_target);
+LatticeBallShape lattice_ball_shape(const LatticeBallChoice& choice);
 
 LatticeBallInfo add_lattice_ball(Body3D& body, const LatticeBallSpec& spec);
 LatticeBall make_lattice_ball(const LatticeBallSpec& spec);

@@ -160,6 +160,143 @@ TEST_CASE("body3d: a breakable link breaks at its threshold, reports it once, an
     CHECK(body.broken_link_count() == 0);
 }
 
+TEST_CASE("body3d: a cohesive link breaks under tension only, and its core pushes before and after") {
+    // A liquid's bond (engine/models/drop.hpp): k = 0.1 N/m, rest 1 mm, threshold 1e-4 N (a stretch
+    // of 1 mm), core below 0.9 mm with 100 N/m.
+    const double m = 5e-7, k = 0.1, z = 1e-5, l0 = 1e-3, threshold = 1e-4, lc = 0.9e-3, kc = 100.0;
+    auto pair = [&](double length, double speed_apart) {
+        Body3D body;
+        const int a = body.add_mass(m, Vec3{length, 0.0, 0.0});
+        const int b = body.add_mass(m, Vec3{});
+        body.add_cohesive(a, b, k, z, l0, threshold, lc, kc);
+        body.set_integrator(Integrator::symplectic_euler);
+        body.set_velocity(a, Vec3{speed_apart, 0.0, 0.0});
+        body.finalize(kT);
+        return body;
+    };
+    SUBCASE("bonded, between core and break: the spring-damper") {
+        Body3D body = pair(1.5e-3, 0.2);
+        const Vec3 f = force_seen(body, 0);
+        CHECK(f.x == doctest::Approx(-k * 0.5e-3 - z * 0.2).epsilon(1e-9));
+        CHECK(body.breaks().empty());
+    }
+    SUBCASE("inside the core: spring plus core push") {
+        Body3D body = pair(0.8e-3, 0.0);
+        CHECK(body.elastic_energy() == doctest::Approx(0.5 * k * 0.2e-3 * 0.2e-3 + 0.5 * kc * 0.1e-3 * 0.1e-3).epsilon(1e-9));
+        CHECK(force_seen(body, 0).x == doctest::Approx(k * 0.2e-3 + kc * 0.1e-3).epsilon(1e-9));
+    }
+    SUBCASE("compressed far past the threshold: pushes, never breaks") {
+        Body3D body = pair(0.2e-3, -1.0);   // core force 0.07 N, 700 times the threshold
+        body.step();
+        CHECK(body.breaks().empty());
+        CHECK(body.broken_link_count() == 0);
+    }
+    SUBCASE("the damper does not tear: stretched just below the threshold, pulled apart fast") {
+        Body3D body = pair(1.99e-3, 50.0);   // damper 5e-4 N, spring 0.99e-4 N
+        REQUIRE(body.stability().sub_steps == 1);
+        body.step();   // the spring crosses 1e-4 N during this step: breaks in the next
+        CHECK(body.breaks().empty());
+        body.step();
+        REQUIRE(body.breaks().size() == 1);
+        CHECK(body.breaks()[0].force < -threshold);   // the spring's pull
+        CHECK(body.breaks()[0].force > -threshold - k * 50.0 * kT);
+        CHECK_FALSE(body.link_bonds(0));
+    }
+    SUBCASE("broken: only the core, which pushes when they collide again") {
+        Body3D body = pair(2.5e-3, 0.0);   // past the threshold at once
+        body.step();
+        REQUIRE(body.broken_link_count() == 1);
+        body.set_position(0, Vec3{0.85e-3, 0.0, 0.0});
+        body.set_velocity(0, Vec3{});
+        body.set_velocity(1, Vec3{});
+        CHECK(force_seen(body, 0).x == doctest::Approx(kc * 0.05e-3).epsilon(1e-9));   // no spring
+        body.set_position(0, Vec3{1.2e-3, 0.0, 0.0});
+        body.set_velocity(0, Vec3{});
+        body.set_velocity(1, Vec3{});
+        CHECK(force_seen(body, 0).x == 0.0);   // apart: nothing holds them
+        CHECK(body.elastic_energy() == 0.0);
+    }
+}
+
+TEST_CASE("body3d: uniform cohesive links (a drop) take a faster pass with the same result to the bit") {
+    // The same lattice twice; the second body also holds a spring between two far-away masses, so
+    // its links are not uniform and it runs the generic pass.
+    auto build = [](bool generic) {
+        Body3D body;
+        const auto shape = ameoto::lattice_ball_shape(64);
+        for (const Vec3& p : shape.position) body.add_mass(5e-7, 4e-3 * p);
+        const double h = 4e-3 * shape.spacing;
+        for (int l = 0; l < shape.link_count(); ++l)
+            body.add_cohesive(shape.link_a[static_cast<std::size_t>(l)], shape.link_b[static_cast<std::size_t>(l)], 0.15, 1e-5, h,
+                              4e-5, 0.9 * h, 140.0);
+        if (generic) {
+            const int a = body.add_mass(1e-6, Vec3{1.0, 0.0, 0.0});
+            const int b = body.add_mass(1e-6, Vec3{1.001, 0.0, 0.0});
+            body.add_spring(a, b, 1.0, 0.0, 1e-3);
+        }
+        body.set_gravity(Vec3{0.0, 0.0, -9.8});
+        body.set_integrator(Integrator::symplectic_euler);
+        randomise_velocities(body, 11, Vec3{0.0, 0.0, -3.0}, 0.3);   // enough to break some bonds
+        body.finalize(kT);
+        return body;
+    };
+    Body3D fast = build(false), generic = build(true);
+    REQUIRE(fast.stability().sub_steps == generic.stability().sub_steps);
+    for (int n = 0; n < 300; ++n) {
+        fast.step();
+        generic.step();
+    }
+    CHECK(fast.broken_link_count() > 0);
+    CHECK(fast.broken_link_count() == generic.broken_link_count());
+    int differing = 0;
+    for (int i = 0; i < fast.mass_count(); ++i) {
+        const Vec3 p = fast.position(i), q = generic.position(i), v = fast.velocity(i), w = generic.velocity(i);
+        differing += (p.x != q.x || p.y != q.y || p.z != q.z || v.x != w.x || v.y != w.y || v.z != w.z) ? 1 : 0;
+    }
+    CHECK(differing == 0);
+}
+
+TEST_CASE("body3d: a cohesive core counts in the stability bound") {
+    Body3D body;
+    const int a = body.add_mass(1e-6, Vec3{1e-3, 0.0, 0.0});
+    const int b = body.add_mass(1e-6, Vec3{});
+    body.add_cohesive(a, b, 1.0, 0.0, 1e-3, 1.0, 0.9e-3, 99.0);
+    const auto& s = body.finalize(kT);
+    CHECK(s.omega_max_bound == doctest::Approx(std::sqrt(2.0 * 100.0 / 1e-6)).epsilon(1e-12));
+}
+
+TEST_CASE("body3d: reserve(), clear() and re-building within capacity never allocate") {
+    ameoto::LatticeBallSpec spec;
+    spec.diameter = 3e-3;
+    spec.stiffness = 0.2;
+    Body3D body;
+    body.reserve(64, 512);
+    body.set_gravity(Vec3{0.0, 0.0, -9.8});
+    body.set_integrator(Integrator::symplectic_euler);
+    const auto shape = ameoto::lattice_ball_shape(27);
+    ameoto::test::RtAudit audit;
+    {
+        ameoto::test::RtAudit::Scope scope;
+        for (int round = 0; round < 3; ++round) {
+            body.clear();
+            for (const Vec3& p : shape.position) body.add_mass(1e-6, 3e-3 * p);
+            for (int l = 0; l < shape.link_count(); ++l)
+                body.add_cohesive(shape.link_a[static_cast<std::size_t>(l)], shape.link_b[static_cast<std::size_t>(l)], 0.2,
+                                  1e-6, 3e-3 * shape.spacing, 1e-4, 2.7e-3 * shape.spacing, 50.0);
+            body.finalize(kT);
+            for (int n = 0; n < 10; ++n) body.step();
+        }
+    }
+    CHECK(body.mass_count() == 28);
+    CHECK(body.link_count() == shape.link_count());
+    CHECK(body.resets() == 0);
+    CHECK(body.integrator() == Integrator::symplectic_euler);   // settings survive clear()
+    CHECK(body.centre_of_mass().z < 0.0);                        // gravity too
+    CHECK(audit.entries() > 0);
+    CHECK_MESSAGE(audit.violations() == 0, audit.first());
+    (void)spec;
+}
+
 TEST_CASE("body3d: gravity, linear drag and quadratic drag follow their laws") {
     const double m = 5e-7;
     SUBCASE("free fall: v = g t (both schemes, exact for constant force)") {

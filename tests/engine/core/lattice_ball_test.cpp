@@ -140,3 +140,31 @@ TEST_CASE("lattice_ball: bad input is refused") {
     CHECK_THROWS_AS(ameoto::make_lattice_ball({.diameter = 1e-3, .density = 0.0}), std::invalid_argument);
     CHECK_THROWS_AS(ameoto::make_lattice_ball({.diameter = 1e-3, .target_masses = 1000000}), std::invalid_argument);
 }
+
+TEST_CASE("lattice_ball: the batch choice for many targets equals the per-target one; shapes scale to balls") {
+    const auto choices = ameoto::lattice_ball_choices(160);
+    REQUIRE(choices.size() == 160);
+    for (int t = 1; t <= 160; ++t) {
+        CAPTURE(t);
+        const auto& c = choices[static_cast<std::size_t>(t - 1)];
+        const auto shape = ameoto::lattice_ball_shape(t);
+        CHECK(shape.centre_kind == c.centre_kind);
+        CHECK(shape.last_shell_key == c.last_key);
+        CHECK(shape.mass_count() == c.count);
+    }
+    // A shape from a choice is the one add_lattice_ball places: positions times D about the centre.
+    ameoto::LatticeBallSpec spec;
+    spec.diameter = 3e-3;
+    spec.centre = Vec3{0.1, 0.2, 0.3};
+    const auto ball = ameoto::make_lattice_ball(spec);
+    const auto shape = ameoto::lattice_ball_shape(choices[26]);   // target 27
+    REQUIRE(shape.mass_count() == ball.info.mass_count);
+    REQUIRE(shape.link_count() == ball.info.link_count);
+    for (int i = 0; i < shape.mass_count(); ++i)
+        CHECK(ameoto::norm(ball.body.position(i) - (spec.centre + spec.diameter * shape.position[static_cast<std::size_t>(i)])) == 0.0);
+    for (int l = 0; l < shape.link_count(); ++l) {
+        CHECK(ball.body.link_a(l) == shape.link_a[static_cast<std::size_t>(l)]);
+        CHECK(ball.body.link_b(l) == shape.link_b[static_cast<std::size_t>(l)]);
+    }
+    CHECK(ball.info.spacing == spec.diameter * shape.spacing);
+}

@@ -1,0 +1,227 @@
+#include "engine/models/drop_pool.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace ameoto {
+
+DropPool::DropPool(const DropPoolConfig& config) : config_(config) {
+    if (config_.capacity < 1) throw std::invalid_argument("drop pool: capacity must be >= 1");
+    if (!(config_.max_diameter > 0.0) || config_.max_diameter > 20e-3)
+        throw std::invalid_argument("drop pool: max diameter must be in (0, 20 mm]");
+    if (!(config_.time_step > 0.0) || !std::isfinite(config_.time_step)) throw std::invalid_argument("drop pool: time step must be positive");
+    if (config_.max_liquids < 1 || config_.retire_interval < 1 || config_.max_sub_steps < 1)
+        throw std::invalid_argument("drop pool: max liquids, max sub-steps and retire interval must be >= 1");
+
+    // Every mass count a diameter up to the largest can ask for (drop_lattice caches across pools).
+    max_target_ = seed_mass_count(config_.max_diameter);
+    const auto table = drop_lattices(max_target_);
+    lattices_.resize(static_cast<std::size_t>(max_target_) + 1);
+    int max_links = 0;
+    for (int t = 1; t <= max_target_; ++t) {
+        lattices_[static_cast<std::size_t>(t)] = table[static_cast<std::size_t>(t - 1)];
+        max_masses_ = std::max(max_masses_, lattices_[static_cast<std::size_t>(t)]->mass_count());
+        max_links = std::max(max_links, lattices_[static_cast<std::size_t>(t)]->shape.link_count());
+    }
+    lattices_[0] = lattices_[1];
+
+    liquids_.reserve(static_cast<std::size_t>(config_.max_liquids));
+    slots_.resize(static_cast<std::size_t>(config_.capacity));
+    for (auto& s : slots_) {
+        s.body.reserve(max_masses_, max_links);
+        s.body.set_gravity(config_.gravity);
+        s.body.set_integrator(config_.integrator);
+        s.components.init(max_masses_);
+    }
+    active_.reserve(slots_.size());
+    free_.reserve(slots_.size());
+    for (int i = config_.capacity - 1; i >= 0; --i) free_.push_back(i);   // slot 0 is taken first
+    const double floor = config_.retire_below;
+    done_ = [floor](Vec3 p, Vec3) { return p.z < floor; };
+}
+
+int DropPool::add_liquid(const Liquid& liquid) {
+    if (std::string why = validate(liquid); !why.empty()) throw std::invalid_argument("liquid '" + liquid.name + "': " + why);
+    if (liquid_count() >= config_.max_liquids) throw std::invalid_argument("drop pool: no room for another liquid");
+    // Every lattice at the two ends of its diameter range must run within max_sub_steps: the
+    // dampers grow with viscosity (z ~ mu a k / sigma), the core with 1 / h^2.
+    Body3D scratch;
+    for (int t = 1; t <= max_target_; ++t) {
+        const DropLattice& lattice = *lattices_[static_cast<std::size_t>(t)];
+        if (t > 1 && lattices_[static_cast<std::size_t>(t - 1)].get() == &lattice && t < max_target_ &&
+            lattices_[static_cast<std::size_t>(t + 1)].get() == &lattice)
+            continue;   // the ends of a run of equal lattices cover it
+        const double d_lo = 1e-3 * std::cbrt(t - 0.5), d_hi = std::min(config_.max_diameter, 1e-3 * std::cbrt(t + 0.5));
+        for (double d : {d_lo, d_hi}) {
+            if (!(d > 0.0)) continue;
+            scratch.clear();
+            const DropCalibration c = calibrate_drop(lattice, d, liquid, config_.options);
+            add_drop(scratch, lattice, c, Vec3{}, Vec3{}, DragPreset::quadratic);
+            scratch.set_integrator(config_.integrator);
+            Body3DStability s;
+            try {
+                s = scratch.finalize(config_.time_step);
+            } catch (const std::invalid_argument&) {
+                s.sub_steps = 4097;
+            }
+            if (s.sub_steps > config_.max_sub_steps)
+                throw std::invalid_argument("liquid '" + liquid.name + "': a " + std::to_string(d * 1e3) + " mm drop needs " +
+                                            std::to_string(s.sub_steps) + " sub-steps per step (limit " +
+                                            std::to_string(config_.max_sub_steps) + "): too viscous or too stiff for this time step");
+        }
+    }
+    liquids_.push_back(liquid);
+    return liquid_count() - 1;
+}
+
+void DropPool::set_retire_predicate(RetirePredicate done) {
+    if (!done) throw std::invalid_argument("drop pool: empty retire predicate");
+    done_ = std::move(done);
+}
+
+bool DropPool::spawn(double diameter, int liquid, Vec3 centre) {
+    if (liquid < 0 || liquid >= liquid_count() || !(diameter > 0.0)) {
+        ++stats_.rejected;
+        return false;
+    }
+    const double speed = arrival_speed(diameter, liquids_[static_cast<std::size_t>(liquid)].density);
+    return spawn(diameter, liquid, centre, Vec3{0.0, 0.0, -speed}, DragPreset::quadratic);
+}
+
+bool DropPool::spawn(double diameter, int liquid, Vec3 centre, Vec3 velocity, DragPreset drag) {
+    if (liquid < 0 || liquid >= liquid_count() || !(diameter > 0.0) || diameter > config_.max_diameter ||
+        !std::isfinite(centre.x + centre.y + centre.z + velocity.x + velocity.y + velocity.z)) {
+        ++stats_.rejected;
+        return false;
+    }
+    const int target = seed_mass_count(diameter);
+    if (target > max_target_) {   // rounding at max_diameter itself
+        ++stats_.rejected;
+        return false;
+    }
+    if (free_.empty()) {
+        ++stats_.refused;
+        return false;
+    }
+    const int index = free_.back();
+    free_.pop_back();
+    Slot& s = slot(index);
+    const DropLattice& lattice = *lattices_[static_cast<std::size_t>(target)];
+    s.calibration = calibrate_drop(lattice, diameter, liquids_[static_cast<std::size_t>(liquid)], config_.options);
+    s.body.clear();
+    s.info = add_drop(s.body, lattice, s.calibration, centre, velocity, drag);
+    s.body.finalize(config_.time_step);   // add_liquid checked the sub-steps: cannot throw
+    s.drag = drag;
+    s.liquid = liquid;
+    s.dormant = true;   // whole, undeformed, one velocity
+    s.shift = Vec3{};
+    s.common = velocity;
+    s.pieces = s.components.compute(s.body);
+    s.steps = 0;
+    s.serial = next_serial_++;
+    active_.push_back(index);
+    ++stats_.spawned;
+    return true;
+}
+
+bool DropPool::all_done(const Slot& s) const {
+    if (s.dormant) {
+        for (int m = 0; m < s.body.mass_count(); ++m)
+            if (!done_(s.body.position(m) + s.shift, s.common)) return false;
+        return true;
+    }
+    for (int m = 0; m < s.body.mass_count(); ++m)
+        if (!done_(s.body.position(m), s.body.velocity(m))) return false;
+    return true;
+}
+
+Vec3 DropPool::position(int drop, int mass) const {
+    const Slot& s = slot(drop);
+    return s.dormant ? s.body.position(mass) + s.shift : s.body.position(mass);
+}
+
+Vec3 DropPool::velocity(int drop, int mass) const {
+    const Slot& s = slot(drop);
+    return s.dormant ? s.common : s.body.velocity(mass);
+}
+
+Body3D& DropPool::awake(int drop) const {
+    Slot& s = slot(drop);
+    if (s.dormant) {
+        s.dormant = false;
+        for (int m = 0; m < s.body.mass_count(); ++m) {
+            s.body.set_position(m, s.body.position(m) + s.shift);
+            s.body.set_velocity(m, s.common);
+        }
+    }
+    return s.body;
+}
+
+void DropPool::step_dormant(Slot& s) const {
+    // Body3D's symplectic Euler for one of the (identical) masses: F = m g - (c + b |v|) v,
+    // v += dt F / m, x += dt v, per sub-step.
+    const double m = s.body.mass(0), inv_m = 1.0 / m;
+    const double c = s.body.linear_drag(0), b = s.body.quadratic_drag(0);
+    const double dt = s.body.sub_step_time();
+    const Vec3 g = config_.gravity;
+    for (int k = 0; k < s.body.stability().sub_steps; ++k) {
+        const Vec3 v = s.common;
+        const double drag = c + b * std::sqrt(dot(v, v));
+        const Vec3 f{m * g.x - drag * v.x, m * g.y - drag * v.y, m * g.z - drag * v.z};
+        s.common = v + (dt * inv_m) * f;
+        s.shift = s.shift + dt * s.common;
+    }
+}
+
+void DropPool::release(std::size_t active_index) {
+    free_.push_back(active_[active_index]);
+    active_[active_index] = active_.back();
+    active_.pop_back();
+    ++stats_.retired;
+}
+
+void DropPool::retire(int drop) {
+    for (std::size_t i = 0; i < active_.size(); ++i)
+        if (active_[i] == drop) {
+            release(i);
+            return;
+        }
+}
+
+void DropPool::clear() {
+    while (!active_.empty()) release(active_.size() - 1);
+}
+
+void DropPool::step() {
+    const bool check = ++steps_since_check_ >= config_.retire_interval;
+    if (check) steps_since_check_ = 0;
+    const long max_steps = config_.max_lifetime > 0.0 ? std::lround(config_.max_lifetime / config_.time_step) : 0;
+    // Backwards: release() moves the last active drop into the freed place.
+    for (std::size_t i = active_.size(); i-- > 0;) {
+        Slot& s = slot(active_[i]);
+        ++s.steps;
+        if (s.dormant) {
+            step_dormant(s);
+            if ((max_steps > 0 && s.steps >= max_steps) || (check && all_done(s))) release(i);
+            continue;
+        }
+        if (!s.body.step()) {   // the guard put the drop back as spawned: whole again
+            ++stats_.resets;
+            s.pieces = s.components.compute(s.body);
+        }
+        if (!s.body.breaks().empty()) {
+            stats_.link_breaks += static_cast<long>(s.body.breaks().size());
+            const int pieces = s.components.compute(s.body);
+            if (pieces > s.pieces) {
+                stats_.breakups += pieces - s.pieces;
+                set_piece_drag(s.body, s.info, s.calibration, s.components, s.drag);
+            }
+            s.pieces = pieces;
+        }
+        if ((max_steps > 0 && s.steps >= max_steps) || (check && all_done(s))) release(i);
+    }
+}
+
+}  // namespace ameoto

@@ -1,0 +1,173 @@
+#pragma once
+// A fixed-capacity pool of lattice drops (drop.hpp) for the audio thread: spawn, step, break up, retire,
+// all without allocating.
+//
+// Interface:
+//   DropPoolConfig config;                           // capacity, max diameter, time step, ...
+//   DropPool pool(config);                           // allocates everything; builds the lattice of every
+//                                                    // mass count up to the max diameter (cached per process)
+//   ---- setup, off the audio thread ----
+//   int water = pool.add_liquid(liquids::water());   // index; throws std::invalid_argument with a reason
+//   pool.set_retire_predicate([](Vec3 p, Vec3 v) { return p.z < -0.1; });   // a mass is done when true
+//   ---- audio thread: no allocation, no locks ----
+//   bool ok = pool.spawn(D, water, centre);           // straight down at its arrival speed
+//   bool ok = pool.spawn(D, water, centre, velocity, DragPreset::quadratic);
+//   pool.step();                                      // every active drop, one time step
+//   for (int d : pool.active())                       // slots of the active drops
+//       for (int m = 0; m < pool.mass_count(d); ++m) {
+//           pool.position(d, m); pool.velocity(d, m); pool.mass(d, m);
+//           pool.apply_force(d, m, Vec3{...});          // held for the next step (collisions)
+//       }
+//   pool.pieces(d); pool.piece_of(d, m); pool.piece_size(d, p);   // what a drop has broken into
+//   pool.dormant(d);                                  // falling whole, not yet touched (see below)
+//   pool.body(d); pool.calibration(d); pool.serial(d); // its Body3D (wakes it), calibration, spawn number
+//   pool.retire(d); pool.clear();
+//   pool.stats();                                     // spawned, refused, rejected, retired, breaks, breakups
+//
+// Storage: one Body3D per slot, reserved for the largest drop (masses and links), and one
+// ConnectedComponents per slot. spawn() takes a free slot, clears its body (capacity kept), adds the
+// drop from the shared lattice (unit-diameter positions and links, built at construction for every
+// mass count that a diameter up to max_diameter gives) with the closed-form calibration of drop.hpp,
+// and finalizes it: all within the reserved capacity. Liquids are a fixed table filled off the audio
+// thread; add_liquid() also rejects a liquid whose drops would need more than max_sub_steps at the
+// pool's time step (a very viscous liquid's dampers), so spawn() can never fail to finalize.
+//
+// Breakup: after a step in which links broke, the slot's components are recomputed (union-find, no
+// allocation); each increase of their number counts as breakups, and each piece gets the drag of a drop
+// of its own volume (set_piece_drag). Masses are never created or removed: a broken drop's pieces stay
+// in its body, separate, until the drop retires (conservation is exact by construction).
+//
+// Dormant fall: a drop spawned whole, undeformed and with one velocity for all its masses feels no
+// link force (each mass has the same weight and drag), so it falls as one: until anything touches it,
+// step() moves one velocity and one shift (Body3D's symplectic Euler, per sub-step) instead of the
+// lattice, exactly up to rounding. The first apply_force, set_position, set_velocity or body() wakes
+// it: its masses are moved to where the shift says, at the common velocity, and from then on it is a
+// full Body3D. position() and velocity() read a dormant drop without waking it. A collision module
+// that applies forces only on contact thus pays for a drop's lattice only from its impact on.
+//
+// Retirement: every retire_interval steps each active drop's masses are checked with the caller's
+// predicate (default: z < retire_below); a drop whose masses are all done (at rest on a surface, or
+// gone from the scene: the caller's choice) retires, as does one older than max_lifetime (a safety net;
+// 0 = never). The slot returns to the free list.
+//
+// Cost: one Body3D step per active drop; measured in docs/engine.md ("The drop").
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "engine/core/body3d.hpp"
+#include "engine/core/connected_components.hpp"
+#include "engine/core/physical_constants.hpp"
+#include "engine/models/drop.hpp"
+#include "engine/models/liquid.hpp"
+
+namespace ameoto {
+
+struct DropPoolConfig {
+    int capacity = 16;                         // drops at once
+    double max_diameter = 8e-3;                // m
+    double time_step = 1.0 / 48000.0;          // s per step()
+    int max_liquids = 8;
+    int max_sub_steps = 8;                     // add_liquid refuses liquids that would need more
+    int retire_interval = 32;                  // steps between retirement checks
+    double retire_below = -1.0;                // m: the default predicate's floor
+    double max_lifetime = 10.0;                // s (0: no limit)
+    Vec3 gravity{0.0, 0.0, -constants::gravity};
+    Integrator integrator = Integrator::symplectic_euler;
+    DropOptions options;
+};
+
+struct DropPoolStats {
+    long spawned = 0;
+    long refused = 0;      // spawn() while full
+    long rejected = 0;     // spawn() with a bad diameter or liquid index
+    long retired = 0;
+    long link_breaks = 0;  // links broken
+    long breakups = 0;     // pieces gained (a drop that splits in three adds 2)
+    long resets = 0;       // Body3D guard resets (never expected)
+};
+
+class DropPool {
+public:
+    using RetirePredicate = std::function<bool(Vec3 position, Vec3 velocity)>;
+
+    explicit DropPool(const DropPoolConfig& config = {});
+
+    // ---- setup: off the audio thread ----
+    int add_liquid(const Liquid& liquid);
+    void set_retire_predicate(RetirePredicate done);
+
+    // ---- audio thread ----
+    bool spawn(double diameter, int liquid, Vec3 centre);
+    bool spawn(double diameter, int liquid, Vec3 centre, Vec3 velocity, DragPreset drag = DragPreset::quadratic);
+    void step();
+    void retire(int drop);
+    void clear();
+
+    std::span<const int> active() const { return {active_.data(), active_.size()}; }
+    int mass_count(int drop) const { return slot(drop).body.mass_count(); }
+    Vec3 position(int drop, int mass) const;
+    Vec3 velocity(int drop, int mass) const;
+    double mass(int drop, int mass) const { return slot(drop).body.mass(mass); }
+    void apply_force(int drop, int mass, Vec3 force) { awake(drop).apply_force(mass, force); }
+    void set_position(int drop, int mass, Vec3 p) { awake(drop).set_position(mass, p); }
+    void set_velocity(int drop, int mass, Vec3 v) { awake(drop).set_velocity(mass, v); }
+    Body3D& body(int drop) { return awake(drop); }
+    const Body3D& body(int drop) const { return awake(drop); }
+    bool dormant(int drop) const { return slot(drop).dormant; }
+    const DropCalibration& calibration(int drop) const { return slot(drop).calibration; }
+    int liquid_of(int drop) const { return slot(drop).liquid; }
+    std::uint64_t serial(int drop) const { return slot(drop).serial; }   // 1, 2, ... in spawn order
+    double age(int drop) const { return static_cast<double>(slot(drop).steps) * config_.time_step; }
+    int pieces(int drop) const { return slot(drop).pieces; }
+    int piece_of(int drop, int mass) const { return slot(drop).components.component_of(mass); }
+    int piece_size(int drop, int piece) const { return slot(drop).components.size_of(piece); }
+
+    // ---- queries ----
+    const DropPoolConfig& config() const { return config_; }
+    int capacity() const { return config_.capacity; }
+    int max_masses() const { return max_masses_; }
+    int liquid_count() const { return static_cast<int>(liquids_.size()); }
+    const Liquid& liquid(int index) const { return liquids_[static_cast<std::size_t>(index)]; }
+    const DropPoolStats& stats() const { return stats_; }
+    const DropLattice& lattice(int target_masses) const { return *lattices_[static_cast<std::size_t>(target_masses)]; }
+
+private:
+    struct Slot {
+        // Dormant (see the header): the body still holds the positions at spawn; the drop is at
+        // those + shift, every mass moving at `common`.
+        bool dormant = false;
+        Vec3 shift{}, common{};
+        Body3D body;
+        ConnectedComponents components;
+        DropCalibration calibration;
+        DropInfo info;
+        DragPreset drag = DragPreset::quadratic;
+        int liquid = 0;
+        int pieces = 0;
+        long steps = 0;
+        std::uint64_t serial = 0;
+    };
+    Slot& slot(int drop) const { return slots_[static_cast<std::size_t>(drop)]; }
+    Body3D& awake(int drop) const;   // wakes a dormant drop (no allocation; the physics is unchanged)
+    void step_dormant(Slot& s) const;
+    bool all_done(const Slot& s) const;
+    void release(std::size_t active_index);
+
+    DropPoolConfig config_;
+    std::vector<std::shared_ptr<const DropLattice>> lattices_;   // by target mass count, 1..max
+    std::vector<Liquid> liquids_;
+    mutable std::vector<Slot> slots_;   // mutable: reading a dormant drop's body wakes it
+    std::vector<int> active_, free_;
+    RetirePredicate done_;
+    DropPoolStats stats_;
+    std::uint64_t next_serial_ = 1;
+    int max_masses_ = 0;
+    int max_target_ = 0;
+    long steps_since_check_ = 0;
+};
+
+}  // namespace ameoto
