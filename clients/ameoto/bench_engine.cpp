@@ -14,12 +14,8 @@
 #include "clients/ameoto/bench_timer.hpp"
 #include "clients/ameoto/exit_status.hpp"
 
-#ifndef AMEOTO_CXX_COMPILER
-#define AMEOTO_CXX_COMPILER "c++"
-#endif
-#ifndef AMEOTO_CXX_FLAGS
-#define AMEOTO_CXX_FLAGS "-O3"
-#endif
+// AMEOTO_CXX_COMPILER and AMEOTO_CXX_FLAGS come from clients/ameoto/CMakeLists.txt: the compiler and
+// flags ameoto itself was built with, so the Faust peer is compiled the same way.
 
 namespace ameoto::client {
 namespace {
