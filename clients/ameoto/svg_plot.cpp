@@ -113,8 +113,14 @@ void SvgPlot::waveform(PlotBox b, const std::vector<float>& samples, double samp
         float lo = samples[from], hi = samples[from];
         for (std::size_t i = from; i < to && i < samples.size(); ++i) lo = std::min(lo, samples[i]), hi = std::max(hi, samples[i]);
         const double x = b.x + c + 0.5;
-        path += "M" + num(x) + "," + num(b.y + b.height / 2 - hi / peak * b.height / 2) + " V" +
-                num(b.y + b.height / 2 - lo / peak * b.height / 2 + 0.5) + " ";
+        // Appended piece by piece: "M" + std::string&& trips GCC 12's false -Wrestrict (bug 105329).
+        path += 'M';
+        path += num(x);
+        path += ',';
+        path += num(b.y + b.height / 2 - hi / peak * b.height / 2);
+        path += " V";
+        path += num(b.y + b.height / 2 - lo / peak * b.height / 2 + 0.5);
+        path += ' ';
     }
     body_ += "<path d=\"" + path + "\" stroke=\"" + palette[0] + "\" stroke-width=\"1\"/>\n";
     axis_ticks(b, 0.0, static_cast<double>(samples.size()) / sample_rate, -peak, peak, "time (s)", "");
