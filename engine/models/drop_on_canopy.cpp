@@ -1,0 +1,179 @@
+#include "engine/models/drop_on_canopy.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include "engine/models/drop.hpp"
+
+namespace ameoto {
+namespace {
+
+DropPoolConfig pool_config(const DropOnCanopyConfig& c) {
+    DropPoolConfig p;
+    p.capacity = c.capacity;
+    p.max_diameter = c.max_diameter;
+    p.time_step = 1.0 / c.sample_rate;
+    p.max_sub_steps = 64;   // low sample rates need more sub-steps for the drops' cores
+    p.retire_below = c.retire_below_m;
+    p.max_lifetime = c.max_lifetime_s;
+    return p;
+}
+
+ListenerLayout layout_for(const DropOnCanopyConfig& c) {
+    const Vec3 head{0.0, 0.0, -c.listener_below_m};
+    return c.channels == 2 ? ListenerLayout::ears(head, 0.0) : ListenerLayout::mono(head);
+}
+
+std::string number(double v) {
+    std::string s = std::to_string(v);
+    return s;
+}
+
+}  // namespace
+
+const DropOnCanopyConfig& DropOnCanopy::checked(const DropOnCanopyConfig& c) {
+    if (!(c.sample_rate >= 8000.0 && c.sample_rate <= 384000.0))
+        throw std::invalid_argument("sample rate " + number(c.sample_rate) + " Hz is outside 8000..384000");
+    if (c.channels != 1 && c.channels != 2)
+        throw std::invalid_argument("channels must be 1 or 2, not " + std::to_string(c.channels));
+    if (!(c.restitution >= 0.0 && c.restitution <= 1.0))
+        throw std::invalid_argument("restitution " + number(c.restitution) + " is outside 0..1");
+    if (c.capacity < 1 || c.capacity > 256)
+        throw std::invalid_argument("capacity " + std::to_string(c.capacity) + " is outside 1..256");
+    if (!(c.gap_m >= 0.0 && c.gap_m <= 0.1)) throw std::invalid_argument("gap " + number(c.gap_m) + " m is outside 0..0.1");
+    if (!(c.full_scale_pa > 0.0 && std::isfinite(c.full_scale_pa)))
+        throw std::invalid_argument("full scale must be a positive pressure (Pa)");
+    if (!(c.listener_below_m > 0.0 && c.listener_below_m < 100.0))
+        throw std::invalid_argument("listener distance " + number(c.listener_below_m) + " m is outside 0..100");
+    if (const std::string why = validate(c.liquid); !why.empty()) throw std::invalid_argument(why);
+    if (const MaterialCheck m = validate_membrane_material(c.material); !m.ok) throw std::invalid_argument(m.reason);
+    return c;
+}
+
+DropOnCanopy::DropOnCanopy(const DropOnCanopyConfig& config)
+    : config_(checked(config)),
+      dt_(1.0 / config_.sample_rate),
+      canopy_(config_.geometry, config_.material, dt_),
+      pool_(pool_config(config_)),
+      collider_(canopy_, dt_, CollisionOptions{.restitution = config_.restitution}),
+      far_field_(canopy_, layout_for(config_), dt_),
+      pickup_(MassPickup::at(canopy_, config_.pickup_x, config_.pickup_y)),
+      panel_forces_(static_cast<std::size_t>(canopy_.panel_count()), 0.0),
+      pressures_(static_cast<std::size_t>(far_field_.channels()), 0.0),
+      spawn_masses_(static_cast<std::size_t>(config_.capacity), 0),
+      spawn_mass_kg_(static_cast<std::size_t>(config_.capacity), 0.0) {
+    liquid_ = pool_.add_liquid(config_.liquid);
+    // The rest cap spans bottom_ (its rim) to top_ (the shaft); the normal's vertical component is
+    // smallest at the rim. A mass reach_ beyond that band (measured vertically) is more than 5 cm from
+    // the rest surface along any normal: beyond any displacement of the membrane plus a step's travel
+    // (30 m/s at 8 kHz: 3.75 mm) plus the collider's skin.
+    const double r = canopy_.geometry().radius_m;
+    top_ = canopy_.rest_height(0.0, 0.0);
+    bottom_ = canopy_.rest_height(r, 0.0);
+    reach_ = 0.05 / std::max(1e-3, canopy_.surface_normal(r, 0.0).z);
+}
+
+bool DropOnCanopy::drop(double diameter_m, double speed_m_per_s, double x_m, double y_m) {
+    if (!(diameter_m > 0.0 && diameter_m <= config_.max_diameter)) return false;
+    if (!(speed_m_per_s >= 0.0 && std::isfinite(speed_m_per_s))) return false;
+    if (canopy_.locate(x_m, y_m).panel < 0) return false;
+    const double speed = speed_m_per_s > 0.0 ? speed_m_per_s : arrival_speed(diameter_m, config_.liquid.density);
+    const double z = canopy_.rest_height(x_m, y_m) + 0.5 * diameter_m + config_.gap_m;
+    if (!pool_.spawn(diameter_m, liquid_, Vec3{x_m, y_m, z}, Vec3{0.0, 0.0, -speed})) return false;
+    // The new drop has the highest serial.
+    int slot = -1;
+    std::uint64_t best = 0;
+    for (const int d : pool_.active())
+        if (pool_.serial(d) >= best) {
+            best = pool_.serial(d);
+            slot = d;
+        }
+    if (slot >= 0 && static_cast<std::size_t>(slot) < spawn_masses_.size()) {
+        const int n = pool_.mass_count(slot);
+        double kg = 0.0;
+        for (int m = 0; m < n; ++m) kg += pool_.mass(slot, m);
+        spawn_masses_[static_cast<std::size_t>(slot)] = n;
+        spawn_mass_kg_[static_cast<std::size_t>(slot)] = kg;
+    }
+    return true;
+}
+
+void DropOnCanopy::process(int frames, float* const* outputs) {
+    const int channels = config_.channels;
+    const double inverse_full_scale = 1.0 / config_.full_scale_pa;
+    for (int i = 0; i < frames; ++i) {
+        collide();
+        canopy_.step(panel_forces_.data());
+        pool_.step();
+        if (config_.output == SceneOutput::far_field) {
+            far_field_.process(canopy_, pressures_.data());
+            for (int c = 0; c < channels; ++c)
+                outputs[c][i] = static_cast<float>(pressures_[static_cast<std::size_t>(c)] * inverse_full_scale);
+        } else {
+            const auto s = static_cast<float>(pickup_.sample(canopy_));
+            for (int c = 0; c < channels; ++c) outputs[c][i] = std::isfinite(s) ? s : 0.0f;
+        }
+        if ((++frames_ & 255u) == 0) canopy_resets_ += canopy_.reset_unstable();
+    }
+}
+
+// MembraneCollider::collide_drops, mass by mass, skipping the masses that cannot reach the membrane
+// this step (collision detection, Canopy::locate, is most of a sample's cost once a drop has shattered
+// and its pieces fly off): outside the rim's circle (every panel lies inside it), or further above the
+// cap's top or below its rim than any membrane displacement or step's travel could close (reach_). The
+// masses that remain are collided exactly as collide_drops would, in the same order.
+void DropOnCanopy::collide() {
+    collider_.begin_step();
+    const double r2_max = canopy_.geometry().radius_m * canopy_.geometry().radius_m;
+    for (const int d : pool_.active()) {
+        const int n = pool_.mass_count(d);
+        for (int m = 0; m < n; ++m) {
+            const Vec3 p = pool_.position(d, m);
+            if (p.x * p.x + p.y * p.y > r2_max || p.z > top_ + reach_ || p.z < bottom_ - reach_) continue;
+            Vec3 force;
+            if (collider_.collide_one(canopy_, p, pool_.velocity(d, m), pool_.mass(d, m), force)) pool_.apply_force(d, m, force);
+        }
+    }
+}
+
+DropOnCanopyStats DropOnCanopy::stats() const {
+    DropOnCanopyStats s;
+    for (const int d : pool_.active()) {
+        ++s.active_drops;
+        const int pieces = pool_.pieces(d);
+        s.pieces += pieces;
+        s.largest_pieces = std::max(s.largest_pieces, pieces);
+        const int n = pool_.mass_count(d);
+        s.masses += n;
+        double kg = 0.0;
+        for (int m = 0; m < n; ++m) kg += pool_.mass(d, m);
+        s.mass_kg += kg;
+        s.masses_at_spawn += spawn_masses_[static_cast<std::size_t>(d)];
+        s.mass_at_spawn_kg += spawn_mass_kg_[static_cast<std::size_t>(d)];
+    }
+    const DropPoolStats& p = pool_.stats();
+    s.spawned = p.spawned;
+    s.retired = p.retired;
+    s.breakups = p.breakups;
+    s.link_breaks = p.link_breaks;
+    s.collisions = collider_.collisions();
+    s.canopy_resets = canopy_resets_;
+    s.frames = frames_;
+    return s;
+}
+
+std::vector<SceneMass> DropOnCanopy::snapshot() const {
+    std::vector<SceneMass> out;
+    for (const int d : pool_.active()) {
+        const int n = pool_.mass_count(d);
+        const bool whole = pool_.dormant(d);   // a dormant drop is one piece; piece_of is not computed yet
+        for (int m = 0; m < n; ++m)
+            out.push_back(SceneMass{pool_.position(d, m), pool_.velocity(d, m), d, pool_.serial(d),
+                                    whole ? 0 : pool_.piece_of(d, m)});
+    }
+    return out;
+}
+
+}  // namespace ameoto

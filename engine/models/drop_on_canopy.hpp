@@ -1,0 +1,135 @@
+#pragma once
+// The seed's whole scene for one (or a few) drops: lattice drops (drop_pool.hpp) falling on the umbrella
+// canopy (canopy.hpp), colliding with its membrane masses (membrane_collision.hpp), heard through the
+// far-field Rayleigh sum or the seed's single-mass pickup (radiation.hpp). What `ameoto render drop`
+// renders offline, and a test bench for the physics end to end.
+//
+// Interface:
+//   DropOnCanopyConfig config;                       // sample rate, material, liquid, geometry, output...
+//   config.material = MembraneMaterial::vinyl(); config.liquid = liquids::milk();
+//   config.output = SceneOutput::far_field; config.channels = 2;   // or SceneOutput::mass_pickup
+//   DropOnCanopy scene(config);                      // allocates everything; throws std::invalid_argument
+//                                                    // (bad config, material, liquid: with the reason) or
+//                                                    // StabilityError (a material refused)
+//   ---- audio-safe from here: no allocation, no locks ----
+//   bool ok = scene.drop(5e-3, 0.0, 0.2, 0.0);       // D (m), speed (m/s, 0: terminal), plan point (m);
+//                                                    // false: off the canopy, bad size or pool full
+//   scene.process(frames, outputs);                  // outputs[channel][frame], float
+//   DropOnCanopyStats s = scene.stats();             // pieces, masses, breakups, collisions
+//   ---- off the audio thread ----
+//   std::vector<SceneMass> m = scene.snapshot();     // every drop mass: position, drop, piece (plots)
+//   scene.canopy(), scene.pool()                     // the parts, read-only
+//
+// Order within one sample (membrane_collision.hpp): collide (forces held for the next step), step the
+// canopy, step the drops, then read the sound from the canopy just stepped. The canopy's runtime
+// guard (Canopy::reset_unstable) runs every 256 samples. Collisions are collide_drops' exactly, but
+// masses that cannot reach the membrane this step (off the rim's circle, or more than 5 cm from the
+// rest cap) are not looked up: after a splash, most pieces are.
+//
+// Placement: drop() puts the drop's centre gap_m (0.5 mm) plus its radius above the rest surface at
+// (x, y), moving straight down at `speed`, so it reaches the membrane within a few samples (a 5 mm
+// drop at 9.1 m/s covers 0.19 mm per sample at 48 kHz). Speed 0 means the drop's arrival speed
+// (Gunn & Kinzer's terminal speed for its density, drop.hpp).
+//
+// Output: far field: each channel is the pressure at its listening point (ListenerLayout::mono, or
+// ::ears for two channels; head listener_below_m under the shaft, facing +x) divided by
+// full_scale_pa, so 1.0 is full_scale_pa pascals. Mass pickup: the displacement of the node under
+// pickup_x/y over its default full scale (radiation.hpp), the same signal on every channel.
+//
+// Conservation: masses are never created or removed (drop_pool.hpp). stats() sums, over the active
+// drops, the masses and their kilograms now and as they were at spawn, in the same order, so the
+// totals are equal exactly while no drop has retired (a drop retires when all its masses fall below
+// retire_below_m, or after max_lifetime_s).
+
+#include <cstdint>
+#include <vector>
+
+#include "engine/core/body3d_vec3.hpp"
+#include "engine/models/canopy.hpp"
+#include "engine/models/drop_pool.hpp"
+#include "engine/models/liquid.hpp"
+#include "engine/models/membrane.hpp"
+#include "engine/models/membrane_collision.hpp"
+#include "engine/models/radiation.hpp"
+
+namespace ameoto {
+
+enum class SceneOutput { far_field, mass_pickup };
+
+struct DropOnCanopyConfig {
+    double sample_rate = 48000.0;                  // Hz, 8000..384000
+    MembraneMaterial material = MembraneMaterial::nylon_canopy();
+    Liquid liquid = liquids::water();
+    CanopyGeometry geometry{};
+    SceneOutput output = SceneOutput::far_field;
+    int channels = 1;                              // 1 (mono) or 2 (ears; the pickup is duplicated)
+    double restitution = 1.0;                      // 0..1, the collision's (1: elastic, the seed)
+    int capacity = 8;                              // drops at once
+    double max_diameter = 8e-3;                    // m, the largest drop drop() accepts
+    double gap_m = 0.5e-3;                         // m, between the drop and the surface at spawn
+    double listener_below_m = 0.3;                 // m, the listener's head under the shaft
+    double full_scale_pa = 100.0;                  // Pa for output 1.0 (far field; 134 dB SPL)
+    double pickup_x = 0.2, pickup_y = 0.05;        // m, the pickup's plan point (mass pickup)
+    double retire_below_m = -1.0;                  // m: a drop whose masses are all below retires
+    double max_lifetime_s = 30.0;                  // s (0: never)
+};
+
+struct DropOnCanopyStats {
+    int active_drops = 0;
+    int pieces = 0;                 // pieces of the active drops, summed (one per whole drop)
+    int largest_pieces = 0;         // the most pieces any active drop has
+    int masses = 0;                 // masses of the active drops now
+    int masses_at_spawn = 0;        // and when they were spawned (equal: conservation)
+    double mass_kg = 0.0;           // kilograms of the active drops now
+    double mass_at_spawn_kg = 0.0;  // and at spawn, summed in the same order
+    long spawned = 0, retired = 0;
+    long breakups = 0;              // pieces gained (DropPoolStats::breakups)
+    long link_breaks = 0;
+    std::uint64_t collisions = 0;   // drop mass / membrane mass collisions so far
+    long canopy_resets = 0;         // panels reset by the guard (never expected)
+    std::uint64_t frames = 0;       // samples processed
+};
+
+struct SceneMass {
+    Vec3 position;                  // m, canopy coordinates
+    Vec3 velocity;                  // m/s
+    int drop = 0;                   // pool slot
+    std::uint64_t serial = 0;       // spawn number of its drop (1, 2, ...)
+    int piece = 0;                  // its piece within the drop
+};
+
+class DropOnCanopy {
+public:
+    explicit DropOnCanopy(const DropOnCanopyConfig& config);
+
+    bool drop(double diameter_m, double speed_m_per_s, double x_m, double y_m);
+    void process(int frames, float* const* outputs);
+    DropOnCanopyStats stats() const;
+    std::vector<SceneMass> snapshot() const;
+
+    const DropOnCanopyConfig& config() const { return config_; }
+    const Canopy& canopy() const { return canopy_; }
+    const DropPool& pool() const { return pool_; }
+    int channels() const { return config_.channels; }
+    double time_step() const { return dt_; }
+
+private:
+    static const DropOnCanopyConfig& checked(const DropOnCanopyConfig& config);
+    void collide();
+    DropOnCanopyConfig config_;
+    double dt_;
+    Canopy canopy_;
+    DropPool pool_;
+    MembraneCollider collider_;
+    FarFieldRadiation far_field_;
+    MassPickup pickup_;
+    int liquid_ = 0;
+    std::vector<double> panel_forces_, pressures_;
+    std::vector<int> spawn_masses_;       // per slot
+    std::vector<double> spawn_mass_kg_;   // per slot
+    double top_ = 0.0, bottom_ = 0.0, reach_ = 0.05;   // m: the band where masses can collide
+    long canopy_resets_ = 0;
+    std::uint64_t frames_ = 0;
+};
+
+}  // namespace ameoto
