@@ -152,18 +152,22 @@ Spectrogram compute_spectrogram(const std::vector<float>& samples, int frame_siz
 }
 
 void SvgPlot::spectrogram(PlotBox b, const std::vector<float>& samples, double sample_rate) {
-    frame(b, "spectrogram (80 dB range)");
+    frame(b, "spectrogram (80 dB range, log frequency)");
     const int size = 1024;
     const int columns = std::max(1, static_cast<int>(b.width / 4));
     const int hop = std::max(1, static_cast<int>((samples.size() > size ? samples.size() - size : 0) / static_cast<std::size_t>(columns)));
     const Spectrogram s = compute_spectrogram(samples, size, hop);
     if (s.frames == 0) return;
     const float top = *std::max_element(s.db.begin(), s.db.end());
-    const int rows = 96;   // frequency rows drawn; each the loudest of its bins
+    // Rows on a logarithmic frequency axis from 20 Hz to Nyquist (a membrane's modes sit in the lowest
+    // few percent of a linear axis); each row shows the loudest bin in its band.
+    const int rows = 96;
+    const double f_low = 20.0, nyquist = sample_rate / 2, bin_hz = sample_rate / s.size;
+    auto row_bin = [&](int r) { return static_cast<int>(f_low * std::pow(nyquist / f_low, static_cast<double>(r) / rows) / bin_hz); };
     const double cell_w = b.width / s.frames, cell_h = b.height / rows;
     for (int f = 0; f < s.frames; ++f) {
         for (int r = 0; r < rows; ++r) {
-            const int k0 = r * s.bins / rows, k1 = std::max(k0 + 1, (r + 1) * s.bins / rows);
+            const int k0 = std::min(row_bin(r), s.bins - 1), k1 = std::min(std::max(k0 + 1, row_bin(r + 1)), s.bins);
             float level = -300.0f;
             for (int k = k0; k < k1; ++k) level = std::max(level, s.db[static_cast<std::size_t>(f * s.bins + k)]);
             const double shade = std::clamp((level - (top - 80.0f)) / 80.0f, 0.0f, 1.0f);
@@ -175,7 +179,7 @@ void SvgPlot::spectrogram(PlotBox b, const std::vector<float>& samples, double s
                      num(cell_w + 0.3) + "\" height=\"" + num(cell_h + 0.3) + "\" fill=\"" + colour + "\"/>\n";
         }
     }
-    axis_ticks(b, 0.0, static_cast<double>(samples.size()) / sample_rate, 0.0, sample_rate / 2, "time (s)", "Hz");
+    axis_ticks(b, 0.0, static_cast<double>(samples.size()) / sample_rate, f_low, nyquist, "time (s)", "Hz (log)");
 }
 
 std::string SvgPlot::str() const {

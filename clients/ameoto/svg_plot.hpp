@@ -11,8 +11,8 @@
 //   std::string svg = plot.str();                                        // the document
 //
 // The spectrogram: Hann-windowed STFT (Eigen's FFT), 1024-point frames, hop chosen for about one frame
-// per 4 pixels; magnitude in dB, 80 dB range below the loudest bin, drawn as grey rectangles with the
-// frequency axis linear up to the Nyquist frequency (a drop's energy spreads from a few Hz to kHz).
+// per 4 pixels; magnitude in dB, 80 dB range below the loudest bin, drawn as grey rectangles on a
+// logarithmic frequency axis from 20 Hz to Nyquist (a membrane's modes and a drop's clicks both show).
 
 #include <string>
 #include <vector>
