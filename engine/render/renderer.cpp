@@ -160,7 +160,8 @@ void Renderer::render_sample(float* const* outputs, int offset) {
         const Point2 p = canopy_->sample_point(rng_);
         start_impact(d, 0.0, p.x, p.y);
     }
-    impacts_.emit(dt_, [this](CanopyHit hit, double force) { canopy_->apply_force(hit, force); });
+    // A falling drop pushes the membrane down, against its upward normal (as the collider does).
+    impacts_.emit(dt_, [this](CanopyHit hit, double force) { canopy_->apply_force(hit, -force); });
     canopy_->step(panel_force_.data());
     if (fading_) {
         fading_->step(fading_force_.data());

@@ -112,3 +112,12 @@ TEST_CASE("liquid density scales a drop's impulse") {
     // with the drop's mass: 1400 / 998.
     CHECK(peak_for(1400.0) / peak_for(998.0) == doctest::Approx(1400.0 / 998.0).epsilon(1e-6));
 }
+
+TEST_CASE("a drop pushes the membrane down, against its upward normal") {
+    Rig rig(96);
+    rig.drop();   // 4 mm at terminal speed, at (0.25, 0)
+    rig.renderer->process(24, rig.outs);   // 0.5 ms: during the impact (about D / V = 0.45 ms)
+    const CanopyHit hit = rig.renderer->canopy().locate(0.25, 0.0);
+    REQUIRE(hit.panel >= 0);
+    CHECK(rig.renderer->canopy().displacement(hit.panel, hit.node) < 0.0);
+}
