@@ -1,5 +1,6 @@
 #include "clients/ameoto/bench_command.hpp"
 
+#include "clients/ameoto/bench_drop.hpp"
 #include "clients/ameoto/bench_engine.hpp"
 #include "clients/ameoto/bench_options.hpp"
 #include "clients/ameoto/exit_status.hpp"
@@ -8,6 +9,10 @@ namespace ameoto::client {
 
 std::string bench_usage() {
     return "usage: ameoto bench engine [--json] [--seconds S] [--sizes N,N,...] [--runs R] [--no-faust]\n"
+           "       ameoto bench drop [--json] [--runs R]\n"
+           "\n"
+           "drop: the cost of the seed's full model, 5 mm water drops at terminal speed on the 8-panel\n"
+           "nylon canopy at 48 kHz (impact and breakup), and how many at once one core can carry.\n"
            "\n"
            "Measures the physics engine on this machine (no server needed): every method (the\n"
            "transverse network with each integrator, the grid membrane in float and double) on\n"
@@ -40,7 +45,7 @@ int run_bench(const CommandWords& words, const CommandIo& io) {
         case BenchParse::error: io.err << "ameoto bench: " << error << "\n(see ameoto bench --help)\n"; return exit_status::usage;
         case BenchParse::run: break;
     }
-    return run_engine_bench(options, io);
+    return options.suite == "drop" ? run_drop_bench(options, io) : run_engine_bench(options, io);
 }
 
 }  // namespace ameoto::client

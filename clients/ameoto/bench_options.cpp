@@ -109,11 +109,11 @@ BenchParse parse_bench_options(const CommandWords& words, BenchOptions& options,
         }
     }
     if (options.suite.empty()) {
-        error = "which suite? (ameoto bench engine)";
+        error = "which suite? (ameoto bench engine | drop)";
         return BenchParse::error;
     }
-    if (options.suite != "engine") {
-        error = "unknown suite '" + options.suite + "' (the suites: engine)";
+    if (options.suite != "engine" && options.suite != "drop") {
+        error = "unknown suite '" + options.suite + "' (the suites: engine, drop)";
         return BenchParse::error;
     }
     return BenchParse::run;

@@ -75,3 +75,14 @@ TEST_CASE("bench options: errors say what is wrong") {
     CHECK(error_of({"engine", "--runs", "102"}).starts_with("--runs '102'"));
     CHECK(error_of({"engine", "--runs", "2.5"}).starts_with("--runs '2.5'"));
 }
+
+TEST_CASE("bench options: the drop suite, and a suite that does not exist") {
+    const Parsed drop = parse({"drop", "--json", "--runs", "3"});
+    REQUIRE(drop.result == BenchParse::run);
+    CHECK(drop.options.suite == "drop");
+    CHECK(drop.options.json);
+    CHECK(drop.options.runs == 3);
+    const Parsed bad = parse({"scene"});
+    CHECK(bad.result == BenchParse::error);
+    CHECK(bad.error.find("engine, drop") != std::string::npos);
+}
