@@ -60,9 +60,9 @@ TEST_CASE("bench options: errors say what is wrong") {
         CHECK(p.result == BenchParse::error);
         return p.error;
     };
-    CHECK(error_of({}) == "which suite? (ameoto bench engine)");
-    CHECK(error_of({"--json"}) == "which suite? (ameoto bench engine)");
-    CHECK(error_of({"server"}) == "unknown suite 'server' (the suites: engine)");
+    CHECK(error_of({}) == "which suite? (ameoto bench engine | drop)");
+    CHECK(error_of({"--json"}) == "which suite? (ameoto bench engine | drop)");
+    CHECK(error_of({"server"}) == "unknown suite 'server' (the suites: engine, drop)");
     CHECK(error_of({"engine", "extra"}) == "unexpected argument 'extra'");
     CHECK(error_of({"engine", "--fast"}) == "unknown option '--fast'");
     CHECK(error_of({"engine", "--json=1"}) == "--json takes no value");
