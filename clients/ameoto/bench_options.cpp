@@ -1,5 +1,6 @@
 #include "clients/ameoto/bench_options.hpp"
 
+#include "clients/ameoto/option_reader.hpp"
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -43,27 +44,21 @@ std::optional<std::vector<int>> parse_sizes(const std::string& text) {
 }
 
 BenchParse parse_bench_options(const CommandWords& words, BenchOptions& options, std::string& error) {
-    for (std::size_t w = 0; w < words.size(); ++w) {
-        const std::string& word = words[w];
-        std::string name = word, value;
-        bool inline_value = false;
-        if (word.starts_with("--") && word.find('=') != std::string::npos) {
-            name = word.substr(0, word.find('='));
-            value = word.substr(word.find('=') + 1);
-            inline_value = true;
-        }
+    OptionReader reader(words);
+    for (auto kind = reader.next_word(); kind != OptionReader::Word::end; kind = reader.next_word()) {
+        // The word as typed for the messages below: the option's name, or the positional word.
+        const std::string word = kind == OptionReader::Word::positional ? reader.positional() : reader.name();
+        const std::string& name = reader.name();
+        std::string value;
         auto take_value = [&]() -> bool {
-            if (inline_value) return true;
-            if (w + 1 >= words.size()) {
-                error = name + " needs a value";
-                return false;
-            }
-            value = words[++w];
-            return true;
+            const auto v = reader.value();
+            if (!v) error = reader.error();
+            value = v.value_or("");
+            return v.has_value();
         };
         auto no_value = [&]() -> bool {
-            if (!inline_value) return true;
-            error = name + " takes no value";
+            if (reader.flag()) return true;
+            error = reader.error();
             return false;
         };
         if (name == "--help" || name == "-h") {

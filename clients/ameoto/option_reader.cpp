@@ -25,6 +25,14 @@ bool OptionReader::next_option() {
     return true;
 }
 
+OptionReader::Word OptionReader::next_word() {
+    positional_.clear();
+    if (next_option()) return Word::option;
+    if (next_ >= words_.size()) return Word::end;
+    positional_ = words_[next_++];
+    return Word::positional;
+}
+
 std::optional<std::string> OptionReader::value() {
     if (inline_value_) return inline_value_;
     if (next_ >= words_.size()) {

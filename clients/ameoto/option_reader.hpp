@@ -12,6 +12,11 @@
 //       else return usage(r.unknown());
 //   }
 //   std::vector<std::string> rest = r.rest();
+//
+// For commands whose options may come before or after their words (`bench engine --json`,
+// `render drop --diameter 3`), read word by word instead:
+//   for (auto w = r.next_word(); w != OptionReader::Word::end; w = r.next_word())
+//       if (w == OptionReader::Word::positional) use(r.positional()); else handle(r.name()) as above.
 
 #include <optional>
 #include <string>
@@ -25,6 +30,11 @@ public:
     explicit OptionReader(std::vector<std::string> words);
 
     bool next_option();                   // consumes the next word if it is an option
+
+    enum class Word { option, positional, end };
+    Word next_word();                     // the next word, option or not (options anywhere)
+    const std::string& name() const { return name_; }              // the current option ("" for a word)
+    const std::string& positional() const { return positional_; }  // the current non-option word
     bool is(std::string_view name) const { return name_ == name; }
     std::optional<std::string> value();   // the option's value; nullopt (and error()) when missing
     bool flag();                          // false (and error()) when a value was given: "--json=1"
@@ -36,6 +46,7 @@ private:
     std::vector<std::string> words_;
     std::size_t next_ = 0;
     std::string name_;
+    std::string positional_;
     std::optional<std::string> inline_value_;
     std::string error_;
 };

@@ -1,5 +1,6 @@
 #include "clients/ameoto/render_drop.hpp"
 
+#include "clients/ameoto/option_reader.hpp"
 #include <sndfile.h>
 #include <unistd.h>
 
@@ -119,27 +120,21 @@ std::string render_usage() {
 
 RenderParse parse_render_drop_options(const CommandWords& words, RenderDropOptions& o, std::string& error) {
     bool have_diameter = false;
-    for (std::size_t w = 0; w < words.size(); ++w) {
-        const std::string& word = words[w];
-        std::string name = word, value;
-        bool inline_value = false;
-        if (word.starts_with("--") && word.find('=') != std::string::npos) {
-            name = word.substr(0, word.find('='));
-            value = word.substr(word.find('=') + 1);
-            inline_value = true;
-        }
+    OptionReader reader(words);
+    for (auto kind = reader.next_word(); kind != OptionReader::Word::end; kind = reader.next_word()) {
+        // The word as typed for the messages below: the option's name, or the positional word.
+        const std::string word = kind == OptionReader::Word::positional ? reader.positional() : reader.name();
+        const std::string& name = reader.name();
+        std::string value;
         auto take_value = [&]() -> bool {
-            if (inline_value) return true;
-            if (w + 1 >= words.size()) {
-                error = name + " needs a value";
-                return false;
-            }
-            value = words[++w];
-            return true;
+            const auto v = reader.value();
+            if (!v) error = reader.error();
+            value = v.value_or("");
+            return v.has_value();
         };
         auto no_value = [&]() -> bool {
-            if (!inline_value) return true;
-            error = name + " takes no value";
+            if (reader.flag()) return true;
+            error = reader.error();
             return false;
         };
         // A number within [lo, hi]; `what` names it with its unit for the message.
