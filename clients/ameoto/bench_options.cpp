@@ -50,17 +50,8 @@ BenchParse parse_bench_options(const CommandWords& words, BenchOptions& options,
         const std::string word = kind == OptionReader::Word::positional ? reader.positional() : reader.name();
         const std::string& name = reader.name();
         std::string value;
-        auto take_value = [&]() -> bool {
-            const auto v = reader.value();
-            if (!v) error = reader.error();
-            value = v.value_or("");
-            return v.has_value();
-        };
-        auto no_value = [&]() -> bool {
-            if (reader.flag()) return true;
-            error = reader.error();
-            return false;
-        };
+        auto take_value = [&] { return reader.value_into(value, error); };
+        auto no_value = [&] { return reader.flag_into(error); };
         if (name == "--help" || name == "-h") {
             return BenchParse::help;
         } else if (name == "--json") {

@@ -48,6 +48,22 @@ bool OptionReader::flag() {
     return false;
 }
 
+bool OptionReader::value_into(std::string& out, std::string& error) {
+    const auto v = value();
+    if (!v) {
+        error = error_;
+        return false;
+    }
+    out = *v;
+    return true;
+}
+
+bool OptionReader::flag_into(std::string& error) {
+    if (flag()) return true;
+    error = error_;
+    return false;
+}
+
 std::string OptionReader::unknown() const { return "unknown option '" + name_ + "'"; }
 
 std::vector<std::string> OptionReader::rest() const {

@@ -39,6 +39,9 @@ public:
     std::optional<std::string> value();   // the option's value; nullopt (and error()) when missing
     bool flag();                          // false (and error()) when a value was given: "--json=1"
     std::string unknown() const;          // the message for an option nobody asked for
+    // The same two checks for parsers that keep the value and the message in their own variables.
+    bool value_into(std::string& out, std::string& error);
+    bool flag_into(std::string& error);
     const std::string& error() const { return error_; }
     std::vector<std::string> rest() const;
 

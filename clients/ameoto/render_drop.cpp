@@ -126,17 +126,8 @@ RenderParse parse_render_drop_options(const CommandWords& words, RenderDropOptio
         const std::string word = kind == OptionReader::Word::positional ? reader.positional() : reader.name();
         const std::string& name = reader.name();
         std::string value;
-        auto take_value = [&]() -> bool {
-            const auto v = reader.value();
-            if (!v) error = reader.error();
-            value = v.value_or("");
-            return v.has_value();
-        };
-        auto no_value = [&]() -> bool {
-            if (reader.flag()) return true;
-            error = reader.error();
-            return false;
-        };
+        auto take_value = [&] { return reader.value_into(value, error); };
+        auto no_value = [&] { return reader.flag_into(error); };
         // A number within [lo, hi]; `what` names it with its unit for the message.
         auto number_in = [&](double lo, double hi, const std::string& unit) -> std::optional<double> {
             if (!take_value()) return std::nullopt;
