@@ -1,5 +1,6 @@
 // Tests for engine/core/transverse_network: the mass-spring network, its integrators chosen per body, and
 // the runtime guard.
+#include "tests/engine/core/integrators/test_bodies.hpp"
 #include <doctest/doctest.h>
 
 #include <algorithm>
@@ -16,26 +17,6 @@
 namespace {
 
 constexpr double kT = 1.0 / 48000.0;
-
-// Angular frequency (rad/s) of a recorded oscillation from its zero crossings (linearly interpolated):
-// (crossings - 1) half periods between the first and the last crossing.
-double crossing_omega(const std::vector<double>& x, double dt) {
-    double first = -1.0, last = -1.0;
-    int crossings = 0;
-    for (std::size_t n = 1; n < x.size(); ++n) {
-        const double a = x[n - 1], b = x[n];
-        if ((a < 0.0 && b >= 0.0) || (a > 0.0 && b <= 0.0)) {
-            if (b == 0.0 && n + 1 < x.size() && (x[n + 1] > 0.0) == (a > 0.0)) continue;   // touch, no cross
-            const double t = (static_cast<double>(n - 1) + a / (a - b)) * dt;
-            if (crossings == 0) first = t;
-            last = t;
-            ++crossings;
-        }
-    }
-    REQUIRE(crossings > 10);
-    const double half_periods = crossings - 1;
-    return 3.14159265358979323846 * half_periods / (last - first);
-}
 
 // The exact invariant of the undamped position-Verlet scheme M (x[n+1] - 2x[n] + x[n-1]) / T^2 = -K x[n]:
 // H = 1/2 dx' M dx / T^2 + 1/2 x[n]' K x[n-1], dx = x[n] - x[n-1] (multiply the scheme by
@@ -92,10 +73,10 @@ TEST_CASE("transverse_network: an undamped anchored mass oscillates at the warpe
         }
         const double warped = (2.0 / dt) * std::asin(omega0 * dt / 2.0);
         // physics.md s.3 and s.5 item 4: omega = (2/T) asin(omega0 T / 2), 0.1 %.
-        CHECK(crossing_omega(x, kT) == doctest::Approx(warped).epsilon(1e-3));
+        CHECK(ameoto::test::zero_crossing_omega(x, kT) == doctest::Approx(warped).epsilon(1e-3));
         // At omega0 T = 1.5 the warping (13 %) is far larger than the tolerance, so this test can tell
         // the warped frequency from the continuous one.
-        if (w0t >= 1.0) CHECK(std::abs(crossing_omega(x, kT) - omega0) / omega0 > 0.01);
+        if (w0t >= 1.0) CHECK(std::abs(ameoto::test::zero_crossing_omega(x, kT) - omega0) / omega0 > 0.01);
     }
 }
 
