@@ -10,6 +10,8 @@
 #include <ctime>
 #include <iostream>
 #include <map>
+#include <memory>
+#include <optional>
 
 #include "protocol/address_table.hpp"
 #include "server/backends/jack_backend.hpp"
@@ -99,8 +101,19 @@ struct Daemon::State {
     std::uint64_t reconnect_ticks = 0;
     int exit_code = 0;
 
+    // What the audio thread's scene is made of, as the worker last built it. Touched only by jobs on the
+    // worker thread, which run one at a time in order, so a liquid change after a surface change builds
+    // on that surface, and a refused change leaves it as it was.
+    struct SceneSettings {
+        MembraneMaterial material;
+        Liquid liquid;
+    };
+    std::shared_ptr<SceneSettings> worker_settings;
+
     bool choose_backend();
     void build_scene();
+    void rebuild_scene(const UdpEndpoint::Endpoint& sender, const std::string& address,
+                       std::optional<MembraneMaterial> material, std::optional<Liquid> liquid);
     void on_packet(const unsigned char* data, std::size_t size, const UdpEndpoint::Endpoint& sender);
     void reply(const UdpEndpoint::Endpoint& to, const std::string& address, const std::vector<protocol::OscArgument>& args);
     void reply_status(const UdpEndpoint::Endpoint& to);
@@ -166,6 +179,42 @@ void Daemon::State::build_scene() {
         return found == custom_materials.end() ? std::nullopt : std::optional<MembraneMaterial>(found->second);
     };
     worker = std::make_unique<Worker>(io);
+    worker_settings = std::make_shared<SceneSettings>(SceneSettings{config.material, config.liquid});
+}
+
+// A material or liquid change: the whole scene (canopy, drop pool, collider, far field) is built on the
+// worker (a stiff material's stability check and a liquid's calibration take time, and a refusal must not
+// disturb the sound), then handed to the audio thread by pointer; the old scene rings out and comes back
+// in a `retired` event to be freed here.
+void Daemon::State::rebuild_scene(const UdpEndpoint::Endpoint& sender, const std::string& address,
+                                  std::optional<MembraneMaterial> material, std::optional<Liquid> liquid) {
+    const std::uint16_t reply_to = clients.index_of(sender);
+    const CommandKind kind = material ? CommandKind::swap_surface : CommandKind::swap_liquid;
+    worker->submit<std::unique_ptr<DropOnCanopy>>(
+        [config = bridge->config(), settings = worker_settings, material, liquid] {
+            RendererConfig c = config;
+            c.material = material ? *material : settings->material;
+            c.liquid = liquid ? *liquid : settings->liquid;
+            auto scene = Renderer::make_scene(c);
+            if (material) check_live_cost(scene->canopy(), *material, c.sample_rate);
+            settings->material = c.material;   // only once the scene is built: a refusal changes nothing
+            settings->liquid = c.liquid;
+            return scene;
+        },
+        [this, reply_to, address, kind](std::unique_ptr<DropOnCanopy> scene) {
+            Command c;
+            c.kind = kind;
+            c.object = scene.get();
+            c.reply_to = reply_to;
+            if (bridge->send(c)) {
+                scene.release();   // the audio thread owns it now
+            } else {
+                reply(clients.at(reply_to), "/fail", protocol::fail_arguments(address, "busy: command queue full"));
+            }
+        },
+        [this, reply_to, address](const std::string& error) {
+            reply(clients.at(reply_to), "/fail", protocol::fail_arguments(address, error));
+        });
 }
 
 void Daemon::State::reply(const UdpEndpoint::Endpoint& to, const std::string& address, const std::vector<protocol::OscArgument>& args) {
@@ -180,8 +229,8 @@ void Daemon::State::reply_status(const UdpEndpoint::Endpoint& to) {
           {OscArgument::from_float(static_cast<float>(s.cpu_average_percent)),
            OscArgument::from_float(static_cast<float>(bridge->take_cpu_peak_percent())),
            OscArgument::from_float(static_cast<float>(drops_per_second)),
-           OscArgument::from_int(s.active_impacts),   // full tier: every drop is modelled physically
-           OscArgument::from_int(0),                  // template tier: not in this version
+           OscArgument::from_int(s.active_full_drops),   // full tier: lattice drops (/drop)
+           OscArgument::from_int(s.active_impacts),      // template tier: impulse-model impacts (rain)
            OscArgument::from_int(0),                  // texture tier: not in this version
            OscArgument::from_int(saturate_int32(backend->xruns())),
            OscArgument::from_int(saturate_int32(late)),
@@ -211,43 +260,15 @@ void Daemon::State::on_packet(const unsigned char* data, std::size_t size, const
                 asio::post(io, [this] { shutdown(); });
                 break;
             case protocol::Action::set_liquid: {
-                const Liquid& liquid = *v.request.liquid;
+                const Liquid liquid = *v.request.liquid;
                 if (!find_liquid(liquid.name)) custom_liquids[liquid.name] = liquid;
-                // The impulse model needs the density; the drops' own calibration comes with the full drop model.
-                Command c;
-                c.kind = CommandKind::set_liquid_density;
-                c.values[0] = liquid.density;
-                c.reply_to = clients.index_of(sender);
-                if (!bridge->send(c)) reply(sender, "/fail", protocol::fail_arguments(message.address, "busy: command queue full"));
+                rebuild_scene(sender, message.address, std::nullopt, liquid);
                 break;
             }
             case protocol::Action::set_surface_material: {
                 const MembraneMaterial material = *v.request.material;
                 if (!membrane_material(material.name)) custom_materials[material.name] = material;
-                const std::uint16_t reply_to = clients.index_of(sender);
-                const RendererConfig config = bridge->config();
-                // Built on the worker: a stiff material's stability check and lattice take time, and a refusal
-                // (the bound, from build_membrane) must not disturb the sound.
-                worker->submit<std::unique_ptr<Canopy>>(
-                    [config, material] {
-                        auto canopy = std::make_unique<Canopy>(config.canopy, material, 1.0 / config.sample_rate);
-                        check_live_cost(*canopy, material, config.sample_rate);
-                        return canopy;
-                    },
-                    [this, reply_to, address = message.address](std::unique_ptr<Canopy> canopy) {
-                        Command c;
-                        c.kind = CommandKind::swap_canopy;
-                        c.object = canopy.get();
-                        c.reply_to = reply_to;
-                        if (bridge->send(c)) {
-                            canopy.release();   // the audio thread owns it now
-                        } else {
-                            reply(clients.at(reply_to), "/fail", protocol::fail_arguments(address, "busy: command queue full"));
-                        }
-                    },
-                    [this, reply_to, address = message.address](const std::string& error) {
-                        reply(clients.at(reply_to), "/fail", protocol::fail_arguments(address, error));
-                    });
+                rebuild_scene(sender, message.address, material, std::nullopt);
                 break;
             }
             case protocol::Action::enqueue: {
@@ -269,10 +290,10 @@ void Daemon::State::poll() {
     while (bridge->poll_event(e)) {
         const auto& to = clients.at(e.reply_to);
         if (e.kind == RendererEventKind::retired) {
-            delete static_cast<Canopy*>(e.object);   // freed here, never on the audio thread
+            delete static_cast<DropOnCanopy*>(e.object);   // freed here, never on the audio thread
         } else if (e.kind == RendererEventKind::swapped) {
-            reply(to, "/done", {protocol::OscArgument::from_string(e.command == CommandKind::swap_canopy ? "/material/surface"
-                                                                                                         : "/material/liquid")});
+            reply(to, "/done", {protocol::OscArgument::from_string(e.command == CommandKind::swap_surface ? "/material/surface"
+                                                                                                          : "/material/liquid")});
         } else if (e.kind == RendererEventKind::synced) {
             reply(to, "/synced", {protocol::OscArgument::from_int(e.id)});
         } else {

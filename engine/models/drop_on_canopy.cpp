@@ -5,7 +5,9 @@
 #include <stdexcept>
 #include <string>
 
+#include "engine/core/physical_constants.hpp"
 #include "engine/models/drop.hpp"
+#include "engine/models/panning.hpp"
 
 namespace ameoto {
 namespace {
@@ -23,7 +25,18 @@ DropPoolConfig pool_config(const DropOnCanopyConfig& c) {
 
 ListenerLayout layout_for(const DropOnCanopyConfig& c) {
     const Vec3 head{0.0, 0.0, -c.listener_below_m};
-    return c.channels == 2 ? ListenerLayout::ears(head, 0.0) : ListenerLayout::mono(head);
+    if (c.channels == 1) return ListenerLayout::mono(head);
+    if (c.channels == 2 && c.listener == ListenerStyle::ears) return ListenerLayout::ears(head, 0.0);
+    // Panned: one listening point; each panel's pressure spread over the speakers by its azimuth.
+    const Canopy shape(c.geometry, c.material, 1.0 / c.sample_rate);
+    std::vector<std::vector<double>> gains(static_cast<std::size_t>(c.channels),
+                                           std::vector<double>(static_cast<std::size_t>(shape.panel_count())));
+    for (int k = 0; k < shape.panel_count(); ++k) {
+        const auto g = pan_gains(shape.panel_azimuth(k), c.channels);
+        for (int ch = 0; ch < c.channels; ++ch)
+            gains[static_cast<std::size_t>(ch)][static_cast<std::size_t>(k)] = g[static_cast<std::size_t>(ch)];
+    }
+    return ListenerLayout::panned(head, std::move(gains));
 }
 
 std::string number(double v) {
@@ -36,10 +49,11 @@ std::string number(double v) {
 const DropOnCanopyConfig& DropOnCanopy::checked(const DropOnCanopyConfig& c) {
     if (!(c.sample_rate >= 8000.0 && c.sample_rate <= 384000.0))
         throw std::invalid_argument("sample rate " + number(c.sample_rate) + " Hz is outside 8000..384000");
-    if (c.channels != 1 && c.channels != 2)
-        throw std::invalid_argument("channels must be 1 or 2, not " + std::to_string(c.channels));
+    if (c.channels < 1 || c.channels > max_pan_channels)
+        throw std::invalid_argument("channels must be 1 to 16, not " + std::to_string(c.channels));
     if (!(c.restitution >= 0.0 && c.restitution <= 1.0))
         throw std::invalid_argument("restitution " + number(c.restitution) + " is outside 0..1");
+    if (c.guard_interval < 0) throw std::invalid_argument("guard interval must be 0 or more samples");
     if (c.capacity < 1 || c.capacity > 256)
         throw std::invalid_argument("capacity " + std::to_string(c.capacity) + " is outside 1..256");
     if (!(c.gap_m >= 0.0 && c.gap_m <= 0.1)) throw std::invalid_argument("gap " + number(c.gap_m) + " m is outside 0..0.1");
@@ -73,6 +87,12 @@ DropOnCanopy::DropOnCanopy(const DropOnCanopyConfig& config)
     top_ = canopy_.rest_height(0.0, 0.0);
     bottom_ = canopy_.rest_height(r, 0.0);
     reach_ = 0.05 / std::max(1e-3, canopy_.surface_normal(r, 0.0).z);
+    double shortest = 1e300;
+    const RayleighRadiator& radiator = far_field_.radiator();
+    for (int p = 0; p < radiator.point_count(); ++p)
+        for (int e = 0; e < radiator.element_count(); ++e) shortest = std::min(shortest, radiator.delay_samples(p, e));
+    listener_points_ = far_field_.layout().points;
+    latency_samples_ = config_.output == SceneOutput::far_field ? static_cast<int>(std::floor(shortest)) : 0;
 }
 
 bool DropOnCanopy::drop(double diameter_m, double speed_m_per_s, double x_m, double y_m) {
@@ -80,7 +100,7 @@ bool DropOnCanopy::drop(double diameter_m, double speed_m_per_s, double x_m, dou
     if (!(speed_m_per_s >= 0.0 && std::isfinite(speed_m_per_s))) return false;
     if (canopy_.locate(x_m, y_m).panel < 0) return false;
     const double speed = speed_m_per_s > 0.0 ? speed_m_per_s : arrival_speed(diameter_m, config_.liquid.density);
-    const double z = canopy_.rest_height(x_m, y_m) + 0.5 * diameter_m + config_.gap_m;
+    const double z = canopy_.rest_height(x_m, y_m) + pool_.underside(diameter_m) + config_.gap_m;
     if (!pool_.spawn(diameter_m, liquid_, Vec3{x_m, y_m, z}, Vec3{0.0, 0.0, -speed})) return false;
     // The new drop has the highest serial.
     int slot = -1;
@@ -101,22 +121,38 @@ bool DropOnCanopy::drop(double diameter_m, double speed_m_per_s, double x_m, dou
 }
 
 void DropOnCanopy::process(int frames, float* const* outputs) {
-    const int channels = config_.channels;
-    const double inverse_full_scale = 1.0 / config_.full_scale_pa;
+    float frame[max_pan_channels];
     for (int i = 0; i < frames; ++i) {
-        collide();
-        canopy_.step(panel_forces_.data());
-        pool_.step();
-        if (config_.output == SceneOutput::far_field) {
-            far_field_.process(canopy_, pressures_.data());
-            for (int c = 0; c < channels; ++c)
-                outputs[c][i] = static_cast<float>(pressures_[static_cast<std::size_t>(c)] * inverse_full_scale);
-        } else {
-            const auto s = static_cast<float>(pickup_.sample(canopy_));
-            for (int c = 0; c < channels; ++c) outputs[c][i] = std::isfinite(s) ? s : 0.0f;
-        }
-        if ((++frames_ & 255u) == 0) canopy_resets_ += canopy_.reset_unstable();
+        process_frame(frame);
+        for (int c = 0; c < config_.channels; ++c) outputs[c][i] = frame[c];
     }
+}
+
+void DropOnCanopy::process_frame(float* frame) {
+    const int channels = config_.channels;
+    collide();
+    canopy_.step(panel_forces_.data());
+    pool_.step();
+    if (config_.output == SceneOutput::far_field) {
+        far_field_.process(canopy_, pressures_.data());
+        const double inverse_full_scale = 1.0 / config_.full_scale_pa;
+        for (int c = 0; c < channels; ++c) {
+            // A panel that went non-finite is muted here and reset by the guard below.
+            const double p = pressures_[static_cast<std::size_t>(c)] * inverse_full_scale;
+            frame[c] = std::isfinite(p) ? static_cast<float>(p) : 0.0f;
+        }
+    } else {
+        const auto s = static_cast<float>(pickup_.sample(canopy_));
+        for (int c = 0; c < channels; ++c) frame[c] = std::isfinite(s) ? s : 0.0f;
+    }
+    ++frames_;
+    if (config_.guard_interval > 0 && frames_ % static_cast<std::uint64_t>(config_.guard_interval) == 0) guard();
+}
+
+int DropOnCanopy::guard() {
+    const int resets = canopy_.reset_unstable();
+    canopy_resets_ += resets;
+    return resets;
 }
 
 // MembraneCollider::collide_drops, mass by mass, skipping the masses that cannot reach the membrane
@@ -136,6 +172,14 @@ void DropOnCanopy::collide() {
             if (collider_.collide_one(canopy_, p, pool_.velocity(d, m), pool_.mass(d, m), force)) pool_.apply_force(d, m, force);
         }
     }
+}
+
+double DropOnCanopy::acoustic_delay_samples(double x_m, double y_m) const {
+    if (config_.output != SceneOutput::far_field) return 0.0;
+    const Vec3 at{x_m, y_m, canopy_.rest_height(x_m, y_m)};
+    double shortest = 1e300;
+    for (const Vec3& p : listener_points_) shortest = std::min(shortest, norm(p - at));
+    return shortest / (constants::speed_of_sound_air * dt_);
 }
 
 DropOnCanopyStats DropOnCanopy::stats() const {

@@ -8,6 +8,7 @@
 //   DropOnCanopyConfig config;                       // sample rate, material, liquid, geometry, output...
 //   config.material = MembraneMaterial::vinyl(); config.liquid = liquids::milk();
 //   config.output = SceneOutput::far_field; config.channels = 2;   // or SceneOutput::mass_pickup
+//   config.listener = ListenerStyle::panned;         // stereo over speakers (ears: binaural spacing)
 //   DropOnCanopy scene(config);                      // allocates everything; throws std::invalid_argument
 //                                                    // (bad config, material, liquid: with the reason) or
 //                                                    // StabilityError (a material refused)
@@ -15,6 +16,10 @@
 //   bool ok = scene.drop(5e-3, 0.0, 0.2, 0.0);       // D (m), speed (m/s, 0: terminal), plan point (m);
 //                                                    // false: off the canopy, bad size or pool full
 //   scene.process(frames, outputs);                  // outputs[channel][frame], float
+//   scene.process_frame(frame);                      // one sample: frame[channel]
+//   scene.surface().apply_force(hit, newtons);       // an outside force on the canopy (held one step:
+//                                                    // the renderer's impulse-model rain)
+//   scene.full()                                     // no free drop slot
 //   DropOnCanopyStats s = scene.stats();             // pieces, masses, breakups, collisions
 //   ---- off the audio thread ----
 //   std::vector<SceneMass> m = scene.snapshot();     // every drop mass: position, drop, piece (plots)
@@ -22,18 +27,23 @@
 //
 // Order within one sample (membrane_collision.hpp): collide (forces held for the next step), step the
 // canopy, step the drops, then read the sound from the canopy just stepped. The canopy's runtime
-// guard (Canopy::reset_unstable) runs every 256 samples. Collisions are collide_drops' exactly, but
+// guard (Canopy::reset_unstable) runs every guard_interval samples (256), or when the caller calls guard(). Collisions are collide_drops' exactly, but
 // masses that cannot reach the membrane this step (off the rim's circle, or more than 5 cm from the
 // rest cap) are not looked up: after a splash, most pieces are.
 //
-// Placement: drop() puts the drop's centre gap_m (0.5 mm) plus its radius above the rest surface at
-// (x, y), moving straight down at `speed`, so it reaches the membrane within a few samples (a 5 mm
-// drop at 9.1 m/s covers 0.19 mm per sample at 48 kHz). Speed 0 means the drop's arrival speed
+// Placement: drop() puts the drop's lowest mass gap_m (0.5 mm) above the rest surface at (x, y)
+// (DropPool::underside), moving straight down at `speed`, so it reaches the membrane within a few
+// samples (a 5 mm drop at 9.1 m/s covers 0.19 mm per sample at 48 kHz); with gap_m = 0 it strikes at
+// once. acoustic_delay_samples(x, y) is the delay from that point of the cap to the nearest listening
+// point: when the impact is first heard. Speed 0 means the drop's arrival speed
 // (Gunn & Kinzer's terminal speed for its density, drop.hpp).
 //
-// Output: far field: each channel is the pressure at its listening point (ListenerLayout::mono, or
-// ::ears for two channels; head listener_below_m under the shaft, facing +x) divided by
-// full_scale_pa, so 1.0 is full_scale_pa pascals. Mass pickup: the displacement of the node under
+// Output: far field: each channel is the pressure at its listening point divided by full_scale_pa, so
+// 1.0 is full_scale_pa pascals. The head is listener_below_m under the shaft, facing +x. One channel:
+// ListenerLayout::mono. Two channels: ListenerStyle::ears (two points 0.18 m apart: headphones) or
+// ::panned (one point; each panel's pressure panned by its azimuth, panning.hpp: loudspeakers). Three
+// to 16 channels: panned over a ring of speakers. latency_samples() is the shortest acoustic delay,
+// node to listening point: an impact is heard that many samples after it happens. Mass pickup: the displacement of the node under
 // pickup_x/y over its default full scale (radiation.hpp), the same signal on every channel.
 //
 // Conservation: masses are never created or removed (drop_pool.hpp). stats() sums, over the active
@@ -55,6 +65,7 @@
 namespace ameoto {
 
 enum class SceneOutput { far_field, mass_pickup };
+enum class ListenerStyle { ears, panned };
 
 struct DropOnCanopyConfig {
     double sample_rate = 48000.0;                  // Hz, 8000..384000
@@ -62,7 +73,8 @@ struct DropOnCanopyConfig {
     Liquid liquid = liquids::water();
     CanopyGeometry geometry{};
     SceneOutput output = SceneOutput::far_field;
-    int channels = 1;                              // 1 (mono) or 2 (ears; the pickup is duplicated)
+    int channels = 1;                              // 1..16 (the pickup is the same on every channel)
+    ListenerStyle listener = ListenerStyle::ears;  // two channels: ears or panned (3+: always panned)
     double restitution = 1.0;                      // 0..1, the collision's (1: elastic, the seed)
     int capacity = 8;                              // drops at once
     double max_diameter = 8e-3;                    // m, the largest drop drop() accepts
@@ -72,6 +84,8 @@ struct DropOnCanopyConfig {
     double pickup_x = 0.2, pickup_y = 0.05;        // m, the pickup's plan point (mass pickup)
     double retire_below_m = -1.0;                  // m: a drop whose masses are all below retires
     double max_lifetime_s = 30.0;                  // s (0: never)
+    int guard_interval = 256;                      // samples between runs of the canopy's guard (0: only
+                                                   // when the caller calls guard())
 };
 
 struct DropOnCanopyStats {
@@ -104,6 +118,12 @@ public:
 
     bool drop(double diameter_m, double speed_m_per_s, double x_m, double y_m);
     void process(int frames, float* const* outputs);
+    void process_frame(float* frame);
+    Canopy& surface() { return canopy_; }
+    bool full() const { return static_cast<int>(pool_.active().size()) >= pool_.capacity(); }
+    int latency_samples() const { return latency_samples_; }
+    int guard();                                   // the canopy's guard now: panels reset (counted in stats)
+    double acoustic_delay_samples(double x_m, double y_m) const;
     DropOnCanopyStats stats() const;
     std::vector<SceneMass> snapshot() const;
 
@@ -130,6 +150,8 @@ private:
     double top_ = 0.0, bottom_ = 0.0, reach_ = 0.05;   // m: the band where masses can collide
     long canopy_resets_ = 0;
     std::uint64_t frames_ = 0;
+    int latency_samples_ = 0;
+    std::vector<Vec3> listener_points_;
 };
 
 }  // namespace ameoto

@@ -126,6 +126,15 @@ bool DropPool::spawn(double diameter, int liquid, Vec3 centre, Vec3 velocity, Dr
     return true;
 }
 
+double DropPool::underside(double diameter) const {
+    if (!(diameter > 0.0) || diameter > config_.max_diameter) return 0.0;
+    const int target = seed_mass_count(diameter);
+    if (target > max_target_) return 0.0;
+    double lowest = 0.0;
+    for (const Vec3& p : lattices_[static_cast<std::size_t>(target)]->shape.position) lowest = std::min(lowest, p.z);
+    return -lowest * diameter;
+}
+
 bool DropPool::all_done(const Slot& s) const {
     if (s.dormant) {
         for (int m = 0; m < s.body.mass_count(); ++m)

@@ -23,6 +23,7 @@
 //   pool.body(d); pool.calibration(d); pool.serial(d); // its Body3D (wakes it), calibration, spawn number
 //   pool.retire(d); pool.clear();
 //   pool.stats();                                     // spawned, refused, rejected, retired, breaks, breakups
+//   pool.underside(D);                                // m, centre to lowest mass (placing a drop on a surface)
 //
 // Storage: one Body3D per slot, reserved for the largest drop (masses and links), and one
 // ConnectedComponents per slot. spawn() takes a free slot, clears its body (capacity kept), adds the
@@ -134,6 +135,9 @@ public:
     const Liquid& liquid(int index) const { return liquids_[static_cast<std::size_t>(index)]; }
     const DropPoolStats& stats() const { return stats_; }
     const DropLattice& lattice(int target_masses) const { return *lattices_[static_cast<std::size_t>(target_masses)]; }
+    // m: how far the lowest mass of a drop of this diameter lies below its centre (the lattice's own
+    // extent, under D / 2); 0 for a diameter the pool cannot spawn. No allocation.
+    double underside(double diameter) const;
 
 private:
     struct Slot {

@@ -14,8 +14,9 @@ enum class CommandKind : std::uint8_t {
     drop,        // values: diameter m, speed m/s (0 = terminal), x m, y m
     rain_rate,   // values[0]: rain rate, mm/h (the one non-SI field: the rain statistics are written in it)
     sync,        // id: reply /synced id once applied
-    swap_canopy,        // object: a Canopy built off the audio thread; the old one rings out, then returns
-    set_liquid_density, // values[0]: kg/m^3 of the drops from now on
+    swap_surface,  // object: a DropOnCanopy (new surface material) built off the audio thread; the old
+                   // scene rings out, then returns in a `retired` event
+    swap_liquid,   // object: a DropOnCanopy (new liquid), the same way
 };
 
 struct Command {
@@ -25,14 +26,14 @@ struct Command {
     std::int32_t id = 0;
     std::uint64_t frame = 0;     // sample time at which to apply it, when timed
     double values[4] = {0, 0, 0, 0};
-    void* object = nullptr;      // swap_canopy: ownership passes to the renderer
+    void* object = nullptr;      // swap_surface, swap_liquid: ownership passes to the renderer
 };
 
 enum class RendererEventKind : std::uint8_t {
     synced,     // a /sync was reached: reply /synced id
     busy,       // a command could not be scheduled (the pending list was full): reply /fail busy
-    swapped,    // a swap_canopy or set_liquid_density took effect: reply /done
-    retired,    // object: a Canopy the audio thread no longer uses; the control thread deletes it
+    swapped,    // a swap_surface or swap_liquid took effect: reply /done
+    retired,    // object: a DropOnCanopy the audio thread no longer uses; the control thread deletes it
 };
 
 struct RendererEvent {

@@ -5,70 +5,70 @@
 #include <stdexcept>
 
 #include "engine/core/physical_constants.hpp"
-#include "engine/scene/terminal_speed.hpp"
+#include "engine/models/drop.hpp"
 
 namespace ameoto {
 
-std::array<double, Renderer::max_channels> pan_gains(double azimuth, int channels) {
-    std::array<double, Renderer::max_channels> g{};
-    if (channels <= 1) {
-        g[0] = 1.0;
-        return g;
-    }
-    if (channels == 2) {
-        // pan 0 = hard left (azimuth +90 deg), 1 = hard right.
-        const double pan = 0.5 * (1.0 - std::sin(azimuth));
-        g[0] = std::cos(pan * constants::pi / 2.0);
-        g[1] = std::sin(pan * constants::pi / 2.0);
-        return g;
-    }
-    // Speaker c sits at azimuth a_c = first - c * spacing (clockwise from front-left).
-    const double spacing = 2.0 * constants::pi / channels;
-    const double first = spacing / 2.0;
-    double rel = (first - azimuth) / spacing;   // position in speaker units, clockwise
-    rel -= std::floor(rel / channels) * channels;
-    const int c0 = static_cast<int>(rel) % channels;
-    const int c1 = (c0 + 1) % channels;
-    const double t = rel - std::floor(rel);
-    g[static_cast<std::size_t>(c0)] = std::cos(t * constants::pi / 2.0);
-    g[static_cast<std::size_t>(c1)] = std::sin(t * constants::pi / 2.0);
-    return g;
-}
-
 namespace {
+
 RainSpawner::Config rain_config_for(const Canopy& canopy) {
     RainSpawner::Config rc;
     rc.area_m2 = canopy.area();
     return rc;
 }
-}  // namespace
 
-Renderer::Renderer(const RendererConfig& config)
-    : config_(config),
-      dt_(1.0 / config.sample_rate),
-      rng_(config.seed),
-      canopy_(new Canopy(config.canopy, config.material, 1.0 / config.sample_rate)),
-      liquid_density_(constants::water_density),
-      rain_(rain_config_for(*canopy_)) {
-    if (config.channels < 1 || config.channels > max_channels) throw std::invalid_argument("channels must be 1 to 16");
+const RendererConfig& checked(const RendererConfig& config) {
+    if (config.channels < 1 || config.channels > Renderer::max_channels)
+        throw std::invalid_argument("channels must be 1 to 16");
     if (!(config.sample_rate >= 8000.0 && config.sample_rate <= 384000.0))
         throw std::invalid_argument("sample rate must be 8000 to 384000 Hz");
-    rain_.set_rate_now(config.rain_rate_mm_per_h);
-    panel_force_.assign(static_cast<std::size_t>(canopy_->panel_count()), 0.0);
-    fading_force_.assign(static_cast<std::size_t>(canopy_->panel_count()), 0.0);
-    panel_gain_.resize(static_cast<std::size_t>(canopy_->panel_count()));
-    for (int k = 0; k < canopy_->panel_count(); ++k) {
-        const Point2 c = canopy_->panel_centroid(k);
-        const double r = std::sqrt(c.x * c.x + c.y * c.y + config.listener_below_m * config.listener_below_m);
-        const double pa_per_newton =
-            constants::air_density / (2.0 * constants::pi * r) / config.material.areal_density;
-        auto gains = pan_gains(canopy_->panel_azimuth(k), config.channels);
-        for (auto& g : gains) g *= pa_per_newton / config.full_scale_pa;
-        panel_gain_[static_cast<std::size_t>(k)] = gains;
-    }
+    if (config.full_drops < 1 || config.full_drops > 256) throw std::invalid_argument("full drops must be 1 to 256");
+    return config;
 }
 
-void Renderer::push_event(const RendererEvent& event) { (void)push_event_checked(event); }
+}  // namespace
+
+std::unique_ptr<DropOnCanopy> Renderer::make_scene(const RendererConfig& config) {
+    DropOnCanopyConfig c;
+    c.sample_rate = config.sample_rate;
+    c.material = config.material;
+    c.liquid = config.liquid;
+    c.geometry = config.canopy;
+    c.output = SceneOutput::far_field;
+    c.channels = config.channels;
+    c.listener = config.listener;
+    c.capacity = config.full_drops;
+    c.max_diameter = 8e-3;        // the protocol's largest /drop
+    c.gap_m = 0.0;                // touching the cap: a /drop strikes at its sample (within a sample or two)
+    c.listener_below_m = config.listener_below_m;
+    c.full_scale_pa = config.full_scale_pa;
+    c.retire_below_m = -1.0;      // m: a drop retires when all its pieces have fallen a metre below the cap
+    // A safety net for pieces that stay on the membrane: the collisions are frictionless, so pieces slide
+    // off the curved cap within a second or two; a drop still there after 4 s has long stopped sounding.
+    c.max_lifetime_s = 4.0;
+    c.guard_interval = 0;         // the renderer runs the guard after every block
+    return std::make_unique<DropOnCanopy>(c);
+}
+
+Renderer::Renderer(const RendererConfig& config)
+    : config_(checked(config)),
+      dt_(1.0 / config.sample_rate),
+      rng_(config.seed),
+      scene_(make_scene(config_).release()),
+      rain_(rain_config_for(scene_->canopy())) {
+    rain_.set_rate_now(config.rain_rate_mm_per_h);
+}
+
+Renderer::~Renderer() {
+    // Runs on the control thread once audio has stopped: free everything still owned, including scenes
+    // waiting in the pending list.
+    for (int i = 0; i < pending_count_; ++i) {
+        const Command& c = pending_[static_cast<std::size_t>(i)];
+        if (c.kind == CommandKind::swap_surface || c.kind == CommandKind::swap_liquid) delete static_cast<DropOnCanopy*>(c.object);
+    }
+    delete fading_;
+    delete scene_;
+}
 
 bool Renderer::push_event_checked(const RendererEvent& event) {
     if (event_count_ == event_capacity) return false;   // the control thread is far behind
@@ -77,37 +77,28 @@ bool Renderer::push_event_checked(const RendererEvent& event) {
     return true;
 }
 
-void Renderer::swap_canopy(const Command& c) {
-    auto* incoming = static_cast<Canopy*>(c.object);
-    if (!incoming || incoming->panel_count() != canopy_->panel_count()) {
-        // Only a canopy of the same geometry can take over (its panning and listener distances are set);
-        // a mismatch goes straight back to be freed.
-        push_event({RendererEventKind::retired, c.kind, c.reply_to, c.id, incoming});
-        return;
-    }
-    if (fading_) push_event({RendererEventKind::retired, c.kind, c.reply_to, c.id, fading_});   // a change during a fade
-    fading_ = canopy_;
-    fade_left_ = static_cast<int>(0.5 / dt_);
-    canopy_ = incoming;
-    push_event({RendererEventKind::swapped, c.kind, c.reply_to, c.id});
-}
-
-Renderer::~Renderer() {
-    // Runs on the control thread once audio has stopped: free everything still owned, including canopies
-    // waiting in the pending list.
-    for (int i = 0; i < pending_count_; ++i)
-        if (pending_[static_cast<std::size_t>(i)].kind == CommandKind::swap_canopy)
-            delete static_cast<Canopy*>(pending_[static_cast<std::size_t>(i)].object);
-    delete fading_;
-    delete canopy_;
-}
-
 bool Renderer::poll_event(RendererEvent& event) {
     if (event_count_ == 0) return false;
     event = events_[static_cast<std::size_t>(event_read_)];
     event_read_ = (event_read_ + 1) % event_capacity;
     --event_count_;
     return true;
+}
+
+void Renderer::swap_scene(const Command& c) {
+    auto* incoming = static_cast<DropOnCanopy*>(c.object);
+    if (!incoming || incoming->canopy().panel_count() != scene_->canopy().panel_count() ||
+        incoming->channels() != scene_->channels()) {
+        // Only a scene of the same shape can take over (the pending impulses address its panels and
+        // the outputs its channels); a mismatch goes straight back to be freed.
+        push_event({RendererEventKind::retired, c.kind, c.reply_to, c.id, incoming});
+        return;
+    }
+    if (fading_) push_event({RendererEventKind::retired, c.kind, c.reply_to, c.id, fading_});   // a change during a fade
+    fading_ = scene_;
+    fade_left_ = static_cast<int>(0.5 / dt_);
+    scene_ = incoming;
+    push_event({RendererEventKind::swapped, c.kind, c.reply_to, c.id});
 }
 
 void Renderer::schedule(const Command& command) {
@@ -132,24 +123,37 @@ void Renderer::schedule(const Command& command) {
 }
 
 void Renderer::start_impact(double diameter_m, double speed_m_per_s, double x, double y) {
-    const CanopyHit hit = canopy_->locate(x, y);
+    const CanopyHit hit = scene_->canopy().locate(x, y);
     if (hit.panel < 0) return;
-    const double mass = liquid_density_ * constants::pi / 6.0 * diameter_m * diameter_m * diameter_m;
-    const double speed = speed_m_per_s > 0.0 ? speed_m_per_s : terminal_speed(diameter_m);
+    const double density = scene_->config().liquid.density;
+    const double mass = density * constants::pi / 6.0 * diameter_m * diameter_m * diameter_m;
+    const double speed = speed_m_per_s > 0.0 ? speed_m_per_s : arrival_speed(diameter_m, density);
     ++stats_.drops;
     if (!impacts_.add(hit, mass * speed, diameter_m / speed, dt_)) ++stats_.impacts_dropped;
 }
 
+void Renderer::start_drop(const Command& c) {
+    const double diameter = c.values[0], speed = c.values[1], x = c.values[2], y = c.values[3];
+    if (!scene_->full()) {
+        if (scene_->drop(diameter, speed, x, y)) {
+            ++stats_.drops;
+            ++stats_.full_drops;
+        }
+        return;   // false: off the canopy or not a drop (the protocol has already refused those)
+    }
+    // The pool is full: the drop is still heard, as an impulse.
+    if (scene_->canopy().locate(x, y).panel < 0) return;
+    ++stats_.drop_fallbacks;
+    start_impact(diameter, speed, x, y);
+}
+
 void Renderer::apply(const Command& c) {
     switch (c.kind) {
-        case CommandKind::drop: start_impact(c.values[0], c.values[1], c.values[2], c.values[3]); break;
+        case CommandKind::drop: start_drop(c); break;
         case CommandKind::rain_rate: rain_.set_rate(c.values[0]); break;
         case CommandKind::sync: push_event({RendererEventKind::synced, c.kind, c.reply_to, c.id}); break;
-        case CommandKind::swap_canopy: swap_canopy(c); break;
-        case CommandKind::set_liquid_density:
-            liquid_density_ = c.values[0];
-            push_event({RendererEventKind::swapped, c.kind, c.reply_to, c.id});
-            break;
+        case CommandKind::swap_surface:
+        case CommandKind::swap_liquid: swap_scene(c); break;
     }
 }
 
@@ -157,26 +161,23 @@ void Renderer::render_sample(float* const* outputs, int offset) {
     const int arrivals = rain_.advance(dt_, rng_);
     for (int a = 0; a < arrivals; ++a) {
         const double d = rain_.sample_diameter_m(rng_);
-        const Point2 p = canopy_->sample_point(rng_);
+        const Point2 p = scene_->canopy().sample_point(rng_);
         start_impact(d, 0.0, p.x, p.y);
     }
     // A falling drop pushes the membrane down, against its upward normal (as the collider does).
-    impacts_.emit(dt_, [this](CanopyHit hit, double force) { canopy_->apply_force(hit, -force); });
-    canopy_->step(panel_force_.data());
+    Canopy& surface = scene_->surface();
+    impacts_.emit(dt_, [&surface](CanopyHit hit, double force) { surface.apply_force(hit, -force); });
+    float frame[max_channels];
+    scene_->process_frame(frame);
+    const int channels = config_.channels;
     if (fading_) {
-        fading_->step(fading_force_.data());
-        for (std::size_t k = 0; k < panel_force_.size(); ++k) panel_force_[k] += fading_force_[k];
-        if (--fade_left_ <= 0 && push_event_checked({RendererEventKind::retired, CommandKind::swap_canopy, 0, 0, fading_}))
+        float old[max_channels];
+        fading_->process_frame(old);
+        for (int ch = 0; ch < channels; ++ch) frame[ch] += old[ch];
+        if (--fade_left_ <= 0 && push_event_checked({RendererEventKind::retired, CommandKind::swap_surface, 0, 0, fading_}))
             fading_ = nullptr;   // if the event list is full it rings on and is handed back next sample
     }
-    const int channels = config_.channels;
-    for (int ch = 0; ch < channels; ++ch) {
-        double sample = 0.0;
-        for (std::size_t k = 0; k < panel_force_.size(); ++k)
-            sample += panel_gain_[k][static_cast<std::size_t>(ch)] * panel_force_[k];
-        // A panel that went non-finite is reset at the end of the block; until then it is muted.
-        outputs[ch][offset] = std::isfinite(sample) ? static_cast<float>(sample) : 0.0f;
-    }
+    for (int ch = 0; ch < channels; ++ch) outputs[ch][offset] = frame[ch];
 }
 
 void Renderer::process(int frames, float* const* outputs) {
@@ -195,9 +196,10 @@ void Renderer::process(int frames, float* const* outputs) {
     frame_ += static_cast<std::uint64_t>(frames);
     // Runtime guard (core/stability.hpp): a panel whose state went non-finite or whose energy ran away is
     // reset and counted, never left to explode.
-    stats_.body_resets += static_cast<std::uint64_t>(canopy_->reset_unstable());
-    if (fading_) stats_.body_resets += static_cast<std::uint64_t>(fading_->reset_unstable());
+    stats_.body_resets += static_cast<std::uint64_t>(scene_->guard());
+    if (fading_) stats_.body_resets += static_cast<std::uint64_t>(fading_->guard());
     stats_.active_impacts = impacts_.active();
+    stats_.active_full_drops = static_cast<int>(scene_->pool().active().size());
     stats_.rain_rate_mm_per_h = rain_.rate();
 }
 

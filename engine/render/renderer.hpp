@@ -5,35 +5,49 @@
 //   Renderer r(RendererConfig{...});          // builds the scene; allocates everything it will use
 //   r.schedule(command);                      // audio thread: queue a command (applied at its sample)
 //   r.process(frames, outputs);               // audio thread: render `frames` samples into outputs[ch]
-//   r.poll_event(event)                       // audio thread: events produced (synced, busy)
+//   r.poll_event(event)                       // audio thread: events produced (synced, busy, swapped, retired)
 //   r.stats()                                 // counters for /status
 //   r.frame()                                 // sample clock: frames rendered so far
+//   Renderer::make_scene(config)              // off the audio thread: a scene for swap_surface/swap_liquid
 //
 // Real-time contract (Mutable Instruments style: the constructor allocates, process never does):
 // schedule, process and poll_event never allocate, free, lock, block or log. Commands carry a sample
 // time; a command whose time has come (or that is untimed) is applied at the start of the sample it is
-// due, so an untimed command sent between two blocks sounds in the first sample of the next block.
+// due, so an untimed command sent between two blocks acts in the first sample of the next block.
 // The output depends only on the seed and on the commands with their sample times, never on the block
 // size: the rain is drawn per sample, so JACK at 256 frames and an offline render at 4096 frames
 // produce the same samples.
 //
-// Material changes: swap_canopy installs a canopy built off the audio thread (by pointer); the old one
-// keeps ringing for 0.5 s with no new impacts, summed into the output, then goes back to the control
-// thread in a `retired` event to be freed there. Nothing is allocated or freed here.
+// The scene (models/drop_on_canopy.hpp): the umbrella canopy, its far-field sound at the listener and
+// a pool of lattice drops, the seed's full model. Two levels of detail reach it:
+//   - /drop (CommandKind::drop): a lattice drop that falls onto the membrane, collides with its masses,
+//     may break up and strike again (full model). It is placed touching the cap at its sample, so it
+//     strikes within a sample or two. When the pool is full (capacity `full_drops`) the drop falls back
+//     to the impulse model below, counted in stats().drop_fallbacks: a drop is never lost.
+//   - rain (/rain/rate): Marshall-Palmer sizes, Poisson arrivals, each drop an impulse m V pushed into
+//     the nearest membrane node over D / V (models/impact_force.hpp), the cheap tier.
+// Either way the sound is the membrane's, radiated to the listener (Rayleigh far field), so the first
+// sound of an impact reaches the output latency_samples() later (the nearest node's distance over c:
+// 42 samples at 48 kHz for the default listener 0.3 m under the shaft).
 //
-// Sound: each canopy panel is heard as a baffled piston at the listener (Rayleigh integral, far-field
-// approximation): p = rho0 / (2 pi r) * (sum of the panel's normal accelerations times their areas)
-// = rho0 / (2 pi r) * F_net / s, with F_net the panel's net force (models/canopy.hpp) and s its areal
-// density. Panels are panned by azimuth. Output full scale (1.0) is `full_scale_pa` pascals.
+// Material and liquid changes: swap_surface / swap_liquid install a whole scene built off the audio
+// thread (make_scene; by pointer). The old scene keeps ringing for 0.5 s with no new impacts (its
+// drops in flight finish their fall into it), summed into the output so the change makes no click,
+// then goes back to the control thread in a `retired` event to be freed there. Nothing is allocated
+// or freed here.
+//
+// Output: full scale (1.0) is `full_scale_pa` pascals. Mono: one listening point; stereo and more:
+// one point, each panel panned by its azimuth over the speakers (ListenerStyle::panned), or for two
+// channels optionally two ears (ListenerStyle::ears).
 
 #include <array>
 #include <cstdint>
 #include <memory>
-#include <vector>
 
 #include "engine/core/random.hpp"
-#include "engine/models/canopy.hpp"
+#include "engine/models/drop_on_canopy.hpp"
 #include "engine/models/impact_force.hpp"
+#include "engine/models/panning.hpp"
 #include "engine/render/command.hpp"
 #include "engine/scene/rain_spawner.hpp"
 
@@ -41,32 +55,45 @@ namespace ameoto {
 
 struct RendererConfig {
     double sample_rate = 48000.0;         // Hz
-    int channels = 2;
+    int channels = 2;                     // 1..16
     std::uint64_t seed = 0;
     double rain_rate_mm_per_h = 2.0;      // the default scene: light rain
     CanopyGeometry canopy{};
     MembraneMaterial material = MembraneMaterial::nylon_canopy();
+    Liquid liquid = liquids::water();
+    ListenerStyle listener = ListenerStyle::panned;
     double listener_below_m = 0.3;        // listener on the shaft, this far below the canopy
     double full_scale_pa = 40.0;          // pressure at output 1.0 (126 dB SPL)
+    int full_drops = 16;                  // lattice drops at once (/drop); more fall back to impulses
 };
 
 struct RendererStats {
     std::uint64_t drops = 0;              // impacts started (rain and /drop)
-    std::uint64_t impacts_dropped = 0;    // impacts lost because the pulse pool was full
+    std::uint64_t full_drops = 0;         // /drop drops given to the full (lattice) model
+    std::uint64_t drop_fallbacks = 0;     // /drop drops played as impulses because the pool was full
+    std::uint64_t impacts_dropped = 0;    // impulses lost because the pulse pool was full
     std::uint64_t late_commands = 0;      // timed commands that arrived after their sample
     std::uint64_t busy_commands = 0;      // commands refused because the pending list was full
     std::uint64_t body_resets = 0;        // panels reset by the runtime guard (non-finite or runaway)
-    int active_impacts = 0;
+    int active_impacts = 0;               // impulses sounding now
+    int active_full_drops = 0;            // lattice drops in the scene now
     double rain_rate_mm_per_h = 0.0;      // current (ramping) rate
 };
 
 class Renderer {
 public:
-    static constexpr int max_channels = 16;
+    static constexpr int max_channels = max_pan_channels;
     static constexpr int pending_capacity = 1024;
     static constexpr int event_capacity = 1024;
 
     explicit Renderer(const RendererConfig& config);
+    ~Renderer();
+    Renderer(const Renderer&) = delete;
+    Renderer& operator=(const Renderer&) = delete;
+
+    // Off the audio thread: the scene a renderer with this config plays (its material and liquid).
+    // Throws std::invalid_argument or StabilityError with the reason.
+    static std::unique_ptr<DropOnCanopy> make_scene(const RendererConfig& config);
 
     void schedule(const Command& command);
     void process(int frames, float* const* outputs);
@@ -75,37 +102,32 @@ public:
     std::uint64_t frame() const { return frame_; }
     const RendererStats& stats() const { return stats_; }
     const RendererConfig& config() const { return config_; }
-    const Canopy& canopy() const { return *canopy_; }   // audio thread (or before audio starts) only
-    ~Renderer();
-    Renderer(const Renderer&) = delete;
-    Renderer& operator=(const Renderer&) = delete;
+    // Audio thread (or before audio starts) only:
+    const DropOnCanopy& scene() const { return *scene_; }
+    const Canopy& canopy() const { return scene_->canopy(); }
+    int latency_samples() const { return scene_->latency_samples(); }
 
 private:
     void apply(const Command& command);
+    void start_drop(const Command& command);
     void start_impact(double diameter_m, double speed_m_per_s, double x, double y);
-    void push_event(const RendererEvent& event);
+    void swap_scene(const Command& command);
     void render_sample(float* const* outputs, int offset);
-    void swap_canopy(const Command& command);
+    void push_event(const RendererEvent& event) { (void)push_event_checked(event); }
     bool push_event_checked(const RendererEvent& event);
 
     RendererConfig config_;
     double dt_;
     Random rng_;
-    // The canopy in use, and the one it replaced, ringing out for fade_samples after a material change
-    // so the change makes no click; both owned (raw pointers: ownership crosses threads by value).
-    Canopy* canopy_ = nullptr;
-    Canopy* fading_ = nullptr;
+    // The scene in use, and the one it replaced, ringing out for fade_left_ samples after a change so
+    // the change makes no click; both owned (raw pointers: ownership crosses threads by value).
+    DropOnCanopy* scene_ = nullptr;
+    DropOnCanopy* fading_ = nullptr;
     int fade_left_ = 0;
-    double liquid_density_;
-    std::vector<double> fading_force_;
     RainSpawner rain_;
     ImpactPool impacts_;
     std::uint64_t frame_ = 0;
     RendererStats stats_;
-
-    // Per panel: pressure per newton of net force, then split over the channels.
-    std::vector<double> panel_force_;                 // sized in the constructor
-    std::vector<std::array<double, max_channels>> panel_gain_;
 
     // Commands waiting for their sample, sorted by frame (stable for equal frames).
     std::array<Command, pending_capacity> pending_{};
@@ -113,10 +135,5 @@ private:
     std::array<RendererEvent, event_capacity> events_{};
     int event_read_ = 0, event_count_ = 0;
 };
-
-// Pans a source at azimuth (rad, 0 = front, counter-clockwise towards the left) over `channels`
-// outputs with constant power: mono gets 1; stereo is left/right by sin(azimuth); three or more
-// channels are a ring of speakers from front-left, clockwise, panned pairwise.
-std::array<double, Renderer::max_channels> pan_gains(double azimuth, int channels);
 
 }  // namespace ameoto

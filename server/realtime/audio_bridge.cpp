@@ -30,10 +30,11 @@ AudioBridge::~AudioBridge() {
     // either queue are freed here; the renderer frees what it holds.
     Command command;
     while (commands_.try_pop(command))
-        if (command.kind == CommandKind::swap_canopy) delete static_cast<Canopy*>(command.object);
+        if (command.kind == CommandKind::swap_surface || command.kind == CommandKind::swap_liquid)
+            delete static_cast<DropOnCanopy*>(command.object);
     RendererEvent event;
     while (events_.try_pop(event))
-        if (event.kind == RendererEventKind::retired) delete static_cast<Canopy*>(event.object);
+        if (event.kind == RendererEventKind::retired) delete static_cast<DropOnCanopy*>(event.object);
 }
 
 AudioSnapshot AudioBridge::snapshot() const {
@@ -48,6 +49,7 @@ AudioSnapshot AudioBridge::snapshot() const {
     s.events_lost = events_lost_.load(std::memory_order_relaxed);
     s.callbacks = callbacks_.load(std::memory_order_relaxed);
     s.active_impacts = active_impacts_.load(std::memory_order_relaxed);
+    s.active_full_drops = active_full_drops_.load(std::memory_order_relaxed);
     s.rain_rate_mm_per_h = rain_rate_.load(std::memory_order_relaxed);
     return s;
 }
@@ -93,6 +95,7 @@ void AudioBridge::process(int frames, float* const* outputs) {
     busy_.store(st.busy_commands, std::memory_order_relaxed);
     resets_.store(st.body_resets, std::memory_order_relaxed);
     active_impacts_.store(st.active_impacts, std::memory_order_relaxed);
+    active_full_drops_.store(st.active_full_drops, std::memory_order_relaxed);
     rain_rate_.store(st.rain_rate_mm_per_h, std::memory_order_relaxed);
     callbacks_.fetch_add(1, std::memory_order_relaxed);
     frames_.store(renderer_->frame(), std::memory_order_release);

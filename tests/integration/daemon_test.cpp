@@ -154,6 +154,28 @@ TEST_CASE("materials change live: /done once in use, refusals with the bound, no
     CHECK(rt.find("entries 0\n") == std::string::npos);
 }
 
+TEST_CASE("/drop plays the seed's full model: a lattice drop, counted in the full tier while it lives") {
+    Daemon d({"--backend", "null", "--output", "-", "--realtime", "--rain", "0"});
+    OscTestClient client(d.port());
+    auto f = [](double v) { return OscArgument::from_float(static_cast<float>(v)); };
+    client.send("/drop", {f(5.0), f(0.0), f(0.2), f(0.05)});
+    REQUIRE(client.request("/sync", {OscArgument::from_int(3)}, "/synced", 2s));
+    const auto status = client.request("/status", {}, "/status.reply", 2s);
+    REQUIRE(status);
+    // Field 4: active drops in the full tier (its pieces fly off the cap and fall below it in about half
+    // a second, then it retires); field 5: impulse-model impacts, none without rain.
+    CHECK(status->args[3].integer == 1);
+    CHECK(status->args[4].integer == 0);
+    // A liquid change rebuilds the scene on the worker; the next drop is milk and is counted the same way.
+    REQUIRE(client.request("/material/liquid", {OscArgument::from_string("milk")}, "/done", 5s));
+    client.send("/drop", {f(3.0), f(0.0), f(-0.2), f(0.05)});
+    REQUIRE(client.request("/sync", {OscArgument::from_int(4)}, "/synced", 2s));
+    const auto after = client.request("/status", {}, "/status.reply", 2s);
+    REQUIRE(after);
+    CHECK(after->args[3].integer >= 1);
+    CHECK(d.process().stop(SIGTERM, 5s) == 0);
+}
+
 TEST_CASE("bad messages get /fail with a reason; the server keeps serving") {
     Daemon d({"--backend", "null", "--output", "-", "--realtime"});
     OscTestClient client(d.port());

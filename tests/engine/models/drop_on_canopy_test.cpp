@@ -3,6 +3,7 @@
 
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <vector>
@@ -13,6 +14,7 @@ namespace {
 
 using ameoto::DropOnCanopy;
 using ameoto::DropOnCanopyConfig;
+using ameoto::ListenerStyle;
 using ameoto::SceneOutput;
 
 DropOnCanopyConfig small_config() {
@@ -98,7 +100,12 @@ TEST_CASE("drop_on_canopy: drop() refuses what it cannot place") {
 
 TEST_CASE("drop_on_canopy: bad configurations are refused with a reason") {
     DropOnCanopyConfig c = small_config();
-    c.channels = 3;
+    c.channels = 0;
+    CHECK_THROWS_AS(DropOnCanopy{c}, std::invalid_argument);
+    c.channels = 17;
+    CHECK_THROWS_AS(DropOnCanopy{c}, std::invalid_argument);
+    c = small_config();
+    c.guard_interval = -1;
     CHECK_THROWS_AS(DropOnCanopy{c}, std::invalid_argument);
     c = small_config();
     c.sample_rate = 100.0;
@@ -109,6 +116,42 @@ TEST_CASE("drop_on_canopy: bad configurations are refused with a reason") {
     c = small_config();
     c.liquid.density = 1.0;
     CHECK_THROWS_AS(DropOnCanopy{c}, std::invalid_argument);
+}
+
+TEST_CASE("drop_on_canopy: panned outputs put a drop on its side, over 2 to 16 speakers") {
+    for (int channels : {2, 4, 16}) {
+        CAPTURE(channels);
+        DropOnCanopyConfig c = small_config();
+        c.channels = channels;
+        c.listener = ListenerStyle::panned;
+        DropOnCanopy scene(c);
+        REQUIRE(scene.drop(3e-3, 0.0, 0.0, 0.25));   // panel at azimuth +90 deg: the left
+        const Render r = render(scene, 1200);
+        std::vector<double> energy;
+        for (const auto& ch : r.channels) {
+            double e = 0.0;
+            for (float v : ch) e += static_cast<double>(v) * v;
+            energy.push_back(e);
+        }
+        const auto loudest = std::max_element(energy.begin(), energy.end()) - energy.begin();
+        // panning.hpp: stereo puts +90 deg hard left (channel 0); a ring from front-left clockwise has
+        // +90 deg between the first speaker (front-left) and the last (back-left).
+        if (channels == 2) CHECK(loudest == 0);
+        if (channels == 4) CHECK((loudest == 0 || loudest == 3));
+        CHECK(energy[static_cast<std::size_t>(loudest)] > 0.0);
+    }
+}
+
+TEST_CASE("drop_on_canopy: a drop placed with no gap strikes at once, heard one acoustic delay later") {
+    DropOnCanopyConfig c = small_config();
+    c.gap_m = 0.0;
+    DropOnCanopy scene(c);
+    REQUIRE(scene.drop(4e-3, 0.0, 0.2, 0.05));
+    float frame[1];
+    scene.process_frame(frame);
+    CHECK(scene.stats().collisions > 0);   // its lowest mass touches the cap in the first step
+    CHECK(scene.acoustic_delay_samples(0.2, 0.05) > scene.latency_samples());
+    CHECK(scene.latency_samples() == 42);   // 0.3 m under the shaft top, 343 m/s, 48 kHz: 0.29 m / 7.15 mm
 }
 
 TEST_CASE("drop_on_canopy: the same inputs render the same samples, bit for bit") {

@@ -1,8 +1,10 @@
-// Live material changes in the renderer: a canopy built elsewhere takes over by pointer, the old one
-// rings out for 0.5 s (no click) and is handed back, never freed on the audio thread.
+// Live material and liquid changes in the renderer: a scene built elsewhere (Renderer::make_scene) takes
+// over by pointer, the old one rings out for 0.5 s (no click) and is handed back, never freed on the
+// audio thread.
 
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -35,15 +37,18 @@ struct Rig {
 
 }  // namespace
 
-TEST_CASE("a swapped canopy takes over without a click, and the old one comes back after ringing out") {
-    Rig rig(480);
+TEST_CASE("a swapped scene takes over without a click, and the old one comes back after ringing out") {
+    Rig rig(480), unchanged(480);
     rig.drop();
-    rig.renderer->process(480, rig.outs);   // the old canopy rings
-    const float before = rig.left.back();
+    unchanged.drop();
+    rig.renderer->process(480, rig.outs);   // the old scene rings
+    unchanged.renderer->process(480, unchanged.outs);
 
-    auto* vinyl = new Canopy(rig.config.canopy, MembraneMaterial::vinyl(), 1.0 / rig.config.sample_rate);
+    RendererConfig vinyl_config = rig.config;
+    vinyl_config.material = MembraneMaterial::vinyl();
+    DropOnCanopy* vinyl = Renderer::make_scene(vinyl_config).release();
     Command swap;
-    swap.kind = CommandKind::swap_canopy;
+    swap.kind = CommandKind::swap_surface;
     swap.object = vinyl;
     swap.reply_to = 3;
     rig.renderer->schedule(swap);
@@ -54,18 +59,22 @@ TEST_CASE("a swapped canopy takes over without a click, and the old one comes ba
         rig.renderer->process(480, rig.outs);
     }
     CHECK(audit.violations() == 0);
-    // Continuity: the first sample after the swap continues the old canopy's ringing (it is still summed
-    // in), so the step between blocks is no larger than the ringing's own sample-to-sample change.
-    const float after = rig.left.front();
-    CHECK(std::fabs(after - before) < 0.05f * std::max(1e-6f, std::fabs(before)) + 1e-4f);
+    // No click: the old scene keeps ringing, summed in, and the new one starts at rest (silent until
+    // something strikes it), so the output across the swap is the same, sample for sample, as without it.
+    unchanged.renderer->process(480, unchanged.outs);
+    CHECK(rig.left == unchanged.left);
+    CHECK(rig.right == unchanged.right);
+    CHECK(std::any_of(rig.left.begin(), rig.left.end(), [](float v) { return v != 0.0f; }));
 
     RendererEvent e;
     REQUIRE(rig.renderer->poll_event(e));
     CHECK(e.kind == RendererEventKind::swapped);
+    CHECK(e.command == CommandKind::swap_surface);
     CHECK(e.reply_to == 3);
-    CHECK(&rig.renderer->canopy() == vinyl);
+    CHECK(&rig.renderer->scene() == vinyl);
+    CHECK(rig.renderer->scene().config().material.name == "vinyl");
 
-    // 0.5 s later the old canopy is handed back in a retired event (to be freed by the caller).
+    // 0.5 s later the old scene is handed back in a retired event (to be freed by the caller).
     void* retired = nullptr;
     for (int block = 0; block < 60 && !retired; ++block) {
         rig.renderer->process(480, rig.outs);
@@ -74,49 +83,80 @@ TEST_CASE("a swapped canopy takes over without a click, and the old one comes ba
     }
     REQUIRE(retired != nullptr);
     CHECK(retired != vinyl);
-    delete static_cast<Canopy*>(retired);
+    delete static_cast<DropOnCanopy*>(retired);
 }
 
-TEST_CASE("a canopy of another geometry is handed straight back, unused") {
+TEST_CASE("a scene of another geometry or channel count is handed straight back, unused") {
     Rig rig(64);
-    CanopyGeometry other;
-    other.panels = 6;
-    auto* wrong = new Canopy(other, MembraneMaterial::nylon_canopy(), 1.0 / rig.config.sample_rate);
+    RendererConfig six = rig.config;
+    six.canopy.panels = 6;
+    RendererConfig mono = rig.config;
+    mono.channels = 1;
+    for (RendererConfig* other : {&six, &mono}) {
+        DropOnCanopy* wrong = Renderer::make_scene(*other).release();
+        Command swap;
+        swap.kind = CommandKind::swap_surface;
+        swap.object = wrong;
+        rig.renderer->schedule(swap);
+        rig.renderer->process(64, rig.outs);
+        RendererEvent e;
+        REQUIRE(rig.renderer->poll_event(e));
+        CHECK(e.kind == RendererEventKind::retired);
+        CHECK(e.object == wrong);
+        CHECK(&rig.renderer->scene() != wrong);
+        delete wrong;
+    }
+}
+
+TEST_CASE("a liquid swap gives the drops from then on the new liquid") {
+    Rig rig(4800);
+    RendererConfig milk_config = rig.config;
+    milk_config.liquid = liquids::milk();
     Command swap;
-    swap.kind = CommandKind::swap_canopy;
-    swap.object = wrong;
+    swap.kind = CommandKind::swap_liquid;
+    swap.object = Renderer::make_scene(milk_config).release();
     rig.renderer->schedule(swap);
-    rig.renderer->process(64, rig.outs);
+    rig.drop();   // after the swap, in the same sample: the new scene takes it
+    rig.renderer->process(4800, rig.outs);
     RendererEvent e;
     REQUIRE(rig.renderer->poll_event(e));
-    CHECK(e.kind == RendererEventKind::retired);
-    CHECK(e.object == wrong);
-    CHECK(&rig.renderer->canopy() != wrong);
-    delete wrong;
+    CHECK(e.kind == RendererEventKind::swapped);
+    CHECK(e.command == CommandKind::swap_liquid);
+    const DropPool& pool = rig.renderer->scene().pool();
+    REQUIRE(pool.active().size() == 1);
+    CHECK(pool.liquid(pool.liquid_of(pool.active()[0])).name == "milk");
 }
 
-TEST_CASE("liquid density scales a drop's impulse") {
+TEST_CASE("a denser liquid's drop strikes harder") {
     auto peak_for = [](double density) {
         Rig rig(4800);
-        Command liquid;
-        liquid.kind = CommandKind::set_liquid_density;
-        liquid.values[0] = density;
-        rig.renderer->schedule(liquid);
+        Liquid heavy = liquids::water();
+        heavy.name = "dense";
+        heavy.density = density;
+        RendererConfig c = rig.config;
+        c.liquid = heavy;
+        Command swap;
+        swap.kind = CommandKind::swap_liquid;
+        swap.object = Renderer::make_scene(c).release();
+        rig.renderer->schedule(swap);
         rig.drop();
         rig.renderer->process(4800, rig.outs);
         float peak = 0;
         for (float s : rig.left) peak = std::max(peak, std::fabs(s));
         return peak;
     };
-    // The membrane is linear and the pulse shape depends on D and V only, so the output scales exactly
-    // with the drop's mass: 1400 / 998.
-    CHECK(peak_for(1400.0) / peak_for(998.0) == doctest::Approx(1400.0 / 998.0).epsilon(1e-6));
+    // The impact's momentum is m V with V the terminal speed for the density (drop.hpp: G&K times
+    // sqrt(rho / rho_water)), so it grows as rho^1.5: 1.71 times for 1400 against 998 kg/m^3. The
+    // breakup is not linear, so only the direction and a loose factor are asserted.
+    const double ratio = peak_for(1400.0) / peak_for(998.0);
+    CHECK(ratio > 1.2);
+    CHECK(ratio < 3.0);
 }
 
 TEST_CASE("a drop pushes the membrane down, against its upward normal") {
     Rig rig(96);
     rig.drop();   // 4 mm at terminal speed, at (0.25, 0)
-    rig.renderer->process(24, rig.outs);   // 0.5 ms: during the impact (about D / V = 0.45 ms)
+    rig.renderer->process(24, rig.outs);   // 0.5 ms: during the impact
     const CanopyHit hit = rig.renderer->canopy().locate(0.25, 0.0);
     REQUIRE(hit.panel >= 0);
     CHECK(rig.renderer->canopy().displacement(hit.panel, hit.node) < 0.0);
