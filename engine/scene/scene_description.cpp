@@ -1,0 +1,435 @@
+#include "engine/scene/scene_description.hpp"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include "engine/core/physical_constants.hpp"
+
+namespace ameoto {
+
+namespace {
+
+constexpr double degrees = constants::pi / 180.0;
+
+struct Range {
+    double min, max;
+};
+
+// Ranges the file and OSC accept (the same limits as protocol/address_table.cpp where they overlap).
+constexpr Range rate_range{0.0, 500.0};          // mm/h
+constexpr Range wind_range{0.0, 60.0};           // m/s: beyond a hurricane's 33 m/s
+constexpr Range gust_range{0.0, 1.0};
+constexpr Range mu_range{-2.0, 15.0};            // gamma shape: the observed range (Zhang et al. 2001)
+constexpr Range lambda_range{0.0, 50.0};         // 1/mm (0: from the rate)
+constexpr Range position_range{-1000.0, 1000.0}; // m
+constexpr Range size_range{0.05, 100.0};         // m
+constexpr Range budget_range{1.0, 95.0};         // % of the block period
+constexpr Range full_range{0.0, 256.0};
+constexpr Range panels_range{3.0, 16.0};
+
+// The shortest text that reads back as the same double (so a saved scene reloads exactly).
+std::string number(double v) {
+    char text[32];
+    const auto result = std::to_chars(text, text + sizeof text, v);
+    return std::string(text, result.ptr);
+}
+
+bool in(Range r, double v) { return std::isfinite(v) && v >= r.min && v <= r.max; }
+
+std::string range_text(Range r) { return number(r.min) + ".." + number(r.max); }
+
+std::string check_number(const char* what, double v, Range r, const char* unit) {
+    if (in(r, v)) return "";
+    return std::string(what) + " " + number(v) + (unit[0] ? std::string(" ") + unit : "") + " is outside " + range_text(r);
+}
+
+const std::vector<std::string>& dsd_names() {
+    static const std::vector<std::string> names{"marshall-palmer", "joss-drizzle", "joss-thunderstorm", "gamma"};
+    return names;
+}
+
+}  // namespace
+
+SceneFileError::SceneFileError(std::string file, int line, std::string field, const std::string& reason)
+    : std::runtime_error(file + (line > 0 ? ":" + std::to_string(line) : std::string()) +
+                         (field.empty() ? std::string() : ": " + field) + ": " + reason),
+      file_(std::move(file)),
+      line_(line),
+      field_(std::move(field)) {}
+
+const char* surface_kind_name(SurfaceKind kind) {
+    switch (kind) {
+        case SurfaceKind::umbrella: return "umbrella";
+        case SurfaceKind::water: return "water";
+        case SurfaceKind::plate: return "plate";
+        case SurfaceKind::ground: return "ground";
+    }
+    return "?";
+}
+
+std::optional<SurfaceKind> surface_kind(std::string_view name) {
+    for (SurfaceKind k : {SurfaceKind::umbrella, SurfaceKind::water, SurfaceKind::plate, SurfaceKind::ground})
+        if (name == surface_kind_name(k)) return k;
+    return std::nullopt;
+}
+
+std::vector<std::string> surface_materials(SurfaceKind kind) {
+    switch (kind) {
+        case SurfaceKind::umbrella: return {"nylon", "vinyl", "pvc", "seed-nylon"};
+        case SurfaceKind::water: return {"pond", "puddle"};
+        case SurfaceKind::plate: return {"tin", "glass", "car-roof"};
+        case SurfaceKind::ground: return {"leaves", "soil"};
+    }
+    return {};
+}
+
+bool is_scene_name(std::string_view name) {
+    if (name.empty() || name.size() > 32) return false;
+    return std::all_of(name.begin(), name.end(), [](char c) {
+        return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '-' || c == '_';
+    });
+}
+
+std::string validate_scene(const SceneDescription& s) {
+    if (s.version != scene_format_version) return "version " + std::to_string(s.version) + " is not 1";
+    if (!is_scene_name(s.name)) return "scene name '" + s.name + "' is not 1-32 of A-Z a-z 0-9 - _";
+    const RainDescription& r = s.rain;
+    for (const std::string& why : {check_number("rain rate", r.rate_mm_per_h, rate_range, "mm/h"),
+                                   check_number("wind", r.wind_m_per_s, wind_range, "m/s"),
+                                   check_number("gust", r.gustiness, gust_range, ""),
+                                   check_number("gamma mu", r.gamma_mu, mu_range, ""),
+                                   check_number("gamma lambda", r.gamma_lambda_per_mm, lambda_range, "1/mm"),
+                                   check_number("listener x", s.listener.x_m, position_range, "m"),
+                                   check_number("listener y", s.listener.y_m, position_range, "m"),
+                                   check_number("listener z", s.listener.z_m, position_range, "m"),
+                                   check_number("lod budget", s.lod.budget_percent, budget_range, "%"),
+                                   check_number("lod full", s.lod.max_full, full_range, "drops")})
+        if (!why.empty()) return why;
+    if (std::find(dsd_names().begin(), dsd_names().end(), r.dsd) == dsd_names().end())
+        return "dsd '" + r.dsd + "' is not one of marshall-palmer, joss-drizzle, joss-thunderstorm, gamma";
+    if (!std::isfinite(r.wind_direction_rad) || std::abs(r.wind_direction_rad) > 4.0 * constants::pi)
+        return "wind direction " + number(r.wind_direction_rad / degrees) + " deg is outside -720..720";
+    if (!std::isfinite(s.listener.facing_rad) || std::abs(s.listener.facing_rad) > 4.0 * constants::pi)
+        return "listener facing " + number(s.listener.facing_rad / degrees) + " deg is outside -720..720";
+    if (s.surfaces.size() > static_cast<std::size_t>(max_scene_surfaces))
+        return "more than " + std::to_string(max_scene_surfaces) + " surfaces";
+    std::set<std::string> names;
+    int umbrellas = 0;
+    for (const SurfaceDescription& f : s.surfaces) {
+        const std::string which = "surface '" + f.name + "': ";
+        if (!is_scene_name(f.name)) return "surface name '" + f.name + "' is not 1-32 of A-Z a-z 0-9 - _";
+        if (!names.insert(f.name).second) return which + "a second surface of that name";
+        const auto materials = surface_materials(f.kind);
+        if (f.kind != SurfaceKind::umbrella && std::find(materials.begin(), materials.end(), f.material) == materials.end()) {
+            std::string list;
+            for (const auto& m : materials) list += (list.empty() ? "" : ", ") + m;
+            return which + "material '" + f.material + "' is not one of " + list + " for a " + surface_kind_name(f.kind);
+        }
+        if (f.kind == SurfaceKind::umbrella && !is_scene_name(f.material))
+            return which + "material '" + f.material + "' is not a material name";
+        for (const std::string& why : {check_number("size x", f.size_x_m, size_range, "m"),
+                                       check_number("size y", f.size_y_m, size_range, "m"),
+                                       check_number("x", f.x_m, position_range, "m"),
+                                       check_number("y", f.y_m, position_range, "m"),
+                                       check_number("z", f.z_m, position_range, "m")})
+            if (!why.empty()) return which + why;
+        if (f.kind == SurfaceKind::umbrella) {
+            if (!in(panels_range, f.panels)) return which + "panels " + std::to_string(f.panels) + " is outside 3..16";
+            if (f.size_x_m > 3.0) return which + "an umbrella's diameter " + number(f.size_x_m) + " m is outside 0.05..3";
+            if (++umbrellas > 1) return which + "a scene has at most one umbrella";
+        }
+    }
+    return "";
+}
+
+// ---- built-in scenes --------------------------------------------------------------------------------
+
+std::vector<std::string> builtin_scene_names() { return {"umbrella", "pond", "tin-roof", "forest", "street"}; }
+
+std::optional<SceneDescription> builtin_scene(std::string_view name) {
+    SceneDescription s;
+    s.name = std::string(name);
+    auto surface = [](std::string n, SurfaceKind k, std::string m, double sx, double sy, double x, double y, double z) {
+        SurfaceDescription f;
+        f.name = std::move(n);
+        f.kind = k;
+        f.material = std::move(m);
+        f.size_x_m = sx;
+        f.size_y_m = sy;
+        f.x_m = x;
+        f.y_m = y;
+        f.z_m = z;
+        return f;
+    };
+    // The listener stands at the origin, ears at 1.6 m; the umbrella is held over the head (its shaft
+    // top 0.3 m above the ears, as the renderer's canopy listener).
+    const SurfaceDescription umbrella = surface("umbrella", SurfaceKind::umbrella, "nylon", 1.0, 1.0, 0.0, 0.0, 1.9);
+    if (name == "umbrella") {
+        s.rain.rate_mm_per_h = 2.0;
+        s.surfaces = {umbrella};
+    } else if (name == "pond") {
+        // Light rain by a pond: where the 13-25 kHz bubble peak of light rain is heard best.
+        s.rain.rate_mm_per_h = 1.5;
+        s.rain.dsd = "joss-drizzle";
+        s.surfaces = {surface("pond", SurfaceKind::water, "pond", 4.0, 3.0, 3.0, 0.0, 0.0),
+                      surface("bank", SurfaceKind::ground, "soil", 4.0, 2.0, 0.0, 0.0, 0.0)};
+    } else if (name == "tin-roof") {
+        // Inside a shed: the roof 1 m above the head, heavy rain.
+        s.rain.rate_mm_per_h = 20.0;
+        s.surfaces = {surface("roof-left", SurfaceKind::plate, "tin", 1.0, 0.6, 0.0, 0.4, 2.6),
+                      surface("roof-right", SurfaceKind::plate, "tin", 1.0, 0.6, 0.0, -0.4, 2.6)};
+    } else if (name == "forest") {
+        s.rain.rate_mm_per_h = 8.0;
+        s.rain.wind_m_per_s = 3.0;
+        s.rain.gustiness = 0.3;
+        s.surfaces = {surface("canopy-near", SurfaceKind::ground, "leaves", 4.0, 4.0, 2.0, 1.0, 4.0),
+                      surface("canopy-far", SurfaceKind::ground, "leaves", 8.0, 8.0, -6.0, -4.0, 6.0),
+                      surface("floor", SurfaceKind::ground, "soil", 6.0, 6.0, 0.0, 0.0, 0.0),
+                      surface("puddle", SurfaceKind::water, "puddle", 0.8, 0.6, 1.5, -1.0, 0.0)};
+    } else if (name == "street") {
+        s.rain.rate_mm_per_h = 10.0;
+        s.rain.wind_m_per_s = 2.0;
+        s.rain.gustiness = 0.2;
+        s.surfaces = {umbrella,
+                      surface("car", SurfaceKind::plate, "car-roof", 1.2, 1.0, 2.5, -1.5, 1.4),
+                      surface("window", SurfaceKind::plate, "glass", 0.8, 0.6, -2.0, 2.0, 1.0),
+                      surface("puddle", SurfaceKind::water, "puddle", 1.0, 0.8, 1.0, 1.0, 0.0)};
+    } else {
+        return std::nullopt;
+    }
+    return s;
+}
+
+// ---- the file ----------------------------------------------------------------------------------------
+
+namespace {
+
+struct Line {
+    int number = 0;
+    std::string word;                              // first word
+    std::string argument;                          // `name X`, `surface NAME`: the second word
+    std::vector<std::pair<std::string, std::string>> pairs;
+};
+
+class Reader {
+public:
+    Reader(const std::string& file, const Line& line) : file_(file), line_(line) {
+        for (const auto& [k, v] : line.pairs) {
+            if (values_.count(k)) fail(k, "given twice");
+            values_[k] = v;
+        }
+    }
+    [[noreturn]] void fail(const std::string& field, const std::string& reason) const {
+        throw SceneFileError(file_, line_.number, field, reason);
+    }
+    bool has(const std::string& key) const { return values_.count(key) != 0; }
+    std::string text(const std::string& key, const std::string& fallback, bool required = false) {
+        const auto it = values_.find(key);
+        if (it == values_.end()) {
+            if (required) fail(key, "missing (" + line_.word + " needs it)");
+            return fallback;
+        }
+        used_.insert(key);
+        return it->second;
+    }
+    double number(const std::string& key, double fallback, Range range, const char* unit, bool required = false) {
+        const auto it = values_.find(key);
+        if (it == values_.end()) {
+            if (required) fail(key, "missing (" + line_.word + " needs it)");
+            return fallback;
+        }
+        used_.insert(key);
+        return parse(key, it->second, range, unit);
+    }
+    double parse(const std::string& key, const std::string& value, Range range, const char* unit) const {
+        double v = 0.0;
+        std::size_t used = 0;
+        try {
+            v = std::stod(value, &used);
+        } catch (const std::exception&) {
+            fail(key, "'" + value + "' is not a number");
+        }
+        if (used != value.size()) fail(key, "'" + value + "' is not a number");
+        if (!in(range, v)) fail(key, ameoto::number(v) + (unit[0] ? std::string(" ") + unit : "") + " is outside " + range_text(range));
+        return v;
+    }
+    void finish() const {
+        for (const auto& [k, v] : line_.pairs)
+            if (!used_.count(k)) fail(k, "unknown key for '" + line_.word + "'");
+    }
+
+private:
+    const std::string& file_;
+    const Line& line_;
+    std::map<std::string, std::string> values_;
+    std::set<std::string> used_;
+};
+
+std::vector<std::string> words_of(const std::string& line) {
+    std::vector<std::string> words;
+    std::istringstream in(line);
+    for (std::string w; in >> w;) words.push_back(w);
+    return words;
+}
+
+}  // namespace
+
+SceneDescription parse_scene(std::string_view text, const std::string& file) {
+    if (text.size() > max_scene_file_bytes)
+        throw SceneFileError(file, 0, "", "file of " + std::to_string(text.size()) + " bytes is larger than 64 KiB");
+    SceneDescription s;
+    s.name = "";
+    bool have_header = false, have_name = false;
+    std::set<std::string> seen;   // rain, listener, lod: once each
+    int number = 0;
+    std::size_t start = 0;
+    while (start <= text.size()) {
+        const std::size_t end = std::min(text.find('\n', start), text.size());
+        std::string raw(text.substr(start, end - start));
+        start = end + 1;
+        ++number;
+        if (!raw.empty() && raw.back() == '\r') raw.pop_back();
+        if (raw.size() > max_scene_line)
+            throw SceneFileError(file, number, "", "line longer than " + std::to_string(max_scene_line) + " characters");
+        if (raw.find('\0') != std::string::npos) throw SceneFileError(file, number, "", "a NUL byte: not a text file");
+        const auto words = words_of(raw);
+        if (words.empty() || words[0][0] == '#') {
+            if (end == text.size()) break;
+            continue;
+        }
+        if (!have_header) {
+            if (words[0] != "ameoto-scene")
+                throw SceneFileError(file, number, "", "not an ameoto scene file (it must start with 'ameoto-scene 1')");
+            if (words.size() != 2) throw SceneFileError(file, number, "version", "'ameoto-scene' takes one version number");
+            int version = 0;
+            try {
+                std::size_t used = 0;
+                version = std::stoi(words[1], &used);
+                if (used != words[1].size()) throw std::invalid_argument("trailing");
+            } catch (const std::exception&) {
+                throw SceneFileError(file, number, "version", "'" + words[1] + "' is not a version number");
+            }
+            if (version > scene_format_version)
+                throw SceneFileError(file, number, "version",
+                                     "version " + std::to_string(version) + " needs a newer ameoto (this one reads version 1)");
+            if (version < 1) throw SceneFileError(file, number, "version", "version " + std::to_string(version) + " does not exist");
+            have_header = true;
+            if (end == text.size()) break;
+            continue;
+        }
+        Line line;
+        line.number = number;
+        line.word = words[0];
+        static const std::set<std::string> known{"name", "rain", "listener", "lod", "surface"};
+        if (!known.count(line.word))
+            throw SceneFileError(file, number, line.word, "unknown line (expected name, rain, listener, lod or surface)");
+        std::size_t first_pair = 1;
+        if (line.word == "name" || line.word == "surface") {
+            if (words.size() < 2 || words[1].find('=') != std::string::npos)
+                throw SceneFileError(file, number, line.word, "'" + line.word + "' needs a name first");
+            line.argument = words[1];
+            first_pair = 2;
+        }
+        for (std::size_t i = first_pair; i < words.size(); ++i) {
+            const std::size_t eq = words[i].find('=');
+            if (eq == std::string::npos || eq == 0 || eq + 1 == words[i].size())
+                throw SceneFileError(file, number, words[i], "expected key=value");
+            line.pairs.emplace_back(words[i].substr(0, eq), words[i].substr(eq + 1));
+        }
+        Reader r(file, line);
+        if (line.word == "name") {
+            if (have_name) r.fail("name", "given twice");
+            if (!line.pairs.empty() || words.size() > 2) r.fail("name", "takes one word");
+            if (!is_scene_name(line.argument)) r.fail("name", "'" + line.argument + "' is not 1-32 of A-Z a-z 0-9 - _");
+            s.name = line.argument;
+            have_name = true;
+        } else if (line.word == "rain" || line.word == "listener" || line.word == "lod") {
+            if (!seen.insert(line.word).second) r.fail(line.word, "given twice");
+            if (line.word == "rain") {
+                RainDescription& rain = s.rain;
+                rain.rate_mm_per_h = r.number("rate", rain.rate_mm_per_h, rate_range, "mm/h");
+                rain.dsd = r.text("dsd", rain.dsd);
+                if (std::find(dsd_names().begin(), dsd_names().end(), rain.dsd) == dsd_names().end())
+                    r.fail("dsd", "'" + rain.dsd + "' is not one of marshall-palmer, joss-drizzle, joss-thunderstorm, gamma");
+                rain.gamma_mu = r.number("mu", rain.gamma_mu, mu_range, "");
+                rain.gamma_lambda_per_mm = r.number("lambda", rain.gamma_lambda_per_mm, lambda_range, "1/mm");
+                rain.wind_m_per_s = r.number("wind", rain.wind_m_per_s, wind_range, "m/s");
+                rain.wind_direction_rad = r.number("direction", rain.wind_direction_rad / degrees, {-720, 720}, "deg") * degrees;
+                rain.gustiness = r.number("gust", rain.gustiness, gust_range, "");
+            } else if (line.word == "listener") {
+                ListenerDescription& l = s.listener;
+                l.x_m = r.number("x", l.x_m, position_range, "m");
+                l.y_m = r.number("y", l.y_m, position_range, "m");
+                l.z_m = r.number("z", l.z_m, position_range, "m");
+                l.facing_rad = r.number("facing", l.facing_rad / degrees, {-720, 720}, "deg") * degrees;
+            } else {
+                s.lod.budget_percent = r.number("budget", s.lod.budget_percent, budget_range, "%");
+                const double full = r.number("full", s.lod.max_full, full_range, "drops");
+                if (full != std::floor(full)) r.fail("full", "is not a whole number of drops");
+                s.lod.max_full = static_cast<int>(full);
+            }
+        } else {   // surface
+            if (s.surfaces.size() == static_cast<std::size_t>(max_scene_surfaces))
+                r.fail("surface", "more than " + std::to_string(max_scene_surfaces) + " surfaces");
+            SurfaceDescription f;
+            f.name = line.argument;
+            if (!is_scene_name(f.name)) r.fail("surface", "name '" + f.name + "' is not 1-32 of A-Z a-z 0-9 - _");
+            const std::string kind = r.text("kind", "", true);
+            const auto k = surface_kind(kind);
+            if (!k) r.fail("kind", "'" + kind + "' is not one of umbrella, water, plate, ground");
+            f.kind = *k;
+            f.material = r.text("material", "", true);
+            const std::string size = r.text("size", "", true);
+            const std::size_t by = size.find('x');
+            f.size_x_m = r.parse("size", size.substr(0, by), size_range, "m");
+            f.size_y_m = by == std::string::npos ? f.size_x_m : r.parse("size", size.substr(by + 1), size_range, "m");
+            f.x_m = r.number("x", 0.0, position_range, "m");
+            f.y_m = r.number("y", 0.0, position_range, "m");
+            f.z_m = r.number("z", 0.0, position_range, "m");
+            if (f.kind == SurfaceKind::umbrella) {
+                const double panels = r.number("panels", 8, panels_range, "");
+                if (panels != std::floor(panels)) r.fail("panels", "is not a whole number");
+                f.panels = static_cast<int>(panels);
+            }
+            for (const auto& other : s.surfaces)
+                if (other.name == f.name) r.fail("surface", "a second surface named '" + f.name + "'");
+            s.surfaces.push_back(f);
+        }
+        r.finish();
+        if (end == text.size()) break;
+    }
+    if (!have_header) throw SceneFileError(file, 0, "", "empty: no 'ameoto-scene 1' line");
+    if (!have_name) s.name = "untitled";
+    if (const std::string why = validate_scene(s); !why.empty()) throw SceneFileError(file, 0, "", why);
+    return s;
+}
+
+std::string format_scene(const SceneDescription& s) {
+    std::ostringstream out;
+    out << "ameoto-scene " << scene_format_version << "\n";
+    out << "# written by ameoto; units: rate mm/h, wind m/s, direction and facing degrees, sizes and positions m,\n";
+    out << "# budget % of the block period (docs/scenes.md)\n";
+    out << "name " << s.name << "\n";
+    const RainDescription& r = s.rain;
+    out << "rain rate=" << number(r.rate_mm_per_h) << " dsd=" << r.dsd << " mu=" << number(r.gamma_mu)
+        << " lambda=" << number(r.gamma_lambda_per_mm) << " wind=" << number(r.wind_m_per_s)
+        << " direction=" << number(r.wind_direction_rad / degrees) << " gust=" << number(r.gustiness) << "\n";
+    out << "listener x=" << number(s.listener.x_m) << " y=" << number(s.listener.y_m) << " z=" << number(s.listener.z_m)
+        << " facing=" << number(s.listener.facing_rad / degrees) << "\n";
+    out << "lod budget=" << number(s.lod.budget_percent) << " full=" << s.lod.max_full << "\n";
+    for (const SurfaceDescription& f : s.surfaces) {
+        out << "surface " << f.name << " kind=" << surface_kind_name(f.kind) << " material=" << f.material
+            << " size=" << number(f.size_x_m) << "x" << number(f.size_y_m) << " x=" << number(f.x_m)
+            << " y=" << number(f.y_m) << " z=" << number(f.z_m);
+        if (f.kind == SurfaceKind::umbrella) out << " panels=" << f.panels;
+        out << "\n";
+    }
+    return out.str();
+}
+
+}  // namespace ameoto
