@@ -190,18 +190,21 @@ void Daemon::State::rebuild_scene(const UdpEndpoint::Endpoint& sender, const std
                                   std::optional<MembraneMaterial> material, std::optional<Liquid> liquid) {
     const std::uint16_t reply_to = clients.index_of(sender);
     const CommandKind kind = material ? CommandKind::swap_surface : CommandKind::swap_liquid;
-    worker->submit<std::unique_ptr<DropOnCanopy>>(
+    worker->submit<std::unique_ptr<UmbrellaScene>>(
         [config = bridge->config(), settings = worker_settings, material, liquid] {
             RendererConfig c = config;
             c.material = material ? *material : settings->material;
             c.liquid = liquid ? *liquid : settings->liquid;
+            if (material) {   // refused before anything costly is built (a stiff canopy's templates take long)
+                const Canopy probe(c.canopy, *material, 1.0 / c.sample_rate);
+                check_live_cost(probe, *material, c.sample_rate);
+            }
             auto scene = Renderer::make_scene(c);
-            if (material) check_live_cost(scene->canopy(), *material, c.sample_rate);
             settings->material = c.material;   // only once the scene is built: a refusal changes nothing
             settings->liquid = c.liquid;
             return scene;
         },
-        [this, reply_to, address, kind](std::unique_ptr<DropOnCanopy> scene) {
+        [this, reply_to, address, kind](std::unique_ptr<UmbrellaScene> scene) {
             Command c;
             c.kind = kind;
             c.object = scene.get();
@@ -290,7 +293,7 @@ void Daemon::State::poll() {
     while (bridge->poll_event(e)) {
         const auto& to = clients.at(e.reply_to);
         if (e.kind == RendererEventKind::retired) {
-            delete static_cast<DropOnCanopy*>(e.object);   // freed here, never on the audio thread
+            delete static_cast<UmbrellaScene*>(e.object);   // freed here, never on the audio thread
         } else if (e.kind == RendererEventKind::swapped) {
             reply(to, "/done", {protocol::OscArgument::from_string(e.command == CommandKind::swap_surface ? "/material/surface"
                                                                                                           : "/material/liquid")});

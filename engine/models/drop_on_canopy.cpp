@@ -162,6 +162,7 @@ int DropOnCanopy::guard() {
 // masses that remain are collided exactly as collide_drops would, in the same order.
 void DropOnCanopy::collide() {
     collider_.begin_step();
+    contact_force_ = Vec3{};
     const double r2_max = canopy_.geometry().radius_m * canopy_.geometry().radius_m;
     for (const int d : pool_.active()) {
         const int n = pool_.mass_count(d);
@@ -169,7 +170,10 @@ void DropOnCanopy::collide() {
             const Vec3 p = pool_.position(d, m);
             if (p.x * p.x + p.y * p.y > r2_max || p.z > top_ + reach_ || p.z < bottom_ - reach_) continue;
             Vec3 force;
-            if (collider_.collide_one(canopy_, p, pool_.velocity(d, m), pool_.mass(d, m), force)) pool_.apply_force(d, m, force);
+            if (collider_.collide_one(canopy_, p, pool_.velocity(d, m), pool_.mass(d, m), force)) {
+                pool_.apply_force(d, m, force);
+                contact_force_ = contact_force_ + force;
+            }
         }
     }
 }

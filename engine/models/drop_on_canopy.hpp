@@ -123,6 +123,9 @@ public:
     bool full() const { return static_cast<int>(pool_.active().size()) >= pool_.capacity(); }
     int latency_samples() const { return latency_samples_; }
     int guard();                                   // the canopy's guard now: panels reset (counted in stats)
+    // N: the sum of the collision forces the last sample put on drop masses (the membrane took the
+    // opposite); what impact_templates.hpp records.
+    Vec3 contact_force() const { return contact_force_; }
     double acoustic_delay_samples(double x_m, double y_m) const;
     DropOnCanopyStats stats() const;
     std::vector<SceneMass> snapshot() const;
@@ -152,6 +155,7 @@ private:
     std::uint64_t frames_ = 0;
     int latency_samples_ = 0;
     std::vector<Vec3> listener_points_;
+    Vec3 contact_force_{};
 };
 
 }  // namespace ameoto

@@ -28,7 +28,7 @@ const RendererConfig& checked(const RendererConfig& config) {
 
 }  // namespace
 
-std::unique_ptr<DropOnCanopy> Renderer::make_scene(const RendererConfig& config) {
+std::unique_ptr<UmbrellaScene> Renderer::make_scene(const RendererConfig& config) {
     DropOnCanopyConfig c;
     c.sample_rate = config.sample_rate;
     c.material = config.material;
@@ -47,7 +47,7 @@ std::unique_ptr<DropOnCanopy> Renderer::make_scene(const RendererConfig& config)
     // off the curved cap within a second or two; a drop still there after 4 s has long stopped sounding.
     c.max_lifetime_s = 4.0;
     c.guard_interval = 0;         // the renderer runs the guard after every block
-    return std::make_unique<DropOnCanopy>(c);
+    return std::make_unique<UmbrellaScene>(c);
 }
 
 Renderer::Renderer(const RendererConfig& config)
@@ -55,7 +55,7 @@ Renderer::Renderer(const RendererConfig& config)
       dt_(1.0 / config.sample_rate),
       rng_(config.seed),
       scene_(make_scene(config_).release()),
-      rain_(rain_config_for(scene_->canopy())) {
+      rain_(rain_config_for(scene_->drops.canopy())) {
     rain_.set_rate_now(config.rain_rate_mm_per_h);
 }
 
@@ -64,7 +64,7 @@ Renderer::~Renderer() {
     // waiting in the pending list.
     for (int i = 0; i < pending_count_; ++i) {
         const Command& c = pending_[static_cast<std::size_t>(i)];
-        if (c.kind == CommandKind::swap_surface || c.kind == CommandKind::swap_liquid) delete static_cast<DropOnCanopy*>(c.object);
+        if (c.kind == CommandKind::swap_surface || c.kind == CommandKind::swap_liquid) delete static_cast<UmbrellaScene*>(c.object);
     }
     delete fading_;
     delete scene_;
@@ -86,11 +86,12 @@ bool Renderer::poll_event(RendererEvent& event) {
 }
 
 void Renderer::swap_scene(const Command& c) {
-    auto* incoming = static_cast<DropOnCanopy*>(c.object);
-    if (!incoming || incoming->canopy().panel_count() != scene_->canopy().panel_count() ||
-        incoming->channels() != scene_->channels()) {
-        // Only a scene of the same shape can take over (the pending impulses address its panels and
-        // the outputs its channels); a mismatch goes straight back to be freed.
+    auto* incoming = static_cast<UmbrellaScene*>(c.object);
+    if (!incoming || incoming->drops.canopy().panel_count() != scene_->drops.canopy().panel_count() ||
+        incoming->drops.channels() != scene_->drops.channels() ||
+        incoming->templates.diameters_m != scene_->templates.diameters_m) {
+        // Only a scene of the same shape can take over (the sounding templates address its panels and
+        // its table's sizes, the outputs its channels); a mismatch goes straight back to be freed.
         push_event({RendererEventKind::retired, c.kind, c.reply_to, c.id, incoming});
         return;
     }
@@ -123,26 +124,25 @@ void Renderer::schedule(const Command& command) {
 }
 
 void Renderer::start_impact(double diameter_m, double speed_m_per_s, double x, double y) {
-    const CanopyHit hit = scene_->canopy().locate(x, y);
+    const CanopyHit hit = scene_->drops.canopy().locate(x, y);
     if (hit.panel < 0) return;
-    const double density = scene_->config().liquid.density;
-    const double mass = density * constants::pi / 6.0 * diameter_m * diameter_m * diameter_m;
-    const double speed = speed_m_per_s > 0.0 ? speed_m_per_s : arrival_speed(diameter_m, density);
     ++stats_.drops;
-    if (!impacts_.add(hit, mass * speed, diameter_m / speed, dt_)) ++stats_.impacts_dropped;
+    if (!impacts_.add(hit, scene_->templates, diameter_m, speed_m_per_s, scene_->drops.config().liquid.density))
+        ++stats_.impacts_dropped;
 }
 
 void Renderer::start_drop(const Command& c) {
     const double diameter = c.values[0], speed = c.values[1], x = c.values[2], y = c.values[3];
-    if (!scene_->full()) {
-        if (scene_->drop(diameter, speed, x, y)) {
+    DropOnCanopy& drops = scene_->drops;
+    if (!drops.full()) {
+        if (drops.drop(diameter, speed, x, y)) {
             ++stats_.drops;
             ++stats_.full_drops;
         }
         return;   // false: off the canopy or not a drop (the protocol has already refused those)
     }
-    // The pool is full: the drop is still heard, as an impulse.
-    if (scene_->canopy().locate(x, y).panel < 0) return;
+    // The pool is full: the drop is still heard, as a template.
+    if (drops.canopy().locate(x, y).panel < 0) return;
     ++stats_.drop_fallbacks;
     start_impact(diameter, speed, x, y);
 }
@@ -161,18 +161,18 @@ void Renderer::render_sample(float* const* outputs, int offset) {
     const int arrivals = rain_.advance(dt_, rng_);
     for (int a = 0; a < arrivals; ++a) {
         const double d = rain_.sample_diameter_m(rng_);
-        const Point2 p = scene_->canopy().sample_point(rng_);
+        const Point2 p = scene_->drops.canopy().sample_point(rng_);
         start_impact(d, 0.0, p.x, p.y);
     }
-    // A falling drop pushes the membrane down, against its upward normal (as the collider does).
-    Canopy& surface = scene_->surface();
-    impacts_.emit(dt_, [&surface](CanopyHit hit, double force) { surface.apply_force(hit, -force); });
+    // The recorded force is along the membrane's normal as the collider gave it (a drop pushes down).
+    Canopy& surface = scene_->drops.surface();
+    impacts_.emit(scene_->templates, [&surface](CanopyHit hit, double force) { surface.apply_force(hit, force); });
     float frame[max_channels];
-    scene_->process_frame(frame);
+    scene_->drops.process_frame(frame);
     const int channels = config_.channels;
     if (fading_) {
         float old[max_channels];
-        fading_->process_frame(old);
+        fading_->drops.process_frame(old);
         for (int ch = 0; ch < channels; ++ch) frame[ch] += old[ch];
         if (--fade_left_ <= 0 && push_event_checked({RendererEventKind::retired, CommandKind::swap_surface, 0, 0, fading_}))
             fading_ = nullptr;   // if the event list is full it rings on and is handed back next sample
@@ -196,10 +196,10 @@ void Renderer::process(int frames, float* const* outputs) {
     frame_ += static_cast<std::uint64_t>(frames);
     // Runtime guard (core/stability.hpp): a panel whose state went non-finite or whose energy ran away is
     // reset and counted, never left to explode.
-    stats_.body_resets += static_cast<std::uint64_t>(scene_->guard());
-    if (fading_) stats_.body_resets += static_cast<std::uint64_t>(fading_->guard());
+    stats_.body_resets += static_cast<std::uint64_t>(scene_->drops.guard());
+    if (fading_) stats_.body_resets += static_cast<std::uint64_t>(fading_->drops.guard());
     stats_.active_impacts = impacts_.active();
-    stats_.active_full_drops = static_cast<int>(scene_->pool().active().size());
+    stats_.active_full_drops = static_cast<int>(scene_->drops.pool().active().size());
     stats_.rain_rate_mm_per_h = rain_.rate();
 }
 

@@ -8,7 +8,8 @@
 //   r.poll_event(event)                       // audio thread: events produced (synced, busy, swapped, retired)
 //   r.stats()                                 // counters for /status
 //   r.frame()                                 // sample clock: frames rendered so far
-//   Renderer::make_scene(config)              // off the audio thread: a scene for swap_surface/swap_liquid
+//   Renderer::make_scene(config)              // off the audio thread: an UmbrellaScene for swap_surface/
+//                                             // swap_liquid (umbrella_scene.hpp)
 //
 // Real-time contract (Mutable Instruments style: the constructor allocates, process never does):
 // schedule, process and poll_event never allocate, free, lock, block or log. Commands carry a sample
@@ -23,9 +24,10 @@
 //   - /drop (CommandKind::drop): a lattice drop that falls onto the membrane, collides with its masses,
 //     may break up and strike again (full model). It is placed touching the cap at its sample, so it
 //     strikes within a sample or two. When the pool is full (capacity `full_drops`) the drop falls back
-//     to the impulse model below, counted in stats().drop_fallbacks: a drop is never lost.
-//   - rain (/rain/rate): Marshall-Palmer sizes, Poisson arrivals, each drop an impulse m V pushed into
-//     the nearest membrane node over D / V (models/impact_force.hpp), the cheap tier.
+//     to the template below, counted in stats().drop_fallbacks: a drop is never lost.
+//   - rain (/rain/rate): Marshall-Palmer sizes, Poisson arrivals, each drop the contact force a lattice
+//     drop of its size put on the membrane, recorded from the full model when the scene was built and
+//     replayed into the nearest node (models/impact_templates.hpp: the template level of detail).
 // Either way the sound is the membrane's, radiated to the listener (Rayleigh far field), so the first
 // sound of an impact reaches the output latency_samples() later (the nearest node's distance over c:
 // 42 samples at 48 kHz for the default listener 0.3 m under the shaft).
@@ -46,9 +48,10 @@
 
 #include "engine/core/random.hpp"
 #include "engine/models/drop_on_canopy.hpp"
-#include "engine/models/impact_force.hpp"
+#include "engine/models/impact_templates.hpp"
 #include "engine/models/panning.hpp"
 #include "engine/render/command.hpp"
+#include "engine/render/umbrella_scene.hpp"
 #include "engine/scene/rain_spawner.hpp"
 
 namespace ameoto {
@@ -70,12 +73,12 @@ struct RendererConfig {
 struct RendererStats {
     std::uint64_t drops = 0;              // impacts started (rain and /drop)
     std::uint64_t full_drops = 0;         // /drop drops given to the full (lattice) model
-    std::uint64_t drop_fallbacks = 0;     // /drop drops played as impulses because the pool was full
-    std::uint64_t impacts_dropped = 0;    // impulses lost because the pulse pool was full
+    std::uint64_t drop_fallbacks = 0;     // /drop drops played as templates because the pool was full
+    std::uint64_t impacts_dropped = 0;    // template impacts lost because their pool was full
     std::uint64_t late_commands = 0;      // timed commands that arrived after their sample
     std::uint64_t busy_commands = 0;      // commands refused because the pending list was full
     std::uint64_t body_resets = 0;        // panels reset by the runtime guard (non-finite or runaway)
-    int active_impacts = 0;               // impulses sounding now
+    int active_impacts = 0;               // template impacts sounding now
     int active_full_drops = 0;            // lattice drops in the scene now
     double rain_rate_mm_per_h = 0.0;      // current (ramping) rate
 };
@@ -93,7 +96,7 @@ public:
 
     // Off the audio thread: the scene a renderer with this config plays (its material and liquid).
     // Throws std::invalid_argument or StabilityError with the reason.
-    static std::unique_ptr<DropOnCanopy> make_scene(const RendererConfig& config);
+    static std::unique_ptr<UmbrellaScene> make_scene(const RendererConfig& config);
 
     void schedule(const Command& command);
     void process(int frames, float* const* outputs);
@@ -103,9 +106,10 @@ public:
     const RendererStats& stats() const { return stats_; }
     const RendererConfig& config() const { return config_; }
     // Audio thread (or before audio starts) only:
-    const DropOnCanopy& scene() const { return *scene_; }
-    const Canopy& canopy() const { return scene_->canopy(); }
-    int latency_samples() const { return scene_->latency_samples(); }
+    const UmbrellaScene& umbrella() const { return *scene_; }
+    const DropOnCanopy& scene() const { return scene_->drops; }
+    const Canopy& canopy() const { return scene_->drops.canopy(); }
+    int latency_samples() const { return scene_->drops.latency_samples(); }
 
 private:
     void apply(const Command& command);
@@ -121,11 +125,11 @@ private:
     Random rng_;
     // The scene in use, and the one it replaced, ringing out for fade_left_ samples after a change so
     // the change makes no click; both owned (raw pointers: ownership crosses threads by value).
-    DropOnCanopy* scene_ = nullptr;
-    DropOnCanopy* fading_ = nullptr;
+    UmbrellaScene* scene_ = nullptr;
+    UmbrellaScene* fading_ = nullptr;
     int fade_left_ = 0;
     RainSpawner rain_;
-    ImpactPool impacts_;
+    TemplatePool impacts_;
     std::uint64_t frame_ = 0;
     RendererStats stats_;
 

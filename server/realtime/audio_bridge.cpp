@@ -31,10 +31,10 @@ AudioBridge::~AudioBridge() {
     Command command;
     while (commands_.try_pop(command))
         if (command.kind == CommandKind::swap_surface || command.kind == CommandKind::swap_liquid)
-            delete static_cast<DropOnCanopy*>(command.object);
+            delete static_cast<UmbrellaScene*>(command.object);
     RendererEvent event;
     while (events_.try_pop(event))
-        if (event.kind == RendererEventKind::retired) delete static_cast<DropOnCanopy*>(event.object);
+        if (event.kind == RendererEventKind::retired) delete static_cast<UmbrellaScene*>(event.object);
 }
 
 AudioSnapshot AudioBridge::snapshot() const {

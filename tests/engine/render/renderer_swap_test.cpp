@@ -46,7 +46,7 @@ TEST_CASE("a swapped scene takes over without a click, and the old one comes bac
 
     RendererConfig vinyl_config = rig.config;
     vinyl_config.material = MembraneMaterial::vinyl();
-    DropOnCanopy* vinyl = Renderer::make_scene(vinyl_config).release();
+    UmbrellaScene* vinyl = Renderer::make_scene(vinyl_config).release();
     Command swap;
     swap.kind = CommandKind::swap_surface;
     swap.object = vinyl;
@@ -71,7 +71,7 @@ TEST_CASE("a swapped scene takes over without a click, and the old one comes bac
     CHECK(e.kind == RendererEventKind::swapped);
     CHECK(e.command == CommandKind::swap_surface);
     CHECK(e.reply_to == 3);
-    CHECK(&rig.renderer->scene() == vinyl);
+    CHECK(&rig.renderer->umbrella() == vinyl);
     CHECK(rig.renderer->scene().config().material.name == "vinyl");
 
     // 0.5 s later the old scene is handed back in a retired event (to be freed by the caller).
@@ -83,7 +83,7 @@ TEST_CASE("a swapped scene takes over without a click, and the old one comes bac
     }
     REQUIRE(retired != nullptr);
     CHECK(retired != vinyl);
-    delete static_cast<DropOnCanopy*>(retired);
+    delete static_cast<UmbrellaScene*>(retired);
 }
 
 TEST_CASE("a scene of another geometry or channel count is handed straight back, unused") {
@@ -93,7 +93,7 @@ TEST_CASE("a scene of another geometry or channel count is handed straight back,
     RendererConfig mono = rig.config;
     mono.channels = 1;
     for (RendererConfig* other : {&six, &mono}) {
-        DropOnCanopy* wrong = Renderer::make_scene(*other).release();
+        UmbrellaScene* wrong = Renderer::make_scene(*other).release();
         Command swap;
         swap.kind = CommandKind::swap_surface;
         swap.object = wrong;
@@ -103,7 +103,7 @@ TEST_CASE("a scene of another geometry or channel count is handed straight back,
         REQUIRE(rig.renderer->poll_event(e));
         CHECK(e.kind == RendererEventKind::retired);
         CHECK(e.object == wrong);
-        CHECK(&rig.renderer->scene() != wrong);
+        CHECK(&rig.renderer->umbrella() != wrong);
         delete wrong;
     }
 }

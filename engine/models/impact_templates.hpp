@@ -1,0 +1,101 @@
+#pragma once
+// The template level of detail: the force a drop puts on the membrane, recorded once from the full model
+// (a lattice drop on the canopy, drop_on_canopy.hpp) for a grid of diameters, then replayed into the
+// nearest membrane node for every drop of the rain: the full model's impact at a fraction of its cost.
+//
+// Interface:
+//   ImpactTemplateTable t = record_impact_templates(scene_config);   // off the audio thread (~0.2 s):
+//                                                                    // one full-model run per grid size
+//   t.diameters_m[k], t.speeds_m_per_s[k], t.force(k, n)             // the recording, N along the normal
+//   ---- audio thread: no allocation ----
+//   TemplatePool pool;                                               // fixed capacity
+//   bool ok = pool.add(hit, t, D, V, density);                       // false: full (count it) or no table
+//   pool.emit(t, [&](CanopyHit hit, double newtons) { canopy.apply_force(hit, newtons); });   // each sample
+//   pool.active()
+//
+// Recording: for each grid diameter d_k (log-spaced, 0.5 to 6 mm: the rain's range, physics.md s.2),
+// a fresh scene of the caller's material, liquid, geometry and sample rate receives one drop at its
+// arrival speed V_k, half way out along panel 0's centre line, and the contact force the membrane
+// takes (DropOnCanopy::contact_force, along the surface normal there) is recorded for `seconds`
+// (20 ms: the first impact and its splash; pieces thrown up fall back much later, and the template
+// leaves those later strikes out).
+// Replay: a drop (D, V, rho) plays the nearest grid size's recording scaled by the impact law
+// F ~ rho V^2 D^2 over a duration ~ D / V (Soto et al. 2014; Gordillo et al. 2018: the peak force
+// 0.8 rho V^2 D^2 and the time D / V, both from the same inertial scaling): amplitude
+// (rho / rho_k) (V / V_k)^2 (D / d_k)^2 and playback rate (V / V_k) (d_k / D), read by linear
+// interpolation, so the impulse scales as rho V D^3, the drop's momentum. The grid is fine (5 % steps
+// in D), so the scaling corrects only small differences; the lattice's own behaviour at each size
+// (its mass count, its breakup) is what was recorded.
+// Accuracy against the full model: tests/engine/models/impact_templates_test.cpp compares the sound of
+// the same drops, template against full, by log-spectral distance (within 3 dB).
+
+#include <cstdint>
+#include <vector>
+
+#include "engine/models/canopy.hpp"
+#include "engine/models/drop_on_canopy.hpp"
+
+namespace ameoto {
+
+struct ImpactTemplateTable {
+    double sample_rate = 0.0;                // Hz: the recording's
+    double density = 0.0;                    // kg/m^3: the recorded liquid's
+    std::vector<double> diameters_m;         // grid, ascending
+    std::vector<double> speeds_m_per_s;      // arrival speed of each
+    int length = 0;                          // samples per recording (the stride of `forces`)
+    std::vector<int> used;                   // per size: samples up to the last non-zero force (playback ends there)
+    std::vector<double> forces;              // [k * length + n], N on the membrane along +n (negative: down)
+
+    bool empty() const { return diameters_m.empty(); }
+    double force(int k, int n) const { return forces[static_cast<std::size_t>(k * length + n)]; }
+    int nearest(double diameter_m) const;    // grid index nearest in log D
+};
+
+struct TemplateGrid {
+    double min_diameter_m = 0.5e-3, max_diameter_m = 6e-3;
+    double step_ratio = 1.05;                // successive diameters
+    double seconds = 0.02;                   // recorded per size
+};
+
+// Throws what DropOnCanopy throws for a bad configuration.
+ImpactTemplateTable record_impact_templates(const DropOnCanopyConfig& scene, const TemplateGrid& grid = {});
+
+class TemplatePool {
+public:
+    static constexpr int capacity = 2048;
+
+    bool add(CanopyHit target, const ImpactTemplateTable& table, double diameter_m, double speed_m_per_s, double density);
+
+    template <typename Sink>
+    void emit(const ImpactTemplateTable& table, Sink&& sink) {
+        for (int i = 0; i < count_;) {
+            Playing& p = playing_[static_cast<std::size_t>(i)];
+            const auto n = static_cast<int>(p.position);
+            const double frac = p.position - n;
+            const double f0 = table.force(p.index, n);
+            const int used = table.used[static_cast<std::size_t>(p.index)];
+            const double f1 = n + 1 < used ? table.force(p.index, n + 1) : 0.0;
+            sink(p.target, p.gain * (f0 + frac * (f1 - f0)));
+            p.position += p.rate;
+            if (p.position >= used) {
+                playing_[static_cast<std::size_t>(i)] = playing_[static_cast<std::size_t>(--count_)];
+            } else {
+                ++i;
+            }
+        }
+    }
+
+    int active() const { return count_; }
+    void clear() { count_ = 0; }
+
+private:
+    struct Playing {
+        CanopyHit target;
+        int index = 0;
+        double position = 0.0, rate = 1.0, gain = 1.0;
+    };
+    Playing playing_[capacity];
+    int count_ = 0;
+};
+
+}  // namespace ameoto

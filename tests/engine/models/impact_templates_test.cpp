@@ -1,0 +1,185 @@
+// The template level of detail against the full model (engine/models/impact_templates.hpp).
+#include "engine/models/impact_templates.hpp"
+
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <complex>
+#include <vector>
+
+#include "engine/models/drop.hpp"
+#include "tests/support/rt_probe_scope.hpp"
+
+using namespace ameoto;
+
+namespace {
+
+DropOnCanopyConfig scene_config() {
+    DropOnCanopyConfig c;
+    c.max_diameter = 6.1e-3;
+    c.gap_m = 0.0;
+    return c;
+}
+
+// Power in third-octave bands from 100 Hz to 16 kHz (a direct DFT per band centre would be slow; an
+// FFT-free estimate: the signal's energy through each band by summing |X(f)|^2 of a radix-2 FFT).
+std::vector<double> band_powers(std::vector<double> x, double rate) {
+    std::size_t n = 1;
+    while (n < x.size()) n <<= 1;
+    std::vector<std::complex<double>> a(n);
+    for (std::size_t i = 0; i < x.size(); ++i) a[i] = x[i];
+    for (std::size_t i = 1, j = 0; i < n; ++i) {   // iterative Cooley-Tukey
+        std::size_t bit = n >> 1;
+        for (; j & bit; bit >>= 1) j ^= bit;
+        j ^= bit;
+        if (i < j) std::swap(a[i], a[j]);
+    }
+    for (std::size_t len = 2; len <= n; len <<= 1) {
+        const std::complex<double> w = std::polar(1.0, -2.0 * 3.14159265358979323846 / static_cast<double>(len));
+        for (std::size_t i = 0; i < n; i += len) {
+            std::complex<double> wk = 1.0;
+            for (std::size_t k = 0; k < len / 2; ++k) {
+                const auto u = a[i + k], v = a[i + k + len / 2] * wk;
+                a[i + k] = u + v;
+                a[i + k + len / 2] = u - v;
+                wk *= w;
+            }
+        }
+    }
+    std::vector<double> bands;
+    for (double centre = 100.0; centre <= 16000.0; centre *= std::pow(2.0, 1.0 / 3.0)) {
+        const double lo = centre / std::pow(2.0, 1.0 / 6.0), hi = centre * std::pow(2.0, 1.0 / 6.0);
+        double p = 1e-300;
+        for (std::size_t k = 1; k < n / 2; ++k) {
+            const double f = rate * static_cast<double>(k) / static_cast<double>(n);
+            if (f >= lo && f < hi) p += std::norm(a[k]);
+        }
+        bands.push_back(p);
+    }
+    return bands;
+}
+
+struct TestDrop {
+    double d, x, y;
+};
+
+std::vector<double> render_full(const TestDrop& drop, int frames) {
+    DropOnCanopy scene(scene_config());
+    REQUIRE(scene.drop(drop.d, 0.0, drop.x, drop.y));
+    std::vector<double> out;
+    float frame[1];
+    for (int i = 0; i < frames; ++i) {
+        scene.process_frame(frame);
+        out.push_back(frame[0]);
+    }
+    return out;
+}
+
+std::vector<double> render_template(const ImpactTemplateTable& t, const TestDrop& drop, int frames) {
+    DropOnCanopy scene(scene_config());
+    TemplatePool pool;
+    const CanopyHit hit = scene.canopy().locate(drop.x, drop.y);
+    REQUIRE(pool.add(hit, t, drop.d, 0.0, scene.config().liquid.density));
+    std::vector<double> out;
+    float frame[1];
+    for (int i = 0; i < frames; ++i) {
+        pool.emit(t, [&](CanopyHit h, double f) { scene.surface().apply_force(h, f); });
+        scene.process_frame(frame);
+        out.push_back(frame[0]);
+    }
+    return out;
+}
+
+double lsd_db(const std::vector<double>& a, const std::vector<double>& b) {
+    double sum = 0.0;
+    for (std::size_t i = 0; i < a.size(); ++i) {
+        const double d = 10.0 * std::log10(a[i] / b[i]);
+        sum += d * d;
+    }
+    return std::sqrt(sum / static_cast<double>(a.size()));
+}
+
+}  // namespace
+
+// One recording for the whole file (about 1 s of full-model runs).
+const ImpactTemplateTable& table() {
+    static const ImpactTemplateTable t = record_impact_templates(scene_config());
+    return t;
+}
+
+TEST_CASE("impact templates: the grid, its lookup, and a recording that pushes the membrane down") {
+    const ImpactTemplateTable& t = table();
+    REQUIRE(t.used.size() == t.diameters_m.size());
+    for (int u : t.used) CHECK((u >= 1 && u <= t.length));
+    REQUIRE(t.diameters_m.size() >= 50u);   // 0.5..6 mm in 5 % steps: 51 sizes
+    CHECK(t.diameters_m.front() == doctest::Approx(0.5e-3));
+    CHECK(t.diameters_m.back() <= 6e-3 * (1 + 1e-9));
+    CHECK(t.nearest(0.1e-3) == 0);
+    CHECK(t.nearest(9e-3) == static_cast<int>(t.diameters_m.size()) - 1);
+    for (std::size_t k = 0; k + 1 < t.diameters_m.size(); ++k) {
+        CHECK(t.nearest(t.diameters_m[k]) == static_cast<int>(k));
+        CHECK(t.nearest(t.diameters_m[k] * 1.02) == static_cast<int>(k));   // below the geometric midpoint 1.0247
+    }
+    // Every recording: the first contact pushes the membrane down (negative along +n), and its impulse
+    // is of the order of the drop's momentum m V (between 0.5 and 2.2 m V: an elastic bounce gives 2).
+    for (std::size_t k = 0; k < t.diameters_m.size(); k += 10) {
+        CAPTURE(t.diameters_m[k]);
+        double impulse = 0.0;
+        for (int n = 0; n < t.length; ++n) impulse += t.force(static_cast<int>(k), n) / t.sample_rate;
+        const double d = t.diameters_m[k];
+        const double momentum = t.density * 3.14159265358979 / 6 * d * d * d * t.speeds_m_per_s[k];
+        CHECK(-impulse > 0.5 * momentum);
+        CHECK(-impulse < 2.2 * momentum);
+    }
+}
+
+TEST_CASE("impact templates: the template sounds like the full model (log-spectral distance within 3 dB)") {
+    // The tolerance: 3 dB of log-spectral distance between the tiers for the same drops, in
+    // third-octave bands 100 Hz..16 kHz, over 0.1 s after each impact (the first impact and splash; the
+    // pieces thrown up fall back later and are left out of the template by design).
+    const ImpactTemplateTable& t = table();
+    const std::vector<TestDrop> drops{{1.0e-3, 0.2, 0.05}, {2.0e-3, -0.15, 0.2}, {2.9e-3, 0.3, -0.1}, {4.1e-3, 0.1, 0.3},
+                                  {5.0e-3, -0.3, -0.2}};
+    std::vector<double> full_total, template_total;
+    for (const TestDrop& drop : drops) {
+        CAPTURE(drop.d);
+        const auto a = band_powers(render_full(drop, 4800), 48000.0);
+        const auto b = band_powers(render_template(t, drop, 4800), 48000.0);
+        const double lsd = lsd_db(a, b);
+        MESSAGE("D = " << drop.d * 1e3 << " mm: log-spectral distance template vs full " << lsd << " dB");
+        CHECK(lsd < 3.0 * 2);   // each drop alone: twice the tolerance (one lattice's splash is erratic)
+        if (full_total.empty()) {
+            full_total = a;
+            template_total = b;
+        } else {
+            for (std::size_t i = 0; i < a.size(); ++i) {
+                full_total[i] += a[i];
+                template_total[i] += b[i];
+            }
+        }
+    }
+    const double lsd = lsd_db(full_total, template_total);
+    MESSAGE("all drops: log-spectral distance template vs full " << lsd << " dB");
+    CHECK(lsd < 3.0);
+}
+
+TEST_CASE("impact templates: replay never allocates and a full pool refuses") {
+    const ImpactTemplateTable& t = table();
+    DropOnCanopy scene(scene_config());
+    TemplatePool pool;
+    const CanopyHit hit = scene.canopy().locate(0.2, 0.0);
+    ameoto::test::RtAudit audit;
+    {
+        ameoto::test::RtAudit::Scope scope;
+        for (int i = 0; i < TemplatePool::capacity; ++i) CHECK(pool.add(hit, t, 2e-3, 0.0, 998.0));
+        CHECK_FALSE(pool.add(hit, t, 2e-3, 0.0, 998.0));
+        float frame[2];
+        for (int i = 0; i < 100; ++i) {
+            pool.emit(t, [&](CanopyHit h, double f) { scene.surface().apply_force(h, f); });
+            scene.process_frame(frame);
+        }
+    }
+    CHECK(audit.violations() == 0);
+    CHECK_FALSE(pool.add(CanopyHit{}, t, 2e-3, 0.0, 998.0));   // off the canopy
+    CHECK_FALSE(TemplatePool{}.add(hit, ImpactTemplateTable{}, 2e-3, 0.0, 998.0));   // no table
+}
