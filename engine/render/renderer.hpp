@@ -67,7 +67,7 @@ struct RendererConfig {
     ListenerStyle listener = ListenerStyle::panned;
     double listener_below_m = 0.3;        // listener on the shaft, this far below the canopy
     double full_scale_pa = 40.0;          // pressure at output 1.0 (126 dB SPL)
-    int full_drops = 16;                  // lattice drops at once (/drop); more fall back to impulses
+    int full_drops = 16;                  // lattice drops at once (/drop); more play as templates
 };
 
 struct RendererStats {
