@@ -1,0 +1,172 @@
+#include "engine/models/texture_grains.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <complex>
+
+#include "engine/core/physical_constants.hpp"
+#include "engine/models/drop.hpp"
+
+namespace ameoto {
+
+namespace {
+
+// In-place radix-2 FFT (n a power of two): for the calibration's spectral centroid, off the audio thread.
+void fft(std::vector<std::complex<double>>& a) {
+    const std::size_t n = a.size();
+    for (std::size_t i = 1, j = 0; i < n; ++i) {
+        std::size_t bit = n >> 1;
+        for (; j & bit; bit >>= 1) j ^= bit;
+        j ^= bit;
+        if (i < j) std::swap(a[i], a[j]);
+    }
+    for (std::size_t len = 2; len <= n; len <<= 1) {
+        const std::complex<double> w = std::polar(1.0, -2.0 * constants::pi / static_cast<double>(len));
+        for (std::size_t i = 0; i < n; i += len) {
+            std::complex<double> wk = 1.0;
+            for (std::size_t k = 0; k < len / 2; ++k) {
+                const auto u = a[i + k], v = a[i + k + len / 2] * wk;
+                a[i + k] = u + v;
+                a[i + k + len / 2] = u - v;
+                wk *= w;
+            }
+        }
+    }
+}
+
+// Linear interpolation in log D over an ascending grid, clamped at its ends.
+double interpolate(const std::vector<double>& d, const std::vector<double>& v, double diameter) {
+    if (diameter <= d.front()) return v.front();
+    if (diameter >= d.back()) return v.back();
+    const auto hi = static_cast<std::size_t>(std::upper_bound(d.begin(), d.end(), diameter) - d.begin());
+    const double t = std::log(diameter / d[hi - 1]) / std::log(d[hi] / d[hi - 1]);
+    return v[hi - 1] + t * (v[hi] - v[hi - 1]);
+}
+
+constexpr double band_q = 1.0;
+
+}  // namespace
+
+double TextureCalibration::energy(double diameter_m) const { return interpolate(diameters_m, energy_fs2, diameter_m); }
+double TextureCalibration::centre(double diameter_m) const { return interpolate(diameters_m, centre_hz, diameter_m); }
+double TextureCalibration::decay(double diameter_m) const { return interpolate(diameters_m, decay_s, diameter_m); }
+
+int TextureCalibration::nearest(double diameter_m) const {
+    int best = 0;
+    for (std::size_t k = 1; k < diameters_m.size(); ++k)
+        if (std::abs(std::log(diameters_m[k] / diameter_m)) < std::abs(std::log(diameters_m[static_cast<std::size_t>(best)] / diameter_m)))
+            best = static_cast<int>(k);
+    return best;
+}
+
+TextureCalibration calibrate_texture(const DropOnCanopyConfig& scene, const ImpactTemplateTable& templates) {
+    TextureCalibration cal;
+    cal.density = templates.density;
+    DropOnCanopyConfig c = scene;
+    c.output = SceneOutput::far_field;
+    c.channels = 1;
+    c.capacity = 1;
+    const double fs = scene.sample_rate;
+    const int frames = static_cast<int>(0.05 * fs);
+    const double x = 0.5 * scene.geometry.radius_m, y = 0.0;
+    for (std::size_t k = 0; k < templates.diameters_m.size(); k += 5) {
+        DropOnCanopy run(c);
+        TemplatePool pool;
+        const CanopyHit hit = run.canopy().locate(x, y);
+        const double d = templates.diameters_m[k];
+        pool.add(hit, templates, d, templates.speeds_m_per_s[k], templates.density);
+        std::vector<double> out(static_cast<std::size_t>(frames));
+        float frame[1];
+        for (int i = 0; i < frames; ++i) {
+            pool.emit(templates, [&](CanopyHit h, double f) { run.surface().apply_force(h, f); });
+            run.process_frame(frame);
+            out[static_cast<std::size_t>(i)] = frame[0];
+        }
+        double energy = 0.0;
+        for (double v : out) energy += v * v;
+        // Decay: energy over the peak of the 1 ms power envelope (the length of a rectangle of that energy).
+        const int window = std::max(1, static_cast<int>(0.001 * fs));
+        double peak_power = 0.0, sum = 0.0;
+        for (int i = 0; i < frames; ++i) {
+            sum += out[static_cast<std::size_t>(i)] * out[static_cast<std::size_t>(i)];
+            if (i >= window) sum -= out[static_cast<std::size_t>(i - window)] * out[static_cast<std::size_t>(i - window)];
+            peak_power = std::max(peak_power, sum / window);
+        }
+        std::size_t n = 1;
+        while (n < out.size()) n <<= 1;
+        std::vector<std::complex<double>> spectrum(n);
+        for (std::size_t i = 0; i < out.size(); ++i) spectrum[i] = out[i];
+        fft(spectrum);
+        double weighted = 0.0, total = 0.0;
+        for (std::size_t b = 1; b < n / 2; ++b) {
+            const double p = std::norm(spectrum[b]);
+            weighted += p * fs * static_cast<double>(b) / static_cast<double>(n);
+            total += p;
+        }
+        cal.diameters_m.push_back(d);
+        cal.speeds_m_per_s.push_back(templates.speeds_m_per_s[k]);
+        cal.energy_fs2.push_back(energy);
+        cal.centre_hz.push_back(total > 0.0 ? weighted / total : 1000.0);
+        cal.decay_s.push_back(peak_power > 0.0 ? std::clamp(energy / peak_power / fs, 1e-4, 0.5) : 1e-3);
+    }
+    return cal;
+}
+
+TextureGrains::TextureGrains(const TextureCalibration& calibration, double sample_rate)
+    : calibration_(&calibration), sample_rate_(sample_rate), grains_(static_cast<std::size_t>(capacity)) {}
+
+bool TextureGrains::add(double diameter_m, double speed_m_per_s, double density, double azimuth_rad, int channels, Random& rng) {
+    (void)rng;
+    if (count_ == capacity || calibration_->empty()) return false;
+    const TextureCalibration& cal = *calibration_;
+    const int k = cal.nearest(diameter_m);
+    const double d_k = cal.diameters_m[static_cast<std::size_t>(k)], v_k = cal.speeds_m_per_s[static_cast<std::size_t>(k)];
+    const double speed = speed_m_per_s > 0.0 ? speed_m_per_s : arrival_speed(diameter_m, density);
+    // The template's gain squared (force ~ rho V^2 D^2), applied to the calibrated size's energy.
+    const double vr = speed / v_k, dr = diameter_m / d_k, rr = density / cal.density;
+    const double energy = cal.energy(diameter_m) * rr * rr * vr * vr * vr * vr * dr * dr * dr * dr;
+    const double fc = std::min(cal.centre(diameter_m), 0.4 * sample_rate_);
+    const double tau = cal.decay(diameter_m);
+    Grain& g = grains_[static_cast<std::size_t>(count_++)];
+    // RBJ band-pass, constant 0 dB peak gain (Bristow-Johnson, "Audio EQ Cookbook").
+    const double w0 = 2.0 * constants::pi * fc / sample_rate_;
+    const double alpha = std::sin(w0) / (2.0 * band_q);
+    const double a0 = 1.0 + alpha;
+    g.b0 = alpha / a0;
+    g.b2 = -alpha / a0;
+    g.a1 = -2.0 * std::cos(w0) / a0;
+    g.a2 = (1.0 - alpha) / a0;
+    g.x1 = g.x2 = g.y1 = g.y2 = 0.0;
+    // Expected energy: A^2 (noise variance 1/3) (the band-pass's noise power gain, pi f_c / (Q fs): its
+    // equivalent noise bandwidth (pi/2)(f_c/Q) over fs/2) (the envelope's sum of e^(-2n/(tau fs)), tau fs / 2).
+    const double power_gain = constants::pi * fc / (band_q * sample_rate_);
+    const double envelope_sum = 0.5 * tau * sample_rate_;
+    g.amplitude = std::sqrt(energy / ((1.0 / 3.0) * power_gain * envelope_sum));
+    g.decay = std::exp(-1.0 / (tau * sample_rate_));
+    g.left = static_cast<int>(5.0 * tau * sample_rate_) + 1;
+    const auto pan = pan_gains(azimuth_rad, channels);
+    for (int c = 0; c < channels; ++c) g.gain[static_cast<std::size_t>(c)] = static_cast<float>(pan[static_cast<std::size_t>(c)]);
+    return true;
+}
+
+void TextureGrains::render(float* frame, int channels, Random& rng) {
+    for (int i = 0; i < count_;) {
+        Grain& g = grains_[static_cast<std::size_t>(i)];
+        const double x = 2.0 * rng.uniform() - 1.0;
+        const double y = g.b0 * x + g.b2 * g.x2 - g.a1 * g.y1 - g.a2 * g.y2;
+        g.x2 = g.x1;
+        g.x1 = x;
+        g.y2 = g.y1;
+        g.y1 = y;
+        const auto s = static_cast<float>(g.amplitude * y);
+        g.amplitude *= g.decay;
+        for (int c = 0; c < channels; ++c) frame[c] += g.gain[static_cast<std::size_t>(c)] * s;
+        if (--g.left <= 0) {
+            grains_[static_cast<std::size_t>(i)] = grains_[static_cast<std::size_t>(--count_)];
+        } else {
+            ++i;
+        }
+    }
+}
+
+}  // namespace ameoto

@@ -1,0 +1,51 @@
+#include "engine/render/lod_governor.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace ameoto {
+
+namespace {
+constexpr double reference_diameter_m = 2e-3;
+constexpr double reference_speed_m_per_s = 6.49;   // Gunn & Kinzer's terminal speed at 2 mm
+constexpr double unmasked_rate_per_s = 100.0;
+constexpr double rate_smoothing_s = 0.5;
+constexpr double recovery_per_s = 0.5;
+}  // namespace
+
+double LodGovernor::level_db(double diameter_m, double speed_m_per_s, double distance_m) {
+    const double v = speed_m_per_s / reference_speed_m_per_s, d = diameter_m / reference_diameter_m;
+    const double r = std::max(distance_m, 0.05);   // closer than 5 cm: the drop's own size
+    return 20.0 * std::log10(std::max(v * v * d * d / r, 1e-12));
+}
+
+LodTier LodGovernor::choose(double diameter_m, double speed_m_per_s, double distance_m, int full_active) {
+    const double level = level_db(diameter_m, speed_m_per_s, distance_m);
+    const double shed = 1.0 - detail_;
+    if (full_active < settings_.max_full && level >= settings_.full_level_db + masking_db_ + 40.0 * shed) {
+        ++counts_.full;
+        return LodTier::full;
+    }
+    if (level >= masking_db_ - settings_.texture_margin_db + 30.0 * shed) {
+        ++counts_.template_;
+        return LodTier::template_;
+    }
+    ++counts_.texture;
+    return LodTier::texture;
+}
+
+void LodGovernor::end_block(double measured_load, int drops, double block_seconds) {
+    if (block_seconds <= 0.0) return;
+    // Drop rate, smoothed with a one-pole of time constant rate_smoothing_s.
+    const double a = 1.0 - std::exp(-block_seconds / rate_smoothing_s);
+    rate_per_s_ += a * (drops / block_seconds - rate_per_s_);
+    masking_db_ = 10.0 * std::log10(std::max(1.0, rate_per_s_ / unmasked_rate_per_s));
+    // Load: fast attack, slow release.
+    if (measured_load > settings_.budget) {
+        detail_ = std::max(0.0, detail_ - (measured_load / settings_.budget - 1.0));
+    } else {
+        detail_ = std::min(1.0, detail_ + recovery_per_s * block_seconds);
+    }
+}
+
+}  // namespace ameoto

@@ -1,0 +1,79 @@
+#pragma once
+// Chooses the level of detail of each drop, so the engine models no more than the scene needs and sheds
+// detail before it misses a deadline.
+//
+// Interface:
+//   LodGovernor g(LodSettings{.budget = 0.5, .max_full = 16});
+//   g.set_settings(s);                                   // /lod: budget (fraction of the block period), max full
+//   ---- audio thread: no allocation ----
+//   LodTier t = g.choose(D_m, V_m_per_s, distance_m, full_active);   // per drop (V: impact speed)
+//   g.end_block(measured_load, drops_this_block, block_seconds);  // after each block: load in 0..1+
+//   g.detail()                                           // 0..1: how much detail the load allows now
+//   g.masking_db()                                       // the density's masking level now
+//
+// Tiers: full (a lattice drop on the physical membrane, drop_on_canopy.hpp), template (its recorded
+// impact replayed into the membrane, impact_templates.hpp), texture (a noise grain of the same size's
+// energy and colour, texture_grains.hpp).
+//
+// Audibility. A drop's level at the listener is taken from its impact: the radiated pressure grows as the
+// force, ~ rho V^2 D^2 (the impact law; Gordillo et al. 2018), over the distance r, so its level relative
+// to a 2 mm drop at terminal speed 1 m away is
+//   L = 20 log10((V / V_2)^2 (D / 2 mm)^2 / (r / 1 m))  dB.
+// Masking by density: N incoherent drops per second of similar level raise the background by
+// 10 log10(N / N_0) dB (powers add); one drop stands out of that background when its level exceeds it by
+// a margin. masking_db() = 10 log10(max(1, rate / 100 per s)) follows the measured drop rate (smoothed
+// over about 0.5 s), so below 100 drops per second nothing is masked.
+// Rules, in order:
+//   - full: L >= full_level_db (default +6 dB: a large or near drop, 3 mm and up at terminal speed
+//     within 1 m) + masking, while fewer than max_full lattice drops are active and detail() allows it;
+//   - template: L >= masking - texture_margin_db (default 20 dB below the background: still heard);
+//   - texture: the rest (far or buried in the hiss of many).
+// Load shedding: after every block the measured load (callback time over block period) is compared with
+// the budget. Over it, detail() falls by (load / budget - 1) at once (fast attack: the next block is
+// already cheaper), raising the full threshold by (1 - detail) * 40 dB and the template threshold by
+// (1 - detail) * 30 dB; under it, detail() recovers at 0.5 per second (slow release, so it does not
+// oscillate). Offline renders pass no measured load (end_block with load 0): the choice then depends only
+// on the drops and the rate, so an offline render is reproducible to the sample.
+
+#include <cstdint>
+
+namespace ameoto {
+
+enum class LodTier : std::uint8_t { full, template_, texture };
+
+struct LodSettings {
+    double budget = 0.5;               // fraction of the block period (/lod percent / 100), 0.01..0.95
+    int max_full = 16;                 // lattice drops at once, 0..256
+    double full_level_db = 6.0;        // relative to a 2 mm drop at 1 m
+    double texture_margin_db = 20.0;   // below the masking level a drop becomes texture
+};
+
+struct LodCounts {
+    std::uint64_t full = 0, template_ = 0, texture = 0;
+};
+
+class LodGovernor {
+public:
+    explicit LodGovernor(const LodSettings& settings = {}) : settings_(settings) {}
+
+    void set_settings(const LodSettings& settings) { settings_ = settings; }
+    const LodSettings& settings() const { return settings_; }
+
+    LodTier choose(double diameter_m, double speed_m_per_s, double distance_m, int full_active);
+    void end_block(double measured_load, int drops, double block_seconds);
+
+    double detail() const { return detail_; }
+    double masking_db() const { return masking_db_; }
+    const LodCounts& counts() const { return counts_; }   // drops given each tier so far
+
+    static double level_db(double diameter_m, double speed_m_per_s, double distance_m);
+
+private:
+    LodSettings settings_;
+    double detail_ = 1.0;
+    double rate_per_s_ = 0.0;
+    double masking_db_ = 0.0;
+    LodCounts counts_;
+};
+
+}  // namespace ameoto

@@ -1,0 +1,69 @@
+// The level-of-detail governor (engine/render/lod_governor.hpp): audibility, masking, load shedding.
+#include "engine/render/lod_governor.hpp"
+
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <initializer_list>
+
+using namespace ameoto;
+
+TEST_CASE("lod: a drop's level follows the impact law over distance") {
+    CHECK(LodGovernor::level_db(2e-3, 6.49, 1.0) == doctest::Approx(0.0).epsilon(1e-12).scale(1.0));
+    // Twice the diameter: force x4 (+12 dB); twice the speed: x4 (+12 dB); twice the distance: -6 dB.
+    CHECK(LodGovernor::level_db(4e-3, 6.49, 1.0) == doctest::Approx(20 * std::log10(4.0)));
+    CHECK(LodGovernor::level_db(2e-3, 12.98, 1.0) == doctest::Approx(20 * std::log10(4.0)));
+    CHECK(LodGovernor::level_db(2e-3, 6.49, 2.0) == doctest::Approx(-20 * std::log10(2.0)));
+}
+
+TEST_CASE("lod: large near drops are full, small or far ones template, buried ones texture") {
+    LodGovernor g;
+    CHECK(g.choose(5e-3, 9.09, 0.4, 0) == LodTier::full);
+    CHECK(g.choose(1e-3, 4.03, 0.4, 0) == LodTier::template_);
+    CHECK(g.choose(5e-3, 9.09, 0.4, 16) == LodTier::template_);   // the lattice pool is at its limit
+    CHECK(g.choose(1e-3, 4.03, 0.8, 0) == LodTier::template_);      // -18 dB: quiet, but nothing masks it
+    CHECK(g.choose(0.5e-3, 2.06, 50.0, 0) == LodTier::texture);      // -78 dB: far and faint
+    // Dense rain: 20 000 drops per second for 2 s raise the masking to 23 dB; a small far drop is texture.
+    for (int block = 0; block < 1500; ++block) g.end_block(0.0, 20000 * 64 / 48000, 64.0 / 48000.0);
+    CHECK(g.masking_db() == doctest::Approx(10 * std::log10(20000.0 / 100.0)).epsilon(0.02));
+    CHECK(g.choose(0.5e-3, 2.06, 5.0, 0) == LodTier::texture);
+    CHECK(g.choose(5e-3, 9.09, 0.4, 0) == LodTier::full);   // 29 dB at 0.4 m: still stands out
+    CHECK(g.counts().full == 2);
+    CHECK(g.counts().texture == 2);
+}
+
+TEST_CASE("lod: over budget, detail falls at once and recovers slowly; tightening never adds detail") {
+    LodGovernor g(LodSettings{.budget = 0.5, .max_full = 16});
+    CHECK(g.detail() == 1.0);
+    g.end_block(0.75, 0, 64.0 / 48000.0);   // 150 % of the budget
+    CHECK(g.detail() == doctest::Approx(0.5));
+    // A 5 mm drop at 0.4 m (+29 dB) needs 6 + 40 * 0.5 = 26 dB: still full; a 3 mm one (+20 dB) is not.
+    CHECK(g.choose(5e-3, 9.09, 0.4, 0) == LodTier::full);
+    CHECK(g.choose(3e-3, 8.06, 0.4, 0) == LodTier::template_);
+    g.end_block(2.0, 0, 64.0 / 48000.0);
+    CHECK(g.detail() == 0.0);
+    CHECK(g.choose(5e-3, 9.09, 0.4, 0) == LodTier::template_);
+    // Under budget: 0.5 per second back.
+    for (int i = 0; i < 375; ++i) g.end_block(0.1, 0, 64.0 / 48000.0);   // 0.5 s
+    CHECK(g.detail() == doctest::Approx(0.25).epsilon(0.01));
+    for (int i = 0; i < 1500; ++i) g.end_block(0.1, 0, 64.0 / 48000.0);
+    CHECK(g.detail() == 1.0);
+    // The tier is monotonic in the detail: at lower detail no drop gets a richer tier.
+    for (double d : {0.5e-3, 1e-3, 2e-3, 3e-3, 5e-3})
+        for (double r : {0.3, 1.0, 10.0}) {
+            LodGovernor rich, poor;
+            poor.end_block(0.8, 0, 64.0 / 48000.0);
+            CHECK(static_cast<int>(poor.choose(d, 8.0, r, 0)) >= static_cast<int>(rich.choose(d, 8.0, r, 0)));
+        }
+}
+
+TEST_CASE("lod: with no measured load the choice depends only on the drops (offline renders)") {
+    LodGovernor a, b;
+    for (int block = 0; block < 100; ++block) {
+        a.end_block(0.0, 40, 0.01);
+        b.end_block(0.0, 40, 0.01);
+        CHECK(a.choose(1e-3 + 4e-5 * block, 5.0, 0.5 + 0.1 * block, block % 20) ==
+              b.choose(1e-3 + 4e-5 * block, 5.0, 0.5 + 0.1 * block, block % 20));
+    }
+    CHECK(a.detail() == 1.0);
+}
