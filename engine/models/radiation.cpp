@@ -81,7 +81,7 @@ RayleighRadiator::RayleighRadiator(std::vector<RadiatingElement> elements, std::
     run_ = 1;
     while (run_ < longest + 1) run_ *= 2;   // header: span_ < run_
     span_ = longest;
-    row_ = 2 * run_;
+    row_ = 2 * run_ + 8;   // header: not a power of two
     target_.resize(points_n * n);
     weights_.resize(2 * points_n * n);
     for (std::size_t p = 0; p < points_n; ++p) {
