@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <limits>
+#include <random>
 #include <vector>
 
 #include "engine/core/physical_constants.hpp"
@@ -36,6 +37,89 @@ double rms(const std::vector<double>& x) {
     double s = 0.0;
     for (double v : x) s += v * v;
     return std::sqrt(s / static_cast<double>(x.size()));
+}
+
+// The far field as it was first written, kept as the reference for the scatter (radiation.hpp,
+// "Delays"): one delay line per element holding its past a_i, read per (point, element) at floor(D) and
+// floor(D) + 1 and summed per group. Same weights, same sum, added in another order.
+class DelayLineRadiator {
+public:
+    DelayLineRadiator(const std::vector<ameoto::RadiatingElement>& elements, const std::vector<Vec3>& points, int groups,
+                      double time_step_s, const ameoto::AirMedium& air = ameoto::AirMedium{})
+        : elements_(elements), points_(points), groups_(groups) {
+        const std::size_t n = elements_.size();
+        taps_.resize(points_.size() * n);
+        int longest = 0;
+        for (std::size_t p = 0; p < points_.size(); ++p) {
+            for (std::size_t e = 0; e < n; ++e) {
+                const ameoto::RadiatingElement& el = elements_[e];
+                const Vec3 d = points_[p] - el.position;
+                const double floor = 0.5 * std::sqrt(el.area / kPi);
+                const double r = std::max(ameoto::norm(d), floor);
+                const double side = ameoto::dot(d, el.normal) < 0.0 ? -1.0 : 1.0;
+                const double g = side * air.density * el.area / (2.0 * kPi * r);
+                const double delay = r / (air.speed_of_sound * time_step_s);
+                const double whole = std::floor(delay), frac = delay - whole;
+                Tap& t = taps_[p * n + e];
+                t.offset = static_cast<int>(whole);
+                t.w0 = (1.0 - frac) * g;
+                t.w1 = frac * g;
+                t.distance = r;
+                t.delay = delay;
+                longest = std::max(longest, t.offset + 1);
+            }
+        }
+        int length = 1;
+        while (length < longest + 1) length *= 2;
+        mask_ = length - 1;
+        history_.assign(n * static_cast<std::size_t>(length), 0.0);
+    }
+    void process(const double* accelerations, double* out) {
+        const std::size_t n = elements_.size(), length = static_cast<std::size_t>(mask_) + 1;
+        write_ = (write_ + 1) & mask_;
+        for (std::size_t e = 0; e < n; ++e)
+            history_[e * length + static_cast<std::size_t>(write_)] = std::isfinite(accelerations[e]) ? accelerations[e] : 0.0;
+        for (std::size_t o = 0; o < points_.size() * static_cast<std::size_t>(groups_); ++o) out[o] = 0.0;
+        for (std::size_t p = 0; p < points_.size(); ++p) {
+            double* row = out + p * static_cast<std::size_t>(groups_);
+            for (std::size_t e = 0; e < n; ++e) {
+                const Tap& t = taps_[p * n + e];
+                const double* ring = history_.data() + e * length;
+                const double now = ring[static_cast<std::size_t>((write_ - t.offset) & mask_)];
+                const double before = ring[static_cast<std::size_t>((write_ - t.offset - 1) & mask_)];
+                row[elements_[e].group] += t.w0 * now + t.w1 * before;
+            }
+        }
+    }
+    void reset() {
+        std::fill(history_.begin(), history_.end(), 0.0);
+        write_ = 0;
+    }
+    double distance(int p, int e) const { return tap(p, e).distance; }
+    double delay_samples(int p, int e) const { return tap(p, e).delay; }
+    double gain(int p, int e) const { return tap(p, e).w0 + tap(p, e).w1; }
+    int history_length() const { return mask_ + 1; }
+
+private:
+    struct Tap {
+        int offset = 0;
+        double w0 = 0.0, w1 = 0.0, distance = 0.0, delay = 0.0;
+    };
+    const Tap& tap(int p, int e) const { return taps_[static_cast<std::size_t>(p) * elements_.size() + static_cast<std::size_t>(e)]; }
+    std::vector<ameoto::RadiatingElement> elements_;
+    std::vector<Vec3> points_;
+    int groups_ = 1;
+    std::vector<Tap> taps_;
+    std::vector<double> history_;
+    int mask_ = 0, write_ = 0;
+};
+
+std::vector<ameoto::RadiatingElement> canopy_elements(const ameoto::Canopy& canopy) {
+    std::vector<ameoto::RadiatingElement> elements;
+    for (int k = 0; k < canopy.panel_count(); ++k)
+        for (int i = 0; i < canopy.nodes_per_panel(); ++i)
+            elements.push_back({canopy.rest_position(k, i), canopy.normal(k, i), canopy.node_area(), k});
+    return elements;
 }
 
 }  // namespace
@@ -77,6 +161,107 @@ TEST_CASE("radiation: one element's impulse arrives as rho0 A a / (2 pi r), dela
     SUBCASE("a listening point on the element: the disc's own integral rho0 a a_eq") {
         ameoto::RayleighRadiator rad({{{0.0, 0.0, 0.0}, {0.0, 0.0, 1.0}, area, 0}}, {{0.0, 0.0, 0.0}}, 1, kT);
         CHECK(rad.gain(0, 0) == doctest::Approx(kRho * std::sqrt(area / kPi)).epsilon(1e-14));
+    }
+}
+
+TEST_CASE("radiation: the scatter equals per-element delay lines to rounding (random elements, resets, NaN)") {
+    // Elements from 4 mm of a point (floor(D) = 0: the tap adds into the sample being read) to 0.88 m
+    // (floor(D) + 1 = 125 of the ring's run of 128), 3 groups, 3 points, inputs that are sometimes NaN
+    // or infinite, a reset halfway, and far more samples than the ring holds (its window moves back to
+    // the front every run).
+    std::mt19937 rng(20240611);
+    std::uniform_real_distribution<double> unit(-1.0, 1.0);
+    const std::vector<Vec3> points{{0.0, 0.0, 0.0}, {0.0, 0.0, 0.01}, {0.0, 0.0, -0.02}};
+    std::vector<ameoto::RadiatingElement> elements;
+    for (int e = 0; e < 60; ++e) {
+        const Vec3 dir{unit(rng), unit(rng), unit(rng)};
+        const Vec3 n = (1.0 / ameoto::norm(dir)) * dir;
+        const Vec3 at = e == 0 ? 0.004 * n : e == 1 ? Vec3{0.0, 0.0, -0.88} : 0.2 * (1.0 + unit(rng)) * n;
+        elements.push_back({at, n, e == 0 ? 1e-4 : 1e-3 * (1.5 + unit(rng)), (e * 7) % 3});
+    }
+    ameoto::RayleighRadiator rad(elements, points, 3, kT);
+    DelayLineRadiator ref(elements, points, 3, kT);
+    CHECK(rad.history_length() == ref.history_length());
+    REQUIRE(rad.history_length() == 128);
+    CHECK(std::floor(rad.delay_samples(0, 0)) == 0.0);
+    CHECK(std::floor(rad.delay_samples(1, 1)) == 124.0);
+    for (int p = 0; p < 3; ++p) {
+        for (int e = 0; e < 60; ++e) {   // the queries are the same numbers, not merely close
+            CHECK(rad.distance(p, e) == ref.distance(p, e));
+            CHECK(rad.delay_samples(p, e) == ref.delay_samples(p, e));
+            CHECK(rad.gain(p, e) == ref.gain(p, e));
+        }
+    }
+    std::vector<double> a(60), out(9), expected(9);
+    double peak = 0.0, worst = 0.0;
+    for (int n = 0; n < 3000; ++n) {
+        for (double& x : a) x = unit(rng) * (unit(rng) > 0.6 ? 1e3 : 1.0);
+        if (n % 97 == 5) a[static_cast<std::size_t>(n % 60)] = std::numeric_limits<double>::quiet_NaN();
+        if (n % 89 == 7) a[static_cast<std::size_t>((n + 11) % 60)] = -std::numeric_limits<double>::infinity();
+        if (n == 1500) {
+            rad.reset();
+            ref.reset();
+        }
+        rad.process(a.data(), out.data());
+        ref.process(a.data(), expected.data());
+        for (std::size_t o = 0; o < 9; ++o) {
+            REQUIRE(std::isfinite(out[o]));
+            peak = std::max(peak, std::abs(expected[o]));
+            worst = std::max(worst, std::abs(out[o] - expected[o]));
+        }
+    }
+    REQUIRE(peak > 0.0);
+    CHECK(worst <= 1e-12 * peak);
+    MESSAGE("scatter vs delay lines, random elements: largest difference " << worst / peak << " of the peak");
+}
+
+TEST_CASE("radiation: the canopy's far field equals per-element delay lines to rounding") {
+    // The real canopies (flat and curved), struck on several panels, heard by mono, two ears and a ring:
+    // FarFieldRadiation (scatter, velocities read from the panels' networks) against the delay lines
+    // fed with the accelerations computed here from Canopy::normal_velocity, mixed per channel.
+    for (const double curvature : {std::numeric_limits<double>::infinity(), 1.5}) {
+        for (int layout_kind = 0; layout_kind < 3; ++layout_kind) {
+            CAPTURE(curvature);
+            CAPTURE(layout_kind);
+            ameoto::Canopy canopy(ameoto::CanopyGeometry{8, 0.5, 50, curvature}, ameoto::MembraneMaterial::nylon_canopy(), kT);
+            const Vec3 head{0.0, 0.0, -0.3};
+            std::vector<std::vector<double>> gains(3, std::vector<double>(8));
+            for (int c = 0; c < 3; ++c)
+                for (int k = 0; k < 8; ++k) gains[static_cast<std::size_t>(c)][static_cast<std::size_t>(k)] = 0.2 + 0.1 * ((c + k) % 5);
+            const ameoto::ListenerLayout layout = layout_kind == 0   ? ameoto::ListenerLayout::mono(head)
+                                                  : layout_kind == 1 ? ameoto::ListenerLayout::ears(head, 0.4)
+                                                                     : ameoto::ListenerLayout::panned(head, gains);
+            ameoto::FarFieldRadiation ff(canopy, layout, kT);
+            DelayLineRadiator ref(canopy_elements(canopy), layout.points, 8, kT);
+            const int nodes = 8 * canopy.nodes_per_panel(), channels = layout.channels();
+            std::vector<double> forces(8), v_prev(static_cast<std::size_t>(nodes), 0.0), a(static_cast<std::size_t>(nodes));
+            std::vector<double> sums(layout.points.size() * 8), out(static_cast<std::size_t>(channels));
+            double peak = 0.0, worst = 0.0;
+            for (int n = 0; n < 2400; ++n) {
+                if (n % 300 < 4) canopy.apply_force({(n / 300) % 8, (7 * (n / 300)) % 50}, -0.2);
+                canopy.step(forces.data());
+                ff.process(canopy, out.data());
+                for (int e = 0; e < nodes; ++e) {
+                    const double v = canopy.normal_velocity(e / canopy.nodes_per_panel(), e % canopy.nodes_per_panel());
+                    a[static_cast<std::size_t>(e)] = (v - v_prev[static_cast<std::size_t>(e)]) * (1.0 / kT);
+                    v_prev[static_cast<std::size_t>(e)] = v;
+                }
+                ref.process(a.data(), sums.data());
+                for (int c = 0; c < channels; ++c) {
+                    double expected = 0.0;
+                    for (int k = 0; k < 8; ++k) {
+                        const double g = layout.panel_gain.empty() ? 1.0 : layout.panel_gain[static_cast<std::size_t>(c)][static_cast<std::size_t>(k)];
+                        expected += g * sums[static_cast<std::size_t>(layout.channel_point[static_cast<std::size_t>(c)] * 8 + k)];
+                    }
+                    peak = std::max(peak, std::abs(expected));
+                    worst = std::max(worst, std::abs(out[static_cast<std::size_t>(c)] - expected));
+                }
+            }
+            REQUIRE(peak > 0.0);
+            CHECK(worst <= 1e-12 * peak);
+            MESSAGE("scatter vs delay lines, canopy Rc " << curvature << ", layout " << layout_kind
+                                                         << ": largest difference " << worst / peak << " of the peak");
+        }
     }
 }
 
