@@ -47,17 +47,10 @@ constexpr double band_q = 1.0;
 
 }  // namespace
 
-double TextureCalibration::energy(double diameter_m) const { return interpolate(diameters_m, energy_fs2, diameter_m); }
+// Energy spans decades (about D^8 here): interpolated in log E against log D.
+double TextureCalibration::energy(double diameter_m) const { return std::exp(interpolate(diameters_m, log_energy, diameter_m)); }
 double TextureCalibration::centre(double diameter_m) const { return interpolate(diameters_m, centre_hz, diameter_m); }
 double TextureCalibration::decay(double diameter_m) const { return interpolate(diameters_m, decay_s, diameter_m); }
-
-int TextureCalibration::nearest(double diameter_m) const {
-    int best = 0;
-    for (std::size_t k = 1; k < diameters_m.size(); ++k)
-        if (std::abs(std::log(diameters_m[k] / diameter_m)) < std::abs(std::log(diameters_m[static_cast<std::size_t>(best)] / diameter_m)))
-            best = static_cast<int>(k);
-    return best;
-}
 
 TextureCalibration calibrate_texture(const DropOnCanopyConfig& scene, const ImpactTemplateTable& templates) {
     TextureCalibration cal;
@@ -106,6 +99,7 @@ TextureCalibration calibrate_texture(const DropOnCanopyConfig& scene, const Impa
         cal.diameters_m.push_back(d);
         cal.speeds_m_per_s.push_back(templates.speeds_m_per_s[k]);
         cal.energy_fs2.push_back(energy);
+        cal.log_energy.push_back(std::log(std::max(energy, 1e-300)));
         cal.centre_hz.push_back(total > 0.0 ? weighted / total : 1000.0);
         cal.decay_s.push_back(peak_power > 0.0 ? std::clamp(energy / peak_power / fs, 1e-4, 0.5) : 1e-3);
     }
@@ -119,12 +113,11 @@ bool TextureGrains::add(double diameter_m, double speed_m_per_s, double density,
     (void)rng;
     if (count_ == capacity || calibration_->empty()) return false;
     const TextureCalibration& cal = *calibration_;
-    const int k = cal.nearest(diameter_m);
-    const double d_k = cal.diameters_m[static_cast<std::size_t>(k)], v_k = cal.speeds_m_per_s[static_cast<std::size_t>(k)];
     const double speed = speed_m_per_s > 0.0 ? speed_m_per_s : arrival_speed(diameter_m, density);
-    // The template's gain squared (force ~ rho V^2 D^2), applied to the calibrated size's energy.
-    const double vr = speed / v_k, dr = diameter_m / d_k, rr = density / cal.density;
-    const double energy = cal.energy(diameter_m) * rr * rr * vr * vr * vr * vr * dr * dr * dr * dr;
+    // The calibrated energy at this size (a drop of the recorded liquid at its arrival speed), times the
+    // template's gain squared for another liquid or speed (force ~ rho V^2 D^2).
+    const double vr = speed / arrival_speed(diameter_m, cal.density), rr = density / cal.density;
+    const double energy = cal.energy(diameter_m) * rr * rr * vr * vr * vr * vr;
     const double fc = std::min(cal.centre(diameter_m), 0.4 * sample_rate_);
     const double tau = cal.decay(diameter_m);
     Grain& g = grains_[static_cast<std::size_t>(count_++)];
@@ -137,12 +130,13 @@ bool TextureGrains::add(double diameter_m, double speed_m_per_s, double density,
     g.a1 = -2.0 * std::cos(w0) / a0;
     g.a2 = (1.0 - alpha) / a0;
     g.x1 = g.x2 = g.y1 = g.y2 = 0.0;
-    // Expected energy: A^2 (noise variance 1/3) (the band-pass's noise power gain, pi f_c / (Q fs): its
-    // equivalent noise bandwidth (pi/2)(f_c/Q) over fs/2) (the envelope's sum of e^(-2n/(tau fs)), tau fs / 2).
-    const double power_gain = constants::pi * fc / (band_q * sample_rate_);
-    const double envelope_sum = 0.5 * tau * sample_rate_;
-    g.amplitude = std::sqrt(energy / ((1.0 / 3.0) * power_gain * envelope_sum));
+    // Expected energy: A^2 (noise variance 1/3) (the band-pass's noise power gain: the energy of its
+    // impulse response, which for this constant-peak band-pass is exactly b0 = alpha / (1 + alpha))
+    // (the envelope's squares summed, 1 / (1 - decay^2): about tau fs / 2 for long grains, more for short).
+    const double power_gain = g.b0;
     g.decay = std::exp(-1.0 / (tau * sample_rate_));
+    const double envelope_sum = 1.0 / (1.0 - g.decay * g.decay);
+    g.amplitude = std::sqrt(energy / ((1.0 / 3.0) * power_gain * envelope_sum));
     g.left = static_cast<int>(5.0 * tau * sample_rate_) + 1;
     const auto pan = pan_gains(azimuth_rad, channels);
     for (int c = 0; c < channels; ++c) g.gain[static_cast<std::size_t>(c)] = static_cast<float>(pan[static_cast<std::size_t>(c)]);

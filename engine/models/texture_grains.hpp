@@ -16,8 +16,9 @@
 // output at the listener (mono) is measured over 50 ms: its energy E (sum of squares, full-scale units),
 // its spectral centroid f_c (from the DFT of the output) and its decay time tau (the energy over the peak
 // of the 1 ms power envelope: the length of a rectangle holding the same energy). Between grid sizes the
-// three are interpolated in log D.
-// A grain: white noise through a resonant band-pass at f_c (RBJ biquad, Q = 1) under an envelope
+// three are interpolated in log D (the energy as log E: it grows about as D^8).
+// A grain: white noise through a resonant band-pass at f_c (RBJ biquad, Q = 1; its noise power gain,
+// the energy of its impulse response, is exactly b0 = alpha / (1 + alpha)) under an envelope
 // exp(-t / tau), scaled so its expected energy is E times the template's gain squared, (rho/rho_k)^2
 // (V/V_k)^4 (D/d_k)^4 (impact_templates.hpp: the force ~ rho V^2 D^2), panned by the drop's azimuth
 // (panning.hpp). It ends after 5 tau (energy below e^-10). Independent grains add in power, so a
@@ -38,12 +39,12 @@ namespace ameoto {
 struct TextureCalibration {
     std::vector<double> diameters_m, energy_fs2, centre_hz, decay_s;   // per calibrated size, ascending D
     std::vector<double> speeds_m_per_s;                                // their arrival speeds
+    std::vector<double> log_energy;                                    // ln energy_fs2 (interpolation)
     double density = 998.0;                                            // kg/m^3: the recorded liquid's
     double energy(double diameter_m) const;
     double centre(double diameter_m) const;
     double decay(double diameter_m) const;
     bool empty() const { return diameters_m.empty(); }
-    int nearest(double diameter_m) const;
 };
 
 TextureCalibration calibrate_texture(const DropOnCanopyConfig& scene, const ImpactTemplateTable& templates);

@@ -1,0 +1,94 @@
+// The texture level of detail (engine/models/texture_grains.hpp): grains carry their template's energy.
+#include "engine/models/texture_grains.hpp"
+
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "tests/support/rt_probe_scope.hpp"
+
+using namespace ameoto;
+
+namespace {
+
+DropOnCanopyConfig scene_config() {
+    DropOnCanopyConfig c;
+    c.max_diameter = 6.1e-3;
+    return c;
+}
+
+const ImpactTemplateTable& templates() {
+    static const ImpactTemplateTable t = record_impact_templates(scene_config());
+    return t;
+}
+
+const TextureCalibration& calibration() {
+    static const TextureCalibration c = calibrate_texture(scene_config(), templates());
+    return c;
+}
+
+}  // namespace
+
+TEST_CASE("texture: the calibration grows with the drop and stays in the audible band") {
+    const TextureCalibration& c = calibration();
+    REQUIRE(c.diameters_m.size() == 11u);   // every fifth of the 51 template sizes
+    for (std::size_t k = 0; k < c.diameters_m.size(); ++k) {
+        CAPTURE(c.diameters_m[k]);
+        CHECK(c.energy_fs2[k] > 0.0);
+        CHECK(c.centre_hz[k] > 50.0);
+        CHECK(c.centre_hz[k] < 24000.0);
+        CHECK(c.decay_s[k] > 1e-4);
+        CHECK(c.decay_s[k] < 0.5);
+    }
+    // A 5 mm drop carries far more energy than a 1 mm one (its momentum is 40 times larger).
+    CHECK(c.energy(5e-3) > 100.0 * c.energy(1e-3));
+    // Interpolation reproduces the grid and stays between neighbours.
+    CHECK(c.energy(c.diameters_m[3]) == doctest::Approx(c.energy_fs2[3]));
+    const double mid = std::sqrt(c.diameters_m[3] * c.diameters_m[4]);
+    CHECK(c.energy(mid) >= std::min(c.energy_fs2[3], c.energy_fs2[4]));
+    CHECK(c.energy(mid) <= std::max(c.energy_fs2[3], c.energy_fs2[4]));
+}
+
+TEST_CASE("texture: a grain's energy is its calibrated size's, on average (within 10 %)") {
+    // The grain's amplitude comes from a closed form (noise variance, the band-pass's equivalent noise
+    // bandwidth, the envelope's sum); this measures it. 400 grains per size, mono.
+    const TextureCalibration& c = calibration();
+    for (double d : {0.6e-3, 1.5e-3, 3e-3, 5e-3}) {
+        CAPTURE(d);
+        TextureGrains grains(c, 48000.0);
+        Random rng(7);
+        double energy = 0.0;
+        const int count = 400;
+        for (int g = 0; g < count; ++g) {
+            REQUIRE(grains.add(d, 0.0, 998.0, 0.0, 1, rng));
+            while (grains.active() > 0) {
+                float frame[1] = {0.0f};
+                grains.render(frame, 1, rng);
+                energy += static_cast<double>(frame[0]) * frame[0];
+            }
+        }
+        CHECK(energy / count == doctest::Approx(c.energy(d)).epsilon(0.10));
+    }
+}
+
+TEST_CASE("texture: grains pan, never allocate, and a full pool refuses") {
+    TextureGrains grains(calibration(), 48000.0);
+    Random rng(1);
+    ameoto::test::RtAudit audit;
+    double left = 0.0, right = 0.0;
+    {
+        ameoto::test::RtAudit::Scope scope;
+        for (int i = 0; i < TextureGrains::capacity; ++i) CHECK(grains.add(2e-3, 0.0, 998.0, 1.5707963, 2, rng));   // hard left
+        CHECK_FALSE(grains.add(2e-3, 0.0, 998.0, 0.0, 2, rng));
+        for (int i = 0; i < 480; ++i) {
+            float frame[2] = {0.0f, 0.0f};
+            grains.render(frame, 2, rng);
+            left += frame[0] * frame[0];
+            right += frame[1] * frame[1];
+        }
+    }
+    CHECK(audit.violations() == 0);
+    CHECK(left > 0.0);
+    CHECK(right < 1e-6 * left);
+}
