@@ -59,6 +59,20 @@ std::vector<AddressSpec> make_table() {
                      r.command.values[3] = a.numbers[3];
                      return std::nullopt;
                  }});
+    t.push_back({"/lod",
+                 {{"budget", ArgumentKind::number, "%", 1.0, 95.0, false,
+                   "share of the block period the engine aims to spend; beyond it, detail is shed"},
+                  {"full", ArgumentKind::number, "drops", 0.0, 64.0, false, "most lattice drops (full model) at once; whole"}},
+                 "Set the level-of-detail budget and the most full-model drops at once.",
+                 "/done /lod (once in effect)",
+                 [](const ValidatedArguments& a, const ProtocolContext&, Request& r) -> std::optional<std::string> {
+                     if (a.numbers[1] != std::floor(a.numbers[1]))
+                         return "argument 2 full (drops): " + format_number(a.numbers[1]) + " is not a whole number";
+                     r.command.kind = CommandKind::lod;
+                     r.command.values[0] = a.numbers[0] / 100.0;
+                     r.command.values[1] = a.numbers[1];
+                     return std::nullopt;
+                 }});
     t.push_back({"/material/liquid",
                  {{"name", ArgumentKind::text, "", 0, 0, false, "water, milk, heavy_oil, or a custom liquid's name", "water"},
                   {"density", ArgumentKind::number, "kg/m^3", LiquidLimits::density_min, LiquidLimits::density_max, true,

@@ -166,6 +166,9 @@ void Daemon::State::build_scene() {
     config.channels = options.channels;
     config.seed = options.seed;
     if (options.rain_mm_per_h) config.rain_rate_mm_per_h = *options.rain_mm_per_h;
+    // Shedding detail by measured load makes the output depend on the machine: live playback only. An
+    // offline render (null backend, not paced) stays reproducible to the sample.
+    config.adaptive_lod = !null || null->realtime();
     bridge = std::make_unique<AudioBridge>(std::make_unique<Renderer>(config), 4096);
     // The audio thread's canopy can be swapped at any time; validation uses this copy of the geometry.
     geometry = std::make_unique<Canopy>(config.canopy, config.material, 1.0 / config.sample_rate);
@@ -232,9 +235,9 @@ void Daemon::State::reply_status(const UdpEndpoint::Endpoint& to) {
           {OscArgument::from_float(static_cast<float>(s.cpu_average_percent)),
            OscArgument::from_float(static_cast<float>(bridge->take_cpu_peak_percent())),
            OscArgument::from_float(static_cast<float>(drops_per_second)),
-           OscArgument::from_int(s.active_full_drops),   // full tier: lattice drops (/drop)
-           OscArgument::from_int(s.active_impacts),      // template tier: impulse-model impacts (rain)
-           OscArgument::from_int(0),                  // texture tier: not in this version
+           OscArgument::from_int(s.active_full_drops),   // full tier: lattice drops
+           OscArgument::from_int(s.active_impacts),      // template tier: recorded impacts replayed
+           OscArgument::from_int(s.active_grains),       // texture tier: noise grains
            OscArgument::from_int(saturate_int32(backend->xruns())),
            OscArgument::from_int(saturate_int32(late)),
            OscArgument::from_float(static_cast<float>(backend->sample_rate())),
@@ -295,12 +298,17 @@ void Daemon::State::poll() {
         if (e.kind == RendererEventKind::retired) {
             delete static_cast<UmbrellaScene*>(e.object);   // freed here, never on the audio thread
         } else if (e.kind == RendererEventKind::swapped) {
-            reply(to, "/done", {protocol::OscArgument::from_string(e.command == CommandKind::swap_surface ? "/material/surface"
-                                                                                                          : "/material/liquid")});
+            const char* address = e.command == CommandKind::swap_surface  ? "/material/surface"
+                                  : e.command == CommandKind::swap_liquid ? "/material/liquid"
+                                                                          : "/lod";
+            reply(to, "/done", {protocol::OscArgument::from_string(address)});
         } else if (e.kind == RendererEventKind::synced) {
             reply(to, "/synced", {protocol::OscArgument::from_int(e.id)});
         } else {
-            const char* address = e.command == CommandKind::drop ? "/drop" : e.command == CommandKind::rain_rate ? "/rain/rate" : "/sync";
+            const char* address = e.command == CommandKind::drop        ? "/drop"
+                                  : e.command == CommandKind::rain_rate ? "/rain/rate"
+                                  : e.command == CommandKind::lod       ? "/lod"
+                                                                        : "/sync";
             reply(to, "/fail", protocol::fail_arguments(address, "busy: too many scheduled commands"));
         }
     }

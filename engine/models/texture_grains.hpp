@@ -58,6 +58,8 @@ public:
     bool add(double diameter_m, double speed_m_per_s, double density, double azimuth_rad, int channels, Random& rng);
     void render(float* frame, int channels, Random& rng);
     int active() const { return count_; }
+    // A new scene's calibration for grains added from now on (grains already sounding keep theirs).
+    void set_calibration(const TextureCalibration& calibration) { calibration_ = &calibration; }
 
 private:
     struct Grain {

@@ -14,9 +14,10 @@ enum class CommandKind : std::uint8_t {
     drop,        // values: diameter m, speed m/s (0 = terminal), x m, y m
     rain_rate,   // values[0]: rain rate, mm/h (the one non-SI field: the rain statistics are written in it)
     sync,        // id: reply /synced id once applied
-    swap_surface,  // object: a DropOnCanopy (new surface material) built off the audio thread; the old
+    swap_surface,  // object: an UmbrellaScene (new surface material) built off the audio thread; the old
                    // scene rings out, then returns in a `retired` event
-    swap_liquid,   // object: a DropOnCanopy (new liquid), the same way
+    swap_liquid,   // object: an UmbrellaScene (new liquid), the same way
+    lod,           // values[0]: budget, fraction of the block period; values[1]: most lattice drops at once
 };
 
 struct Command {
@@ -33,7 +34,7 @@ enum class RendererEventKind : std::uint8_t {
     synced,     // a /sync was reached: reply /synced id
     busy,       // a command could not be scheduled (the pending list was full): reply /fail busy
     swapped,    // a swap_surface or swap_liquid took effect: reply /done
-    retired,    // object: a DropOnCanopy the audio thread no longer uses; the control thread deletes it
+    retired,    // object: an UmbrellaScene the audio thread no longer uses; the control thread deletes it
 };
 
 struct RendererEvent {

@@ -22,7 +22,9 @@ const RendererConfig& checked(const RendererConfig& config) {
         throw std::invalid_argument("channels must be 1 to 16");
     if (!(config.sample_rate >= 8000.0 && config.sample_rate <= 384000.0))
         throw std::invalid_argument("sample rate must be 8000 to 384000 Hz");
-    if (config.full_drops < 1 || config.full_drops > 256) throw std::invalid_argument("full drops must be 1 to 256");
+    if (config.full_drops < 0 || config.full_drops > Renderer::max_full_drops)
+        throw std::invalid_argument("full drops must be 0 to 64");
+    if (!(config.lod_budget >= 0.01 && config.lod_budget <= 0.95)) throw std::invalid_argument("lod budget must be 0.01 to 0.95");
     return config;
 }
 
@@ -37,7 +39,7 @@ std::unique_ptr<UmbrellaScene> Renderer::make_scene(const RendererConfig& config
     c.output = SceneOutput::far_field;
     c.channels = config.channels;
     c.listener = config.listener;
-    c.capacity = config.full_drops;
+    c.capacity = max_full_drops;  // the governor keeps to its own limit within it (/lod)
     c.max_diameter = 8e-3;        // the protocol's largest /drop
     c.gap_m = 0.0;                // touching the cap: a /drop strikes at its sample (within a sample or two)
     c.listener_below_m = config.listener_below_m;
@@ -55,7 +57,10 @@ Renderer::Renderer(const RendererConfig& config)
       dt_(1.0 / config.sample_rate),
       rng_(config.seed),
       scene_(make_scene(config_).release()),
-      rain_(rain_config_for(scene_->drops.canopy())) {
+      rain_(rain_config_for(scene_->drops.canopy())),
+      governor_(LodSettings{.budget = config_.lod_budget, .max_full = config_.full_drops}),
+      grains_(std::make_unique<TextureGrains>(scene_->texture, config_.sample_rate)),
+      grain_noise_(config.seed ^ 0x9E3779B97F4A7C15ull) {
     rain_.set_rate_now(config.rain_rate_mm_per_h);
 }
 
@@ -99,6 +104,7 @@ void Renderer::swap_scene(const Command& c) {
     fading_ = scene_;
     fade_left_ = static_cast<int>(0.5 / dt_);
     scene_ = incoming;
+    grains_->set_calibration(scene_->texture);
     push_event({RendererEventKind::swapped, c.kind, c.reply_to, c.id});
 }
 
@@ -131,10 +137,40 @@ void Renderer::start_impact(double diameter_m, double speed_m_per_s, double x, d
         ++stats_.impacts_dropped;
 }
 
+void Renderer::start_rain_drop(double diameter, Point2 at) {
+    DropOnCanopy& drops = scene_->drops;
+    // The listener is under the shaft: the drop's distance to it, from its point on the cap.
+    const double height = drops.canopy().rest_height(at.x, at.y) + config_.listener_below_m;
+    const double distance = std::sqrt(at.x * at.x + at.y * at.y + height * height);
+    const double density = drops.config().liquid.density;
+    const double speed = arrival_speed(diameter, density);
+    const int full_active = static_cast<int>(drops.pool().active().size());
+    ++block_drops_;
+    switch (governor_.choose(diameter, speed, distance, full_active)) {
+        case LodTier::full:
+            if (!drops.full() && drops.drop(diameter, 0.0, at.x, at.y)) {
+                ++stats_.drops;
+                ++stats_.rain_tiers.full;
+                return;
+            }
+            [[fallthrough]];   // the pool filled up meanwhile (a /drop in the same sample): a template
+        case LodTier::template_:
+            ++stats_.rain_tiers.template_;
+            start_impact(diameter, 0.0, at.x, at.y);
+            return;
+        case LodTier::texture:
+            ++stats_.drops;
+            ++stats_.rain_tiers.texture;
+            if (!grains_->add(diameter, speed, density, std::atan2(at.y, at.x), config_.channels, grain_noise_))
+                ++stats_.grains_dropped;
+            return;
+    }
+}
+
 void Renderer::start_drop(const Command& c) {
     const double diameter = c.values[0], speed = c.values[1], x = c.values[2], y = c.values[3];
     DropOnCanopy& drops = scene_->drops;
-    if (!drops.full()) {
+    if (static_cast<int>(drops.pool().active().size()) < governor_.settings().max_full && !drops.full()) {
         if (drops.drop(diameter, speed, x, y)) {
             ++stats_.drops;
             ++stats_.full_drops;
@@ -154,6 +190,14 @@ void Renderer::apply(const Command& c) {
         case CommandKind::sync: push_event({RendererEventKind::synced, c.kind, c.reply_to, c.id}); break;
         case CommandKind::swap_surface:
         case CommandKind::swap_liquid: swap_scene(c); break;
+        case CommandKind::lod: {
+            LodSettings s = governor_.settings();
+            s.budget = c.values[0];
+            s.max_full = static_cast<int>(c.values[1]);
+            governor_.set_settings(s);
+            push_event({RendererEventKind::swapped, c.kind, c.reply_to, c.id});
+            break;
+        }
     }
 }
 
@@ -161,8 +205,7 @@ void Renderer::render_sample(float* const* outputs, int offset) {
     const int arrivals = rain_.advance(dt_, rng_);
     for (int a = 0; a < arrivals; ++a) {
         const double d = rain_.sample_diameter_m(rng_);
-        const Point2 p = scene_->drops.canopy().sample_point(rng_);
-        start_impact(d, 0.0, p.x, p.y);
+        start_rain_drop(d, scene_->drops.canopy().sample_point(rng_));
     }
     // The recorded force is along the membrane's normal as the collider gave it (a drop pushes down).
     Canopy& surface = scene_->drops.surface();
@@ -177,7 +220,15 @@ void Renderer::render_sample(float* const* outputs, int offset) {
         if (--fade_left_ <= 0 && push_event_checked({RendererEventKind::retired, CommandKind::swap_surface, 0, 0, fading_}))
             fading_ = nullptr;   // if the event list is full it rings on and is handed back next sample
     }
+    grains_->render(frame, channels, grain_noise_);
     for (int ch = 0; ch < channels; ++ch) outputs[ch][offset] = frame[ch];
+    // The governor is told the drop rate every governor_period samples, counted on the sample clock, so
+    // its choices do not depend on the caller's block size (and, live only, the load last measured).
+    if (++governor_samples_ == governor_period) {
+        governor_.end_block(config_.adaptive_lod ? measured_load_ : 0.0, block_drops_, governor_period * dt_);
+        governor_samples_ = 0;
+        block_drops_ = 0;
+    }
 }
 
 void Renderer::process(int frames, float* const* outputs) {
@@ -200,6 +251,8 @@ void Renderer::process(int frames, float* const* outputs) {
     if (fading_) stats_.body_resets += static_cast<std::uint64_t>(fading_->drops.guard());
     stats_.active_impacts = impacts_.active();
     stats_.active_full_drops = static_cast<int>(scene_->drops.pool().active().size());
+    stats_.active_grains = grains_->active();
+    stats_.detail = governor_.detail();
     stats_.rain_rate_mm_per_h = rain_.rate();
 }
 

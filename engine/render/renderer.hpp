@@ -25,9 +25,15 @@
 //     may break up and strike again (full model). It is placed touching the cap at its sample, so it
 //     strikes within a sample or two. When the pool is full (capacity `full_drops`) the drop falls back
 //     to the template below, counted in stats().drop_fallbacks: a drop is never lost.
-//   - rain (/rain/rate): Marshall-Palmer sizes, Poisson arrivals, each drop the contact force a lattice
-//     drop of its size put on the membrane, recorded from the full model when the scene was built and
-//     replayed into the nearest node (models/impact_templates.hpp: the template level of detail).
+//   - rain (/rain/rate): Marshall-Palmer sizes, Poisson arrivals; each drop's level of detail is chosen
+//     by the governor (lod_governor.hpp) from its loudness at the listener, the masking by the drop rate
+//     and the measured load: full (a lattice drop, as /drop), template (the contact force a lattice drop
+//     of its size put on the membrane, recorded from the full model when the scene was built, replayed
+//     into the nearest node: models/impact_templates.hpp), or texture (a noise grain of that template's
+//     energy and colour, panned by the drop's azimuth: models/texture_grains.hpp).
+// The governor sheds detail when the load measured by the caller (set_measured_load, the audio bridge's
+// callback time over the block period) passes the budget (/lod), only when RendererConfig::adaptive_lod
+// is set (live playback); offline renders leave it unset and stay reproducible to the sample.
 // Either way the sound is the membrane's, radiated to the listener (Rayleigh far field), so the first
 // sound of an impact reaches the output latency_samples() later (the nearest node's distance over c:
 // 42 samples at 48 kHz for the default listener 0.3 m under the shaft).
@@ -50,7 +56,9 @@
 #include "engine/models/drop_on_canopy.hpp"
 #include "engine/models/impact_templates.hpp"
 #include "engine/models/panning.hpp"
+#include "engine/models/texture_grains.hpp"
 #include "engine/render/command.hpp"
+#include "engine/render/lod_governor.hpp"
 #include "engine/render/umbrella_scene.hpp"
 #include "engine/scene/rain_spawner.hpp"
 
@@ -67,7 +75,10 @@ struct RendererConfig {
     ListenerStyle listener = ListenerStyle::panned;
     double listener_below_m = 0.3;        // listener on the shaft, this far below the canopy
     double full_scale_pa = 40.0;          // pressure at output 1.0 (126 dB SPL)
-    int full_drops = 16;                  // lattice drops at once (/drop); more play as templates
+    int full_drops = 16;                  // lattice drops at once (/drop, rain), at most max_full_drops;
+                                          // more play as templates (/lod changes it live)
+    double lod_budget = 0.5;              // fraction of the block period the governor aims for (/lod)
+    bool adaptive_lod = false;            // shed detail by measured load (live only: not reproducible)
 };
 
 struct RendererStats {
@@ -80,12 +91,17 @@ struct RendererStats {
     std::uint64_t body_resets = 0;        // panels reset by the runtime guard (non-finite or runaway)
     int active_impacts = 0;               // template impacts sounding now
     int active_full_drops = 0;            // lattice drops in the scene now
+    int active_grains = 0;                // texture grains sounding now
+    std::uint64_t grains_dropped = 0;     // texture grains lost because their pool was full
+    LodCounts rain_tiers;                 // rain drops given each tier so far
+    double detail = 1.0;                  // the governor's detail now (1: nothing shed)
     double rain_rate_mm_per_h = 0.0;      // current (ramping) rate
 };
 
 class Renderer {
 public:
     static constexpr int max_channels = max_pan_channels;
+    static constexpr int max_full_drops = 64;   // the lattice pool's capacity (what /lod may ask for)
     static constexpr int pending_capacity = 1024;
     static constexpr int event_capacity = 1024;
 
@@ -99,6 +115,7 @@ public:
     static std::unique_ptr<UmbrellaScene> make_scene(const RendererConfig& config);
 
     void schedule(const Command& command);
+    void set_measured_load(double load) { measured_load_ = load; }   // the last block's, 0..1+
     void process(int frames, float* const* outputs);
     bool poll_event(RendererEvent& event);
 
@@ -115,6 +132,7 @@ private:
     void apply(const Command& command);
     void start_drop(const Command& command);
     void start_impact(double diameter_m, double speed_m_per_s, double x, double y);
+    void start_rain_drop(double diameter_m, Point2 at);
     void swap_scene(const Command& command);
     void render_sample(float* const* outputs, int offset);
     void push_event(const RendererEvent& event) { (void)push_event_checked(event); }
@@ -130,6 +148,13 @@ private:
     int fade_left_ = 0;
     RainSpawner rain_;
     TemplatePool impacts_;
+    LodGovernor governor_;
+    std::unique_ptr<TextureGrains> grains_;
+    Random grain_noise_;                  // the grains' own noise: the rain's draws do not depend on them
+    double measured_load_ = 0.0;
+    static constexpr int governor_period = 64;   // samples
+    int governor_samples_ = 0;
+    int block_drops_ = 0;
     std::uint64_t frame_ = 0;
     RendererStats stats_;
 

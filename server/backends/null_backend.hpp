@@ -46,6 +46,7 @@ public:
     double sample_rate() const override { return options_.sample_rate; }
     int block_size() const override { return options_.block_size; }
     WavWriter* wav() { return wav_.get(); }
+    bool realtime() const { return options_.realtime; }
 
 private:
     void run(AudioBridge& bridge);

@@ -50,6 +50,7 @@ AudioSnapshot AudioBridge::snapshot() const {
     s.callbacks = callbacks_.load(std::memory_order_relaxed);
     s.active_impacts = active_impacts_.load(std::memory_order_relaxed);
     s.active_full_drops = active_full_drops_.load(std::memory_order_relaxed);
+    s.active_grains = active_grains_.load(std::memory_order_relaxed);
     s.rain_rate_mm_per_h = rain_rate_.load(std::memory_order_relaxed);
     return s;
 }
@@ -96,6 +97,7 @@ void AudioBridge::process(int frames, float* const* outputs) {
     resets_.store(st.body_resets, std::memory_order_relaxed);
     active_impacts_.store(st.active_impacts, std::memory_order_relaxed);
     active_full_drops_.store(st.active_full_drops, std::memory_order_relaxed);
+    active_grains_.store(st.active_grains, std::memory_order_relaxed);
     rain_rate_.store(st.rain_rate_mm_per_h, std::memory_order_relaxed);
     callbacks_.fetch_add(1, std::memory_order_relaxed);
     frames_.store(renderer_->frame(), std::memory_order_release);
@@ -107,6 +109,7 @@ void AudioBridge::process(int frames, float* const* outputs) {
     load_average_.store(load_average_.load(std::memory_order_relaxed) * (1.0 - alpha) + load * alpha,
                         std::memory_order_relaxed);
     if (load > load_peak_.load(std::memory_order_relaxed)) load_peak_.store(load, std::memory_order_relaxed);
+    renderer_->set_measured_load(load);   // the governor's input for the next block (live scenes only)
 }
 
 }  // namespace ameoto

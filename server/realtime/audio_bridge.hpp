@@ -39,6 +39,7 @@ struct AudioSnapshot {
     std::uint64_t callbacks = 0;
     int active_impacts = 0;       // impulse-model impacts sounding
     int active_full_drops = 0;    // lattice drops in the scene
+    int active_grains = 0;        // texture grains sounding
     double rain_rate_mm_per_h = 0.0;
 };
 
@@ -74,7 +75,7 @@ private:
     std::atomic<std::uint64_t> clock_frame_{0};
     std::atomic<std::int64_t> clock_unix_ns_{0};
     std::atomic<std::uint64_t> frames_{0}, drops_{0}, late_{0}, busy_{0}, resets_{0}, events_lost_{0}, callbacks_{0};
-    std::atomic<int> active_impacts_{0}, active_full_drops_{0};
+    std::atomic<int> active_impacts_{0}, active_full_drops_{0}, active_grains_{0};
     std::atomic<double> rain_rate_{0.0};
     std::atomic<double> load_average_{0.0};
     std::atomic<double> load_peak_{0.0};
