@@ -74,7 +74,7 @@ struct RendererConfig {
     Liquid liquid = liquids::water();
     ListenerStyle listener = ListenerStyle::panned;
     double listener_below_m = 0.3;        // listener on the shaft, this far below the canopy
-    double full_scale_pa = 40.0;          // pressure at output 1.0 (126 dB SPL)
+    double full_scale_pa = 100.0;         // pressure at output 1.0 (134 dB SPL: heavy rain's peaks fit)
     int full_drops = 16;                  // lattice drops at once (/drop, rain), at most max_full_drops;
                                           // more play as templates (/lod changes it live)
     double lod_budget = 0.5;              // fraction of the block period the governor aims for (/lod)

@@ -330,3 +330,46 @@ TEST_CASE("renderer: rejects bad configurations") {
     cfg.sample_rate = 4000.0;
     CHECK_THROWS_AS(ameoto::Renderer{cfg}, std::invalid_argument);
 }
+
+TEST_CASE("renderer: heavy rain gives every level of detail, and /lod limits the lattice drops") {
+    ameoto::RendererConfig cfg;
+    cfg.rain_rate_mm_per_h = 50.0;
+    ameoto::Renderer r(cfg);
+    render(r, 48000, 256);   // 1 s: about 4900 drops on the canopy
+    const ameoto::RendererStats& s = r.stats();
+    MESSAGE("50 mm/h, 1 s: full " << s.rain_tiers.full << ", template " << s.rain_tiers.template_ << ", texture "
+                                  << s.rain_tiers.texture);
+    CHECK(s.rain_tiers.full > 0);        // the large drops near the listener
+    CHECK(s.rain_tiers.template_ > 1000);
+    CHECK(s.rain_tiers.texture > 100);   // the small ones, buried in the rest
+    CHECK(s.rain_tiers.full + s.rain_tiers.template_ + s.rain_tiers.texture == s.drops);
+    CHECK(s.grains_dropped == 0);
+    CHECK(s.impacts_dropped == 0);
+    // /lod 50 % 0: no more lattice drops, for rain or /drop.
+    ameoto::Command lod;
+    lod.kind = ameoto::CommandKind::lod;
+    lod.values[0] = 0.5;
+    lod.values[1] = 0.0;
+    r.schedule(lod);
+    const auto before = s.rain_tiers.full;
+    r.schedule(drop(0.005, 0.2, 0.0));
+    render(r, 48000, 256);
+    CHECK(s.rain_tiers.full == before);
+    CHECK(s.drop_fallbacks == 1);
+    ameoto::RendererEvent e;
+    bool done = false;
+    while (r.poll_event(e)) done = done || (e.kind == ameoto::RendererEventKind::swapped && e.command == ameoto::CommandKind::lod);
+    CHECK(done);
+}
+
+TEST_CASE("renderer: the heaviest rain uses grains and stays finite, within full scale") {
+    // The texture tier exists to save time (figures: ameoto bench, docs/bench.md); here only that grains
+    // are used in the heaviest rain and that the output stays finite and within full scale (100 Pa: the
+    // model's peaks at 100 mm/h are about 66 Pa, docs/engine.md).
+    ameoto::RendererConfig cfg;
+    cfg.rain_rate_mm_per_h = 100.0;
+    ameoto::Renderer r(cfg);
+    const auto out = render(r, 24000, 512);
+    CHECK(r.stats().rain_tiers.texture > 0);
+    for (const auto& ch : out) CHECK(std::all_of(ch.begin(), ch.end(), [](float v) { return std::isfinite(v) && std::abs(v) < 1.0f; }));
+}
