@@ -18,6 +18,7 @@ enum class CommandKind : std::uint8_t {
                    // scene rings out, then returns in a `retired` event
     swap_liquid,   // object: an UmbrellaScene (new liquid), the same way
     lod,           // values[0]: budget, fraction of the block period; values[1]: most lattice drops at once
+    load_scene,    // object: a LoadedScene (render/loaded_scene.hpp) built off the audio thread
 };
 
 struct Command {
@@ -34,8 +35,11 @@ enum class RendererEventKind : std::uint8_t {
     synced,     // a /sync was reached: reply /synced id
     busy,       // a command could not be scheduled (the pending list was full): reply /fail busy
     swapped,    // a swap_surface or swap_liquid took effect: reply /done
-    retired,    // object: an UmbrellaScene the audio thread no longer uses; the control thread deletes it
+    retired,    // object (of object_type) the audio thread no longer uses; the control thread deletes it
 };
+
+// What a retired event's object is, so the control thread deletes it as its type.
+enum class RetiredObject : std::uint8_t { none, umbrella_scene, scene_surfaces, loaded_scene };
 
 struct RendererEvent {
     RendererEventKind kind = RendererEventKind::synced;
@@ -43,6 +47,7 @@ struct RendererEvent {
     std::uint16_t reply_to = 0;
     std::int32_t id = 0;
     void* object = nullptr;
+    RetiredObject object_type = RetiredObject::none;
 };
 
 static_assert(std::is_trivially_copyable_v<Command>);

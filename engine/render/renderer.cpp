@@ -30,6 +30,45 @@ const RendererConfig& checked(const RendererConfig& config) {
 
 }  // namespace
 
+RendererConfig configure_for_scene(RendererConfig config, const SceneDescription& scene, MaterialResolver material,
+                                   const void* context) {
+    if (const std::string why = validate_scene(scene); !why.empty()) throw std::invalid_argument(why);
+    config.scene = scene;
+    config.rain_rate_mm_per_h = scene.rain.rate_mm_per_h;
+    config.lod_budget = scene.lod.budget_percent / 100.0;
+    config.full_drops = std::min(scene.lod.max_full, Renderer::max_full_drops);
+    for (const SurfaceDescription& s : scene.surfaces) {
+        if (s.kind != SurfaceKind::umbrella) continue;
+        std::optional<MembraneMaterial> m = membrane_material(s.material);
+        if (!m && material) m = material(s.material, context);
+        if (!m) throw std::invalid_argument("surface '" + s.name + "': no umbrella material named '" + s.material + "'");
+        config.material = *m;
+        config.canopy.panels = s.panels;
+        config.canopy.radius_m = s.size_x_m / 2.0;
+        // The umbrella is held over the listener: the far field hears it from under its shaft.
+        const double below = s.z_m - scene.listener.z_m;
+        if (std::abs(s.x_m - scene.listener.x_m) > 1e-9 || std::abs(s.y_m - scene.listener.y_m) > 1e-9 || !(below > 0.05))
+            throw std::invalid_argument("surface '" + s.name +
+                                        "': the umbrella is held over the listener: its x and y must be the listener's and "
+                                        "its z at least 0.05 m above the listener's");
+        config.listener_below_m = below;
+    }
+    return config;
+}
+
+std::unique_ptr<LoadedScene> Renderer::make_loaded_scene(const RendererConfig& config) {
+    auto loaded = std::make_unique<LoadedScene>();
+    loaded->umbrella = make_scene(config);
+    loaded->surfaces = std::make_unique<SceneSurfaces>(config.scene, config.sample_rate, config.channels, config.seed,
+                                                       config.full_scale_pa);
+    loaded->has_umbrella = std::any_of(config.scene.surfaces.begin(), config.scene.surfaces.end(),
+                                       [](const SurfaceDescription& s) { return s.kind == SurfaceKind::umbrella; });
+    loaded->rain_rate_mm_per_h = config.rain_rate_mm_per_h;
+    loaded->lod_budget = config.lod_budget;
+    loaded->max_full = config.full_drops;
+    return loaded;
+}
+
 std::unique_ptr<UmbrellaScene> Renderer::make_scene(const RendererConfig& config) {
     DropOnCanopyConfig c;
     c.sample_rate = config.sample_rate;
@@ -61,7 +100,13 @@ Renderer::Renderer(const RendererConfig& config)
       governor_(LodSettings{.budget = config_.lod_budget, .max_full = config_.full_drops}),
       grains_(std::make_unique<TextureGrains>(scene_->texture, config_.sample_rate)),
       grain_noise_(config.seed ^ 0x9E3779B97F4A7C15ull) {
-    rain_.set_rate_now(config.rain_rate_mm_per_h);
+    surface_rng_ = Random(config.seed ^ 0xD1B54A32D192ED03ull);
+    surfaces_ = new SceneSurfaces(config_.scene, config_.sample_rate, config_.channels, config_.seed, config_.full_scale_pa);
+    has_umbrella_ = std::any_of(config_.scene.surfaces.begin(), config_.scene.surfaces.end(),
+                                [](const SurfaceDescription& s) { return s.kind == SurfaceKind::umbrella; });
+    rain_.set_rate_now(has_umbrella_ ? config.rain_rate_mm_per_h : 0.0);
+    surfaces_->set_rate_now(config.rain_rate_mm_per_h);
+    rain_rate_ = config.rain_rate_mm_per_h;
 }
 
 Renderer::~Renderer() {
@@ -70,9 +115,12 @@ Renderer::~Renderer() {
     for (int i = 0; i < pending_count_; ++i) {
         const Command& c = pending_[static_cast<std::size_t>(i)];
         if (c.kind == CommandKind::swap_surface || c.kind == CommandKind::swap_liquid) delete static_cast<UmbrellaScene*>(c.object);
+        if (c.kind == CommandKind::load_scene) delete static_cast<LoadedScene*>(c.object);
     }
     delete fading_;
     delete scene_;
+    delete fading_surfaces_;
+    delete surfaces_;
 }
 
 bool Renderer::push_event_checked(const RendererEvent& event) {
@@ -90,6 +138,14 @@ bool Renderer::poll_event(RendererEvent& event) {
     return true;
 }
 
+bool Renderer::retire(void* object, RetiredObject type) {
+    RendererEvent e;
+    e.kind = RendererEventKind::retired;
+    e.object = object;
+    e.object_type = type;
+    return push_event_checked(e);
+}
+
 void Renderer::swap_scene(const Command& c) {
     auto* incoming = static_cast<UmbrellaScene*>(c.object);
     if (!incoming || incoming->drops.canopy().panel_count() != scene_->drops.canopy().panel_count() ||
@@ -97,14 +153,46 @@ void Renderer::swap_scene(const Command& c) {
         incoming->templates.diameters_m != scene_->templates.diameters_m) {
         // Only a scene of the same shape can take over (the sounding templates address its panels and
         // its table's sizes, the outputs its channels); a mismatch goes straight back to be freed.
-        push_event({RendererEventKind::retired, c.kind, c.reply_to, c.id, incoming});
+        retire(incoming, RetiredObject::umbrella_scene);
         return;
     }
-    if (fading_) push_event({RendererEventKind::retired, c.kind, c.reply_to, c.id, fading_});   // a change during a fade
+    if (fading_) retire(fading_, RetiredObject::umbrella_scene);   // a change during a fade
+    if (fading_surfaces_) retire(fading_surfaces_, RetiredObject::scene_surfaces);
+    fading_surfaces_ = nullptr;
     fading_ = scene_;
+    fading_has_umbrella_ = has_umbrella_;
     fade_left_ = static_cast<int>(0.5 / dt_);
     scene_ = incoming;
     grains_->set_calibration(scene_->texture);
+    push_event({RendererEventKind::swapped, c.kind, c.reply_to, c.id});
+}
+
+void Renderer::load_scene(const Command& c) {
+    auto* loaded = static_cast<LoadedScene*>(c.object);
+    if (!loaded || !loaded->umbrella || !loaded->surfaces || loaded->umbrella->drops.channels() != config_.channels ||
+        loaded->umbrella->templates.diameters_m != scene_->templates.diameters_m) {
+        retire(loaded, RetiredObject::loaded_scene);   // not for this stream: back unused (the caller checks first)
+        return;
+    }
+    // The old umbrella and surfaces ring out together for 0.5 s; the envelope goes straight back.
+    if (fading_) retire(fading_, RetiredObject::umbrella_scene);
+    if (fading_surfaces_) retire(fading_surfaces_, RetiredObject::scene_surfaces);
+    fading_ = scene_;
+    fading_surfaces_ = surfaces_;
+    fading_has_umbrella_ = has_umbrella_;
+    fade_left_ = static_cast<int>(0.5 / dt_);
+    scene_ = loaded->umbrella.release();
+    surfaces_ = loaded->surfaces.release();
+    has_umbrella_ = loaded->has_umbrella;
+    grains_->set_calibration(scene_->texture);
+    rain_rate_ = loaded->rain_rate_mm_per_h;
+    rain_.set_rate(has_umbrella_ ? rain_rate_ : 0.0);
+    surfaces_->set_rate_now(rain_rate_);
+    LodSettings lod = governor_.settings();
+    lod.budget = loaded->lod_budget;
+    lod.max_full = loaded->max_full;
+    governor_.set_settings(lod);
+    retire(loaded, RetiredObject::loaded_scene);
     push_event({RendererEventKind::swapped, c.kind, c.reply_to, c.id});
 }
 
@@ -170,6 +258,7 @@ void Renderer::start_rain_drop(double diameter, Point2 at) {
 void Renderer::start_drop(const Command& c) {
     const double diameter = c.values[0], speed = c.values[1], x = c.values[2], y = c.values[3];
     DropOnCanopy& drops = scene_->drops;
+    if (!has_umbrella_) return;   // the protocol refuses /drop on a scene without one
     if (static_cast<int>(drops.pool().active().size()) < governor_.settings().max_full && !drops.full()) {
         if (drops.drop(diameter, speed, x, y)) {
             ++stats_.drops;
@@ -186,7 +275,12 @@ void Renderer::start_drop(const Command& c) {
 void Renderer::apply(const Command& c) {
     switch (c.kind) {
         case CommandKind::drop: start_drop(c); break;
-        case CommandKind::rain_rate: rain_.set_rate(c.values[0]); break;
+        case CommandKind::rain_rate:
+            rain_rate_ = c.values[0];
+            if (has_umbrella_) rain_.set_rate(rain_rate_);
+            surfaces_->set_rate(rain_rate_);
+            break;
+        case CommandKind::load_scene: load_scene(c); break;
         case CommandKind::sync: push_event({RendererEventKind::synced, c.kind, c.reply_to, c.id}); break;
         case CommandKind::swap_surface:
         case CommandKind::swap_liquid: swap_scene(c); break;
@@ -210,15 +304,20 @@ void Renderer::render_sample(float* const* outputs, int offset) {
     // The recorded force is along the membrane's normal as the collider gave it (a drop pushes down).
     Canopy& surface = scene_->drops.surface();
     impacts_.emit(scene_->templates, [&surface](CanopyHit hit, double force) { surface.apply_force(hit, force); });
-    float frame[max_channels];
-    scene_->drops.process_frame(frame);
+    float frame[max_channels] = {};
     const int channels = config_.channels;
+    if (has_umbrella_) scene_->drops.process_frame(frame);
+    surfaces_->render(frame, surface_rng_);
     if (fading_) {
-        float old[max_channels];
-        fading_->drops.process_frame(old);
+        float old[max_channels] = {};
+        if (fading_has_umbrella_) fading_->drops.process_frame(old);
+        if (fading_surfaces_) fading_surfaces_->render(old, surface_rng_);
         for (int ch = 0; ch < channels; ++ch) frame[ch] += old[ch];
-        if (--fade_left_ <= 0 && push_event_checked({RendererEventKind::retired, CommandKind::swap_surface, 0, 0, fading_}))
-            fading_ = nullptr;   // if the event list is full it rings on and is handed back next sample
+        if (--fade_left_ <= 0) {
+            // If the event list is full they ring on and are handed back at a later sample.
+            if (fading_surfaces_ && retire(fading_surfaces_, RetiredObject::scene_surfaces)) fading_surfaces_ = nullptr;
+            if (!fading_surfaces_ && retire(fading_, RetiredObject::umbrella_scene)) fading_ = nullptr;
+        }
     }
     grains_->render(frame, channels, grain_noise_);
     for (int ch = 0; ch < channels; ++ch) outputs[ch][offset] = frame[ch];
@@ -253,7 +352,8 @@ void Renderer::process(int frames, float* const* outputs) {
     stats_.active_full_drops = static_cast<int>(scene_->drops.pool().active().size());
     stats_.active_grains = grains_->active();
     stats_.detail = governor_.detail();
-    stats_.rain_rate_mm_per_h = rain_.rate();
+    stats_.rain_rate_mm_per_h = has_umbrella_ ? rain_.rate() : rain_rate_;
+    stats_.surface_drops = surfaces_->drops();
 }
 
 }  // namespace ameoto

@@ -58,13 +58,19 @@
 #include "engine/models/panning.hpp"
 #include "engine/models/texture_grains.hpp"
 #include "engine/render/command.hpp"
+#include "engine/render/loaded_scene.hpp"
 #include "engine/render/lod_governor.hpp"
+#include "engine/render/scene_surfaces.hpp"
 #include "engine/render/umbrella_scene.hpp"
 #include "engine/scene/rain_spawner.hpp"
 
 namespace ameoto {
 
 struct RendererConfig {
+    // The scene: its umbrella (if any) and other surfaces, listener, rain and level of detail. The fields
+    // below for the umbrella (canopy, material, listener_below_m), the rain rate and the LOD are what the
+    // renderer uses; configure_for_scene() sets them from a scene, so a caller picks one or the other.
+    SceneDescription scene = *builtin_scene("umbrella");
     double sample_rate = 48000.0;         // Hz
     int channels = 2;                     // 1..16
     std::uint64_t seed = 0;
@@ -95,8 +101,16 @@ struct RendererStats {
     std::uint64_t grains_dropped = 0;     // texture grains lost because their pool was full
     LodCounts rain_tiers;                 // rain drops given each tier so far
     double detail = 1.0;                  // the governor's detail now (1: nothing shed)
+    std::uint64_t surface_drops = 0;      // drops struck on the scene's other surfaces
     double rain_rate_mm_per_h = 0.0;      // current (ramping) rate
 };
+
+// Sets config's umbrella fields, rain rate and LOD from the scene, and the scene itself; throws
+// std::invalid_argument with the reason (an unknown umbrella material, a listener not under the umbrella).
+// `material` resolves umbrella material names (presets, or custom ones the caller knows); null: presets.
+using MaterialResolver = std::optional<MembraneMaterial> (*)(const std::string& name, const void* context);
+RendererConfig configure_for_scene(RendererConfig config, const SceneDescription& scene,
+                                   MaterialResolver material = nullptr, const void* context = nullptr);
 
 class Renderer {
 public:
@@ -113,6 +127,8 @@ public:
     // Off the audio thread: the scene a renderer with this config plays (its material and liquid).
     // Throws std::invalid_argument or StabilityError with the reason.
     static std::unique_ptr<UmbrellaScene> make_scene(const RendererConfig& config);
+    // Off the audio thread: everything config (from configure_for_scene) describes, for load_scene.
+    static std::unique_ptr<LoadedScene> make_loaded_scene(const RendererConfig& config);
 
     void schedule(const Command& command);
     void set_measured_load(double load) { measured_load_ = load; }   // the last block's, 0..1+
@@ -124,6 +140,8 @@ public:
     const RendererConfig& config() const { return config_; }
     // Audio thread (or before audio starts) only:
     const UmbrellaScene& umbrella() const { return *scene_; }
+    bool has_umbrella() const { return has_umbrella_; }
+    const SceneSurfaces& surfaces() const { return *surfaces_; }
     const DropOnCanopy& scene() const { return scene_->drops; }
     const Canopy& canopy() const { return scene_->drops.canopy(); }
     int latency_samples() const { return scene_->drops.latency_samples(); }
@@ -134,6 +152,8 @@ private:
     void start_impact(double diameter_m, double speed_m_per_s, double x, double y);
     void start_rain_drop(double diameter_m, Point2 at);
     void swap_scene(const Command& command);
+    void load_scene(const Command& command);
+    bool retire(void* object, RetiredObject type);
     void render_sample(float* const* outputs, int offset);
     void push_event(const RendererEvent& event) { (void)push_event_checked(event); }
     bool push_event_checked(const RendererEvent& event);
@@ -145,7 +165,13 @@ private:
     // the change makes no click; both owned (raw pointers: ownership crosses threads by value).
     UmbrellaScene* scene_ = nullptr;
     UmbrellaScene* fading_ = nullptr;
+    SceneSurfaces* surfaces_ = nullptr;          // owned, like scene_
+    SceneSurfaces* fading_surfaces_ = nullptr;
+    bool has_umbrella_ = true;
+    bool fading_has_umbrella_ = true;
     int fade_left_ = 0;
+    Random surface_rng_;                         // the other surfaces' rain, apart from the umbrella's
+    double rain_rate_ = 0.0;                     // mm/h, the scene's target
     RainSpawner rain_;
     TemplatePool impacts_;
     LodGovernor governor_;

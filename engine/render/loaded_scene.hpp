@@ -1,0 +1,28 @@
+#pragma once
+// A whole scene built off the audio thread for /scene/load: its umbrella (always built, so the renderer's
+// /drop, templates and texture have a canopy; heard only when the scene has one) and its other surfaces,
+// with the settings the scene file gives (rain rate, level of detail). The renderer takes the parts by
+// pointer and hands the empty envelope back; the old parts ring out for 0.5 s and come back separately.
+//
+// Interface:
+//   auto loaded = make_loaded_scene(renderer_config, scene_description);   // throws std::invalid_argument
+//   Command c{.kind = CommandKind::load_scene, .object = loaded.release()};
+
+#include <memory>
+
+#include "engine/render/scene_surfaces.hpp"
+#include "engine/render/umbrella_scene.hpp"
+#include "engine/scene/scene_description.hpp"
+
+namespace ameoto {
+
+struct LoadedScene {
+    std::unique_ptr<UmbrellaScene> umbrella;
+    std::unique_ptr<SceneSurfaces> surfaces;
+    bool has_umbrella = true;
+    double rain_rate_mm_per_h = 2.0;
+    double lod_budget = 0.5;
+    int max_full = 16;
+};
+
+}  // namespace ameoto
