@@ -199,6 +199,7 @@ private:
     std::unique_ptr<ImpactPool> pulses_;
     PlateStats stats_{};
     bool kicked_last_ = false;            // kick_prev_ holds a kick: one more corrected step
+    int flush_countdown_ = 0;             // subnormal guard (modal_plate.cpp)
     double pressure_gain_ = 0.0;          // rho0 / (2 pi * 1 m * T)
     double kick_scale_ = 0.0;             // 16 / (pi^2 rho h)
 };

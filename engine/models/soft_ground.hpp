@@ -152,7 +152,6 @@ private:
         double impulse = 0.0;                    // this sample's share of the pulse
         std::int64_t age = 0, noise_end = 0, end = 0;
     };
-    void configure(Hit& h);
 
     SoftGroundSpec spec_;
     double dt_ = 1.0 / 48000.0;
