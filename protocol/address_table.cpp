@@ -59,15 +59,38 @@ std::vector<AddressSpec> make_table() {
                      r.command.values[3] = a.numbers[3];
                      return std::nullopt;
                  }});
+    t.push_back({"/scene/load",
+                 {{"name", ArgumentKind::text, "", 0, 0, false,
+                   "a built-in scene (umbrella, pond, tin-roof, forest, street) or one saved in the scene folder", "pond"}},
+                 "Load a scene: its surfaces, rain, listener and level of detail; the old scene rings out.",
+                 "/done /scene/load (once it plays)",
+                 [](const ValidatedArguments& a, const ProtocolContext&, Request& r) -> std::optional<std::string> {
+                     if (!is_scene_name(a.texts[0]))
+                         return "scene name '" + a.texts[0] + "' is not 1-32 of A-Z a-z 0-9 - _ (a name, not a path)";
+                     r.action = Action::load_scene;
+                     r.scene_name = a.texts[0];
+                     return std::nullopt;
+                 }});
+    t.push_back({"/scene/save",
+                 {{"name", ArgumentKind::text, "", 0, 0, false, "the name to save the current scene under", "my-rain"}},
+                 "Save the current scene (as it plays now) into the scene folder as NAME.scene, atomically.",
+                 "/done /scene/save (once written)",
+                 [](const ValidatedArguments& a, const ProtocolContext&, Request& r) -> std::optional<std::string> {
+                     if (!is_scene_name(a.texts[0]))
+                         return "scene name '" + a.texts[0] + "' is not 1-32 of A-Z a-z 0-9 - _ (a name, not a path)";
+                     if (builtin_scene(a.texts[0]))
+                         return "'" + a.texts[0] + "' is a built-in scene; save under another name";
+                     r.action = Action::save_scene;
+                     r.scene_name = a.texts[0];
+                     return std::nullopt;
+                 }});
     t.push_back({"/lod",
                  {{"budget", ArgumentKind::number, "%", 1.0, 95.0, false,
                    "share of the block period the engine aims to spend; beyond it, detail is shed"},
-                  {"full", ArgumentKind::number, "drops", 0.0, 64.0, false, "most lattice drops (full model) at once; whole"}},
+                  {"full", ArgumentKind::integer, "drops", 0.0, 64.0, false, "most lattice drops (full model) at once"}},
                  "Set the level-of-detail budget and the most full-model drops at once.",
                  "/done /lod (once in effect)",
                  [](const ValidatedArguments& a, const ProtocolContext&, Request& r) -> std::optional<std::string> {
-                     if (a.numbers[1] != std::floor(a.numbers[1]))
-                         return "argument 2 full (drops): " + format_number(a.numbers[1]) + " is not a whole number";
                      r.command.kind = CommandKind::lod;
                      r.command.values[0] = a.numbers[0] / 100.0;
                      r.command.values[1] = a.numbers[1];

@@ -24,6 +24,7 @@
 #include "engine/models/liquid.hpp"
 #include "engine/models/membrane.hpp"
 #include "engine/render/command.hpp"
+#include "engine/scene/scene_description.hpp"
 #include "protocol/osc_codec.hpp"
 
 namespace ameoto::protocol {
@@ -46,6 +47,8 @@ enum class Action {
     quit,      // reply /done /quit and stop
     set_liquid,             // build the drops' liquid off the audio thread, then swap it in
     set_surface_material,   // build the surface in that material off the audio thread, then swap it in
+    load_scene,             // resolve `scene_name` (built in, or a file in the scene folder), build, swap in
+    save_scene,             // write the current scene as `scene_name` into the scene folder, atomically
 };
 
 struct Request {
@@ -54,6 +57,7 @@ struct Request {
     std::optional<Liquid> liquid;              // set_liquid
     std::string surface;                       // set_surface_material
     std::optional<MembraneMaterial> material;  // set_surface_material
+    std::string scene_name;                    // load_scene, save_scene: a name, never a path
 };
 
 struct Validation {

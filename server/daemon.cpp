@@ -4,6 +4,7 @@
 #include <boost/asio/signal_set.hpp>
 #include <boost/asio/steady_timer.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <csignal>
 #include <cstdio>
@@ -20,6 +21,7 @@
 #include "server/osc/udp_endpoint.hpp"
 #include "server/realtime/audio_bridge.hpp"
 #include "server/realtime/rt_probe.hpp"
+#include "server/scene_store.hpp"
 #include "server/systemd_notify.hpp"
 #include "server/worker.hpp"
 
@@ -109,9 +111,15 @@ struct Daemon::State {
         Liquid liquid;
     };
     std::shared_ptr<SceneSettings> worker_settings;
+    std::unique_ptr<SceneStore> store;
+    SceneDescription current_scene;      // as it plays now (what /scene/save writes)
+    RendererConfig base_config;          // the stream's (rate, channels, seed), before any scene
 
     bool choose_backend();
-    void build_scene();
+    bool build_scene();
+    void load_scene(const UdpEndpoint::Endpoint& sender, const std::string& address, const std::string& name);
+    void save_scene(const UdpEndpoint::Endpoint& sender, const std::string& address, const std::string& name);
+    void use_geometry(const RendererConfig& config, bool has_umbrella);
     void rebuild_scene(const UdpEndpoint::Endpoint& sender, const std::string& address,
                        std::optional<MembraneMaterial> material, std::optional<Liquid> liquid);
     void on_packet(const unsigned char* data, std::size_t size, const UdpEndpoint::Endpoint& sender);
@@ -160,18 +168,43 @@ bool Daemon::State::choose_backend() {
     return true;
 }
 
-void Daemon::State::build_scene() {
-    RendererConfig config;
-    config.sample_rate = backend->sample_rate();
-    config.channels = options.channels;
-    config.seed = options.seed;
-    if (options.rain_mm_per_h) config.rain_rate_mm_per_h = *options.rain_mm_per_h;
+// Custom umbrella materials by name, for scenes that name one (defined over OSC earlier).
+std::optional<MembraneMaterial> find_custom_material(const std::string& name, const void* context) {
+    const auto& materials = *static_cast<const std::map<std::string, MembraneMaterial>*>(context);
+    const auto found = materials.find(name);
+    return found == materials.end() ? std::nullopt : std::optional<MembraneMaterial>(found->second);
+}
+
+bool has_umbrella(const SceneDescription& scene) {
+    return std::any_of(scene.surfaces.begin(), scene.surfaces.end(), [](const SurfaceDescription& s) { return s.kind == SurfaceKind::umbrella; });
+}
+
+// The control thread validates /drop points against its own copy of the umbrella's geometry (the audio
+// thread's scene can change at any time).
+void Daemon::State::use_geometry(const RendererConfig& config, bool umbrella) {
+    geometry = std::make_unique<Canopy>(config.canopy, config.material, 1.0 / config.sample_rate);
+    context.surfaces = umbrella ? std::vector<std::string>{"umbrella"} : std::vector<std::string>{};
+}
+
+bool Daemon::State::build_scene() {
+    base_config.sample_rate = backend->sample_rate();
+    base_config.channels = options.channels;
+    base_config.seed = options.seed;
     // Shedding detail by measured load makes the output depend on the machine: live playback only. An
     // offline render (null backend, not paced) stays reproducible to the sample.
-    config.adaptive_lod = !null || null->realtime();
+    base_config.adaptive_lod = !null || null->realtime();
+    store = std::make_unique<SceneStore>(options.scene_folder ? std::filesystem::path(*options.scene_folder) : SceneStore::default_folder());
+    RendererConfig config;
+    try {
+        current_scene = store->load(options.scene);
+        if (options.rain_mm_per_h) current_scene.rain.rate_mm_per_h = *options.rain_mm_per_h;
+        config = configure_for_scene(base_config, current_scene, find_custom_material, &custom_materials);
+    } catch (const std::exception& e) {
+        warn("--scene " + options.scene + ": " + e.what());
+        return false;
+    }
     bridge = std::make_unique<AudioBridge>(std::make_unique<Renderer>(config), 4096);
-    // The audio thread's canopy can be swapped at any time; validation uses this copy of the geometry.
-    geometry = std::make_unique<Canopy>(config.canopy, config.material, 1.0 / config.sample_rate);
+    use_geometry(config, has_umbrella(current_scene));
     context.on_surface = [this](const std::string&, double x, double y) { return geometry->locate(x, y).panel >= 0; };
     context.custom_liquid = [this](const std::string& name) -> std::optional<Liquid> {
         const auto found = custom_liquids.find(name);
@@ -183,6 +216,71 @@ void Daemon::State::build_scene() {
     };
     worker = std::make_unique<Worker>(io);
     worker_settings = std::make_shared<SceneSettings>(SceneSettings{config.material, config.liquid});
+    say("scene " + current_scene.name);
+    return true;
+}
+
+// /scene/load: read (built in or from the folder) and build everything on the worker; the audio thread
+// takes it by pointer and rings the old scene out. A file that does not parse changes nothing.
+void Daemon::State::load_scene(const UdpEndpoint::Endpoint& sender, const std::string& address, const std::string& name) {
+    const std::uint16_t reply_to = clients.index_of(sender);
+    struct Built {
+        std::unique_ptr<LoadedScene> loaded;
+        SceneDescription scene;
+        RendererConfig config;
+    };
+    worker->submit<std::shared_ptr<Built>>(
+        [name, store_folder = store->folder(), base = base_config, materials = custom_materials, settings = worker_settings] {
+            auto built = std::make_shared<Built>();
+            built->scene = SceneStore(store_folder).load(name);
+            RendererConfig c = configure_for_scene(base, built->scene, find_custom_material, &materials);
+            c.liquid = settings->liquid;   // the liquid chosen over OSC stays
+            if (has_umbrella(built->scene)) {
+                const Canopy probe(c.canopy, c.material, 1.0 / c.sample_rate);
+                check_live_cost(probe, c.material, c.sample_rate);
+            }
+            built->loaded = Renderer::make_loaded_scene(c);
+            built->config = c;
+            settings->material = c.material;
+            return built;
+        },
+        [this, reply_to, address](std::shared_ptr<Built> built) {
+            Command c;
+            c.kind = CommandKind::load_scene;
+            c.object = built->loaded.get();
+            c.reply_to = reply_to;
+            if (!bridge->send(c)) {
+                reply(clients.at(reply_to), "/fail", protocol::fail_arguments(address, "busy: command queue full"));
+                return;
+            }
+            built->loaded.release();   // the audio thread owns it now
+            current_scene = built->scene;
+            use_geometry(built->config, has_umbrella(current_scene));
+            say("scene " + current_scene.name);
+        },
+        [this, reply_to, address](const std::string& error) {
+            reply(clients.at(reply_to), "/fail", protocol::fail_arguments(address, error));
+        });
+}
+
+// /scene/save: the scene as it plays, written atomically on the worker (disk time stays off the loop).
+void Daemon::State::save_scene(const UdpEndpoint::Endpoint& sender, const std::string& address, const std::string& name) {
+    const std::uint16_t reply_to = clients.index_of(sender);
+    SceneDescription scene = current_scene;
+    scene.name = name;
+    worker->submit<std::string>(
+        [name, scene, folder = store->folder()] {
+            const SceneStore store(folder);
+            store.save(name, scene);
+            return store.path_of(name).string();
+        },
+        [this, reply_to, address](const std::string& path) {
+            say("saved the scene to " + path);
+            reply(clients.at(reply_to), "/done", {protocol::OscArgument::from_string(address)});
+        },
+        [this, reply_to, address](const std::string& error) {
+            reply(clients.at(reply_to), "/fail", protocol::fail_arguments(address, error));
+        });
 }
 
 // A material or liquid change: the whole scene (canopy, drop pool, collider, far field) is built on the
@@ -275,10 +373,19 @@ void Daemon::State::on_packet(const unsigned char* data, std::size_t size, const
                 const MembraneMaterial material = *v.request.material;
                 if (!membrane_material(material.name)) custom_materials[material.name] = material;
                 rebuild_scene(sender, message.address, material, std::nullopt);
+                for (SurfaceDescription& f : current_scene.surfaces)
+                    if (f.kind == SurfaceKind::umbrella) f.material = material.name;
                 break;
             }
+            case protocol::Action::load_scene: load_scene(sender, message.address, v.request.scene_name); break;
+            case protocol::Action::save_scene: save_scene(sender, message.address, v.request.scene_name); break;
             case protocol::Action::enqueue: {
                 Command c = v.request.command;
+                if (c.kind == CommandKind::rain_rate) current_scene.rain.rate_mm_per_h = c.values[0];
+                if (c.kind == CommandKind::lod) {
+                    current_scene.lod.budget_percent = 100.0 * c.values[0];
+                    current_scene.lod.max_full = static_cast<int>(c.values[1]);
+                }
                 c.reply_to = clients.index_of(sender);
                 if (message.bundled && !message.timetag.immediate()) {
                     c.timed = true;
@@ -296,10 +403,14 @@ void Daemon::State::poll() {
     while (bridge->poll_event(e)) {
         const auto& to = clients.at(e.reply_to);
         if (e.kind == RendererEventKind::retired) {
-            delete static_cast<UmbrellaScene*>(e.object);   // freed here, never on the audio thread
+            // Freed here, never on the audio thread, each as its type.
+            if (e.object_type == RetiredObject::scene_surfaces) delete static_cast<SceneSurfaces*>(e.object);
+            else if (e.object_type == RetiredObject::loaded_scene) delete static_cast<LoadedScene*>(e.object);
+            else delete static_cast<UmbrellaScene*>(e.object);
         } else if (e.kind == RendererEventKind::swapped) {
             const char* address = e.command == CommandKind::swap_surface  ? "/material/surface"
                                   : e.command == CommandKind::swap_liquid ? "/material/liquid"
+                                  : e.command == CommandKind::load_scene  ? "/scene/load"
                                                                           : "/lod";
             reply(to, "/done", {protocol::OscArgument::from_string(address)});
         } else if (e.kind == RendererEventKind::synced) {
@@ -390,7 +501,7 @@ int Daemon::run() {
     State& s = *state_;
     rt::init_probe();
     if (!s.choose_backend()) return 1;
-    s.build_scene();
+    if (!s.build_scene()) return 1;
     try {
         s.udp = std::make_unique<UdpEndpoint>(s.io, s.options.bind, s.options.port,
                                               [&s](const unsigned char* d, std::size_t n, const UdpEndpoint::Endpoint& from) {

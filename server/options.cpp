@@ -7,6 +7,8 @@
 #include <cstring>
 #include <string_view>
 
+#include "engine/scene/scene_description.hpp"
+
 namespace ameoto {
 namespace {
 
@@ -47,8 +49,11 @@ Options:
   --seed N            random seed, 0..2^64-1 (default 0): same seed and same timed
                       events give the same samples
   --channels N        output channels, 1..16 (default 2)
-  --scene NAME        scene to start with (default umbrella: light rain, 2 mm/h,
-                      on an 8-panel nylon umbrella of 0.5 m radius)
+  --scene NAME        scene to start with: umbrella (default: light rain, 2 mm/h, on
+                      an 8-panel nylon umbrella of 0.5 m radius), pond, tin-roof,
+                      forest, street, or NAME.scene in the scene folder
+  --scene-dir DIR     the scene folder for /scene/load and /scene/save (default
+                      $XDG_DATA_HOME/ameoto/scenes, else ~/.local/share/ameoto/scenes)
   --rain MM/H         starting rain rate, 0..500 mm/h (default: the scene's; 0 for a
                       dry start where only /drop sounds)
   --help              this text
@@ -132,8 +137,11 @@ ParsedOptions parse_options(int argc, const char* const* argv) {
             o.rain_mm_per_h = d;
         } else if (arg == "--scene") {
             if (!value(v)) return fail("--scene needs a scene name");
-            if (v != "umbrella") return fail("--scene: unknown scene '" + v + "' (built in: umbrella)");
+            if (!is_scene_name(v)) return fail("--scene: '" + v + "' is not a scene name (1-32 of A-Z a-z 0-9 - _; not a path)");
             o.scene = v;
+        } else if (arg == "--scene-dir") {
+            if (!value(v) || v.empty()) return fail("--scene-dir needs a folder");
+            o.scene_folder = v;
         } else {
             return fail("unknown option '" + arg + "' (see --help)");
         }

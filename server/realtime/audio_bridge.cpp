@@ -29,12 +29,19 @@ AudioBridge::~AudioBridge() {
     // Audio has stopped (the backend is stopped before the bridge goes). Objects still travelling in
     // either queue are freed here; the renderer frees what it holds.
     Command command;
-    while (commands_.try_pop(command))
+    while (commands_.try_pop(command)) {
         if (command.kind == CommandKind::swap_surface || command.kind == CommandKind::swap_liquid)
             delete static_cast<UmbrellaScene*>(command.object);
+        else if (command.kind == CommandKind::load_scene)
+            delete static_cast<LoadedScene*>(command.object);
+    }
     RendererEvent event;
-    while (events_.try_pop(event))
-        if (event.kind == RendererEventKind::retired) delete static_cast<UmbrellaScene*>(event.object);
+    while (events_.try_pop(event)) {
+        if (event.kind != RendererEventKind::retired) continue;
+        if (event.object_type == RetiredObject::scene_surfaces) delete static_cast<SceneSurfaces*>(event.object);
+        else if (event.object_type == RetiredObject::loaded_scene) delete static_cast<LoadedScene*>(event.object);
+        else delete static_cast<UmbrellaScene*>(event.object);
+    }
 }
 
 AudioSnapshot AudioBridge::snapshot() const {

@@ -176,6 +176,66 @@ TEST_CASE("/drop plays the seed's full model: a lattice drop, counted in the ful
     CHECK(d.process().stop(SIGTERM, 5s) == 0);
 }
 
+TEST_CASE("scenes load and save over OSC: built-ins, the scene folder, refusals that change nothing") {
+    const std::string report = ameoto::test::temp_path("scenes-rt.txt");
+    const std::string folder = ameoto::test::temp_path("scene-folder");
+    std::filesystem::create_directories(folder);
+    std::ofstream(folder + "/broken.scene") << "ameoto-scene 1\nrain rate=900\n";
+    {
+        Daemon d({"--backend", "null", "--output", "-", "--realtime", "--scene", "pond", "--scene-dir", folder},
+                 {"LD_PRELOAD=" AMEOTO_RT_INTERPOSER, "AMEOTO_RT_REPORT=" + report});
+        OscTestClient client(d.port());
+        auto s = [](const char* v) { return OscArgument::from_string(v); };
+        auto f = [](double v) { return OscArgument::from_float(static_cast<float>(v)); };
+        // The pond has no umbrella: /drop on it is refused.
+        const auto no_umbrella = client.request("/drop", {f(3), f(0), f(0.2), f(0.0)}, "/fail", 2s);
+        REQUIRE(no_umbrella);
+        CHECK(no_umbrella->args[1].text.find("no surface named 'umbrella'") != std::string::npos);
+        // Every built-in loads live.
+        for (const char* name : {"street", "tin-roof", "forest", "umbrella"}) {
+            CAPTURE(name);
+            const auto done = client.request("/scene/load", {s(name)}, "/done", 10s);
+            REQUIRE(done);
+            CHECK(done->args[0].text == "/scene/load");
+        }
+        // With the umbrella back, /drop is accepted (no reply; the /sync behind it answers).
+        client.send("/drop", {f(3), f(0), f(0.2), f(0.0)});
+        REQUIRE(client.request("/sync", {OscArgument::from_int(9)}, "/synced", 2s));
+        // Save what plays (with the rate changed over OSC), then load it back by name.
+        client.send("/rain/rate", {f(17)});
+        const auto saved = client.request("/scene/save", {s("my-rain")}, "/done", 5s);
+        REQUIRE(saved);
+        CHECK(saved->args[0].text == "/scene/save");
+        std::ifstream in(folder + "/my-rain.scene");
+        const std::string text((std::istreambuf_iterator<char>(in)), {});
+        CHECK(text.find("rain rate=17") != std::string::npos);
+        REQUIRE(client.request("/scene/load", {s("my-rain")}, "/done", 10s));
+        // Refusals: a path, a built-in's name to save under, a broken file (with its line), a missing one.
+        for (const char* bad : {"../etc", "/tmp/x", "a.scene"}) {
+            const auto refused = client.request("/scene/load", {s(bad)}, "/fail", 2s);
+            REQUIRE(refused);
+            CHECK(refused->args[1].text.find("not a path") != std::string::npos);
+        }
+        const auto builtin = client.request("/scene/save", {s("pond")}, "/fail", 2s);
+        REQUIRE(builtin);
+        CHECK(builtin->args[1].text.find("built-in") != std::string::npos);
+        const auto broken = client.request("/scene/load", {s("broken")}, "/fail", 5s);
+        REQUIRE(broken);
+        CHECK(broken->args[1].text.find("broken.scene:2: rate: 900 mm/h is outside 0..500") != std::string::npos);
+        const auto missing = client.request("/scene/load", {s("nowhere")}, "/fail", 5s);
+        REQUIRE(missing);
+        CHECK(missing->args[1].text.find("no scene named 'nowhere'") != std::string::npos);
+        // Still serving, still the saved scene's rate.
+        const auto status = client.request("/status", {}, "/status.reply", 2s);
+        REQUIRE(status);
+        CHECK(status->args[11].number == doctest::Approx(17.0));
+        CHECK(d.process().stop(SIGTERM, 5s) == 0);
+    }
+    const std::string rt = read_report(report);
+    INFO(rt);
+    CHECK(rt.find("violations 0\n") != std::string::npos);
+}
+
 TEST_CASE("bad messages get /fail with a reason; the server keeps serving") {
     Daemon d({"--backend", "null", "--output", "-", "--realtime"});
     OscTestClient client(d.port());

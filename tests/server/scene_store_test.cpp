@@ -1,0 +1,92 @@
+// The scene folder (server/scene_store.hpp): built-ins first, files by name only, atomic saves.
+#include "server/scene_store.hpp"
+
+#include <doctest/doctest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "tests/support/temp_dir.hpp"
+
+using ameoto::SceneDescription;
+using ameoto::SceneStore;
+
+namespace {
+std::string error_of(const SceneStore& store, const std::string& name) {
+    try {
+        store.load(name);
+    } catch (const std::exception& e) {
+        return e.what();
+    }
+    return "";
+}
+}  // namespace
+
+TEST_CASE("scene store: built-ins, then NAME.scene; a save reads back the same scene") {
+    ameoto::test::TempDir dir("ameoto-scenes");
+    const SceneStore store(dir.path() / "scenes");   // created on the first save
+    CHECK(store.load("pond").name == "pond");
+    CHECK(error_of(store, "mine").find("no scene named 'mine'") != std::string::npos);
+    SceneDescription s = *ameoto::builtin_scene("street");
+    s.name = "mine";
+    s.rain.rate_mm_per_h = 33.0;
+    store.save("mine", s);
+    CHECK(std::filesystem::is_regular_file(dir.path() / "scenes" / "mine.scene"));
+    CHECK(store.load("mine") == s);
+    // Saving again replaces it whole; no temporary file is left behind.
+    s.rain.rate_mm_per_h = 44.0;
+    store.save("mine", s);
+    CHECK(store.load("mine").rain.rate_mm_per_h == 44.0);
+    int files = 0;
+    for (const auto& entry : std::filesystem::directory_iterator(dir.path() / "scenes")) {
+        (void)entry;
+        ++files;
+    }
+    CHECK(files == 1);
+}
+
+TEST_CASE("scene store: names are not paths; links and junk are refused with the file and line") {
+    ameoto::test::TempDir dir("ameoto-scenes");
+    const SceneStore store(dir.path());
+    for (const char* bad : {"../etc/passwd", "/etc/passwd", "a/b", "..", "x.scene"}) {
+        CAPTURE(bad);
+        CHECK(error_of(store, bad).find("is not 1-32 of") != std::string::npos);
+        CHECK_THROWS(store.save(bad, *ameoto::builtin_scene("pond")));
+    }
+    // A link in the folder, even to a valid scene elsewhere, is not followed.
+    const auto outside = dir.path() / "outside.txt";
+    std::ofstream(outside) << "ameoto-scene 1\nname outside\n";
+    std::filesystem::create_symlink(outside, dir.path() / "linked.scene");
+    CHECK(error_of(store, "linked").find("is a link") != std::string::npos);
+    // A malformed file: its path, line and key.
+    std::ofstream(dir.path() / "broken.scene") << "ameoto-scene 1\n# fine\nrain rate=fast\n";
+    CHECK(error_of(store, "broken") == (dir.path() / "broken.scene").string() + ":3: rate: 'fast' is not a number");
+    std::ofstream(dir.path() / "newer.scene") << "ameoto-scene 7\n";
+    CHECK(error_of(store, "newer").find("needs a newer ameoto") != std::string::npos);
+    // A huge file is refused before it is read.
+    std::ofstream(dir.path() / "huge.scene") << std::string(100000, '#');
+    CHECK(error_of(store, "huge").find("larger than 64 KiB") != std::string::npos);
+    std::filesystem::create_directory(dir.path() / "folder.scene");
+    CHECK(error_of(store, "folder").find("not a regular file") != std::string::npos);
+}
+
+TEST_CASE("scene store: a save that cannot finish leaves the old file whole") {
+    ameoto::test::TempDir dir("ameoto-scenes");
+    const SceneStore store(dir.path());
+    SceneDescription s = *ameoto::builtin_scene("forest");
+    s.name = "keep";
+    store.save("keep", s);
+    // A stale temporary file from a crashed save changes nothing: loads read the real file, and the
+    // next save picks a fresh temporary name (O_EXCL) and still replaces the file atomically.
+    std::ofstream(dir.path() / (".keep.scene.tmp" + std::to_string(::getpid()) + "-0")) << "ameoto-scene 1\nrain rate=1";
+    CHECK(store.load("keep") == s);
+    s.rain.rate_mm_per_h = 12.0;
+    store.save("keep", s);
+    CHECK(store.load("keep").rain.rate_mm_per_h == 12.0);
+    // An invalid scene is refused before anything is written.
+    SceneDescription bad = s;
+    bad.rain.rate_mm_per_h = -5.0;
+    CHECK_THROWS(store.save("keep", bad));
+    CHECK(store.load("keep").rain.rate_mm_per_h == 12.0);
+}
