@@ -1,5 +1,6 @@
 #include "clients/ameoto/bench_options.hpp"
 
+#include "clients/ameoto/number_text.hpp"
 #include "clients/ameoto/option_reader.hpp"
 #include <cerrno>
 #include <cmath>
@@ -7,15 +8,6 @@
 
 namespace ameoto::client {
 namespace {
-
-std::optional<double> parse_number(const std::string& text) {
-    if (text.empty()) return std::nullopt;
-    char* end = nullptr;
-    errno = 0;
-    const double v = std::strtod(text.c_str(), &end);
-    if (errno != 0 || end != text.c_str() + text.size() || !std::isfinite(v)) return std::nullopt;
-    return v;
-}
 
 std::optional<long> parse_integer(const std::string& text) {
     if (text.empty() || text[0] == '+' || text[0] == '-' || text[0] == ' ') return std::nullopt;

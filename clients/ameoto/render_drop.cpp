@@ -1,5 +1,7 @@
 #include "clients/ameoto/render_drop.hpp"
 
+#include "clients/ameoto/render_scene.hpp"
+
 #include "clients/ameoto/option_reader.hpp"
 #include <sndfile.h>
 #include <unistd.h>
@@ -17,6 +19,7 @@
 #include <vector>
 
 #include "clients/ameoto/exit_status.hpp"
+#include "clients/ameoto/number_text.hpp"
 #include "clients/ameoto/svg_plot.hpp"
 #include "engine/core/random.hpp"
 #include "engine/models/drop.hpp"
@@ -25,24 +28,6 @@
 
 namespace ameoto::client {
 namespace {
-
-std::optional<double> parse_number(const std::string& text) {
-    if (text.empty() || std::isspace(static_cast<unsigned char>(text[0]))) return std::nullopt;
-    char* end = nullptr;
-    errno = 0;
-    const double v = std::strtod(text.c_str(), &end);
-    if (errno != 0 || end != text.c_str() + text.size() || !std::isfinite(v)) return std::nullopt;
-    return v;
-}
-
-std::optional<unsigned long long> parse_unsigned(const std::string& text) {
-    if (text.empty() || !std::isdigit(static_cast<unsigned char>(text[0]))) return std::nullopt;
-    char* end = nullptr;
-    errno = 0;
-    const unsigned long long v = std::strtoull(text.c_str(), &end, 10);
-    if (errno != 0 || end != text.c_str() + text.size()) return std::nullopt;
-    return v;
-}
 
 std::string joined(const std::vector<std::string>& names) {
     std::string out;
@@ -54,20 +39,6 @@ std::vector<std::string> liquid_names() {
     std::vector<std::string> names;
     for (const Liquid& l : liquids::presets()) names.push_back(l.name);
     return names;
-}
-
-std::string fixed(double v, int digits) {
-    std::ostringstream s;
-    s.setf(std::ios::fixed);
-    s.precision(digits);
-    s << v;
-    return s.str();
-}
-
-std::string short_number(double v) {
-    std::ostringstream s;
-    s << v;
-    return s.str();
 }
 
 }  // namespace
@@ -304,11 +275,22 @@ int run_render(const CommandWords& words, const CommandIo& io) {
         return exit_status::usage;
     }
     if (words[0] == "--help" || words[0] == "-h" || words[0] == "help") {
-        io.out << render_usage();
+        io.out << render_usage() << "\n" << render_scene_usage();
         return exit_status::ok;
     }
+    if (words[0] == "scene") {
+        RenderSceneOptions so;
+        std::string scene_error;
+        switch (parse_render_scene_options(CommandWords(words.begin() + 1, words.end()), so, scene_error)) {
+            case RenderParse::help: io.out << render_scene_usage(); return exit_status::ok;
+            case RenderParse::error:
+                io.err << "ameoto render scene: " << scene_error << "\n(see ameoto render scene --help)\n";
+                return exit_status::usage;
+            case RenderParse::run: return run_render_scene(so, io);
+        }
+    }
     if (words[0] != "drop") {
-        io.err << "ameoto render: unknown subject '" << words[0] << "': only 'drop' (see ameoto render --help)\n";
+        io.err << "ameoto render: unknown subject '" << words[0] << "': drop or scene (see ameoto render --help)\n";
         return exit_status::usage;
     }
     RenderDropOptions o;

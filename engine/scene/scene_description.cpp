@@ -187,9 +187,11 @@ std::optional<SceneDescription> builtin_scene(std::string_view name) {
         s.rain.rate_mm_per_h = 8.0;
         s.rain.wind_m_per_s = 3.0;
         s.rain.gustiness = 0.3;
-        s.surfaces = {surface("canopy-near", SurfaceKind::ground, "leaves", 4.0, 4.0, 2.0, 1.0, 4.0),
-                      surface("canopy-far", SurfaceKind::ground, "leaves", 8.0, 8.0, -6.0, -4.0, 6.0),
-                      surface("floor", SurfaceKind::ground, "soil", 6.0, 6.0, 0.0, 0.0, 0.0),
+        // The patches a listener hears apart from the hiss: a few square metres each (the leaves of a
+        // whole forest would be millions of drops per second, far beyond what single drops add).
+        s.surfaces = {surface("leaves-near", SurfaceKind::ground, "leaves", 2.0, 2.0, 2.0, 1.0, 4.0),
+                      surface("leaves-far", SurfaceKind::ground, "leaves", 3.0, 3.0, -6.0, -4.0, 6.0),
+                      surface("floor", SurfaceKind::ground, "soil", 3.0, 3.0, 0.0, 0.0, 0.0),
                       surface("puddle", SurfaceKind::water, "puddle", 0.8, 0.6, 1.5, -1.0, 0.0)};
     } else if (name == "street") {
         s.rain.rate_mm_per_h = 10.0;

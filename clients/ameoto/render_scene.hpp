@@ -1,0 +1,36 @@
+#pragma once
+// `ameoto render scene [--scene NAME|FILE.scene] [--rain MM/H] [--seconds S] [--rate HZ] [--seed N]
+// [--channels N] [--quiet] -o FILE.wav`: renders a rain scene offline with the renderer the server runs
+// (engine/render/renderer.hpp), to a 32-bit float WAV; needs no server. The same scene, seed and rate
+// give the same samples as ameotod --offline (the governor ignores machine load offline). docs/cli.md.
+//
+// Interface:
+//   RenderSceneOptions o; std::string error;
+//   RenderParse p = parse_render_scene_options(words, o, error);   // words after "ameoto render scene"
+//   int status = run_render_scene(o, io);
+
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include "clients/ameoto/command_io.hpp"
+#include "clients/ameoto/render_drop.hpp"
+
+namespace ameoto::client {
+
+struct RenderSceneOptions {
+    std::string scene = "umbrella";     // a built-in name, or a path ending in .scene
+    std::optional<double> rain_mm_per_h;   // 0..500; default: the scene's
+    double seconds = 10.0;              // 0.01..3600
+    int rate = 48000;                   // Hz, 8000..192000
+    std::uint64_t seed = 1;
+    int channels = 2;                   // 1..16
+    bool quiet = false;
+    std::string wav_path;               // -o, required
+};
+
+RenderParse parse_render_scene_options(const CommandWords& words, RenderSceneOptions& options, std::string& error);
+int run_render_scene(const RenderSceneOptions& options, const CommandIo& io);
+std::string render_scene_usage();
+
+}  // namespace ameoto::client
