@@ -116,6 +116,29 @@ double Canopy::normal_velocity(int panel, int node) const {
     return panels_[static_cast<std::size_t>(panel)].network.velocity(node);
 }
 
+// Extremes over every node, as displacement() and normal_velocity() read them. A NaN (a panel gone
+// unstable, before the runtime guard resets it) never wins a comparison, so it is passed over.
+double Canopy::max_displacement() const {
+    double m = -std::numeric_limits<double>::infinity();
+    for (const Membrane& p : panels_)
+        for (int i = 0; i < nodes_; ++i) m = std::max(m, p.network.position(i));
+    return m;
+}
+
+double Canopy::min_displacement() const {
+    double m = std::numeric_limits<double>::infinity();
+    for (const Membrane& p : panels_)
+        for (int i = 0; i < nodes_; ++i) m = std::min(m, p.network.position(i));
+    return m;
+}
+
+double Canopy::max_normal_velocity() const {
+    double m = -std::numeric_limits<double>::infinity();
+    for (const Membrane& p : panels_)
+        for (int i = 0; i < nodes_; ++i) m = std::max(m, p.network.velocity(i));
+    return m;
+}
+
 // Panel k covers the azimuths within half a sector of its centre line, 2 pi k / N: by definition the
 // panel is round(atan2(y, x) / sector) mod N (panel_by_atan2). To skip the atan2, an approximate
 // azimuth (within 1e-5 rad) proposes a panel, and two cross products confirm that (x, y) lies strictly
