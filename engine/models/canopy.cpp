@@ -116,26 +116,12 @@ double Canopy::normal_velocity(int panel, int node) const {
     return panels_[static_cast<std::size_t>(panel)].network.velocity(node);
 }
 
-// Extremes over every node, as displacement() and normal_velocity() read them. A NaN (a panel gone
-// unstable, before the runtime guard resets it) never wins a comparison, so it is passed over.
+// The largest u over every node, as displacement() reads it. A NaN (a panel gone unstable, before the
+// runtime guard resets it) never wins the comparison, so it is passed over.
 double Canopy::max_displacement() const {
     double m = -std::numeric_limits<double>::infinity();
     for (const Membrane& p : panels_)
         for (int i = 0; i < nodes_; ++i) m = std::max(m, p.network.position(i));
-    return m;
-}
-
-double Canopy::min_displacement() const {
-    double m = std::numeric_limits<double>::infinity();
-    for (const Membrane& p : panels_)
-        for (int i = 0; i < nodes_; ++i) m = std::min(m, p.network.position(i));
-    return m;
-}
-
-double Canopy::max_normal_velocity() const {
-    double m = -std::numeric_limits<double>::infinity();
-    for (const Membrane& p : panels_)
-        for (int i = 0; i < nodes_; ++i) m = std::max(m, p.network.velocity(i));
     return m;
 }
 

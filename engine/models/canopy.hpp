@@ -18,8 +18,8 @@
 //   canopy.rest_position(k, i), canopy.normal(k, i)     // node i of panel k: 3-D rest point, unit normal
 //   canopy.node_position(k, i)     // rest + u n: where the membrane is now
 //   canopy.displacement(k, i), canopy.normal_velocity(k, i)   // u (m) and du/dt (m/s) along n
-//   canopy.max_displacement(), min_displacement(), max_normal_velocity()   // over every node: bounds
-//                                  // for a collision broad phase (drop_on_canopy.cpp); no allocation
+//   canopy.max_displacement()      // the largest u over every node: a bound for a collision broad
+//                                  // phase (drop_on_canopy.cpp); no allocation
 //   canopy.rest_height(x, y), canopy.surface_normal(x, y)     // the rest surface over a plan point
 //
 // Geometry (seed section 5.1.2, Fig. 10-11): seen from above, panel k is the triangle between the
@@ -89,9 +89,7 @@ public:
     Vec3 node_position(int panel, int node) const;
     double displacement(int panel, int node) const;
     double normal_velocity(int panel, int node) const;
-    double max_displacement() const;      // m, the largest u of any node (NaN states are passed over)
-    double min_displacement() const;      // m, the smallest
-    double max_normal_velocity() const;   // m/s, the largest du/dt
+    double max_displacement() const;   // m, the largest u of any node (NaN states are passed over)
     double rest_height(double x, double y) const;
     Vec3 surface_normal(double x, double y) const;
     bool flat() const { return !(geometry_.curvature_radius_m < std::numeric_limits<double>::infinity()); }

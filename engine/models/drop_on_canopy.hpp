@@ -130,6 +130,8 @@ private:
     double top_ = 0.0, bottom_ = 0.0, reach_ = 0.05;   // m: the band where masses can collide
     long canopy_resets_ = 0;
     std::uint64_t frames_ = 0;
+    double rim_normal_z_ = 1.0;   // n_z of the rest cap at the rim: the smallest inside it
+    int near_masses_ = 0;         // masses in the band last step: collide() reads max u when many
 };
 
 }  // namespace ameoto

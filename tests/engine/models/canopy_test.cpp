@@ -344,27 +344,24 @@ TEST_CASE("canopy: locate gives exactly the reference formula's hit (atan2, sinc
     CHECK(on_canopy > 50000);
 }
 
-TEST_CASE("canopy: max/min displacement and max normal velocity are the extremes over every node") {
+TEST_CASE("canopy: max_displacement is the largest u over every node") {
     ameoto::Canopy c(ameoto::CanopyGeometry{}, ameoto::MembraneMaterial::nylon_canopy(), kT);
     CHECK(c.max_displacement() == 0.0);
-    CHECK(c.min_displacement() == 0.0);
-    CHECK(c.max_normal_velocity() == 0.0);
     std::vector<double> forces(static_cast<std::size_t>(c.panel_count()));
     c.apply_force(c.locate(0.2, 0.03), -0.5);
     c.apply_force(c.locate(-0.1, -0.25), 0.3);
+    bool up = false, down = false;
     for (int n = 0; n < 40; ++n) {
         c.step(forces.data());
-        double hi = -1e300, lo = 1e300, w = -1e300;
+        double hi = -1e300;
         for (int k = 0; k < c.panel_count(); ++k)
             for (int i = 0; i < c.nodes_per_panel(); ++i) {
                 hi = std::max(hi, c.displacement(k, i));
-                lo = std::min(lo, c.displacement(k, i));
-                w = std::max(w, c.normal_velocity(k, i));
+                up = up || c.displacement(k, i) > 0.0;
+                down = down || c.displacement(k, i) < 0.0;
             }
         CHECK(c.max_displacement() == hi);
-        CHECK(c.min_displacement() == lo);
-        CHECK(c.max_normal_velocity() == w);
     }
-    CHECK(c.max_displacement() > 0.0);
-    CHECK(c.min_displacement() < 0.0);
+    CHECK(up);
+    CHECK(down);
 }
