@@ -116,13 +116,18 @@ double Canopy::normal_velocity(int panel, int node) const {
     return panels_[static_cast<std::size_t>(panel)].network.velocity(node);
 }
 
-// The largest u over every node, as displacement() reads it. A NaN (a panel gone unstable, before the
-// runtime guard resets it) never wins the comparison, so it is passed over.
-double Canopy::max_displacement() const {
-    double m = -std::numeric_limits<double>::infinity();
+// The extremes of u over every node, as displacement() reads them. A NaN (a panel gone unstable,
+// before the runtime guard resets it) never wins a comparison, so it is passed over; with no finite
+// node at all the range is empty (lowest +infinity, highest -infinity).
+DisplacementRange Canopy::displacement_range() const {
+    DisplacementRange r{std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
     for (const Membrane& p : panels_)
-        for (int i = 0; i < nodes_; ++i) m = std::max(m, p.network.position(i));
-    return m;
+        for (int i = 0; i < nodes_; ++i) {
+            const double u = p.network.position(i);
+            r.lowest = std::min(r.lowest, u);
+            r.highest = std::max(r.highest, u);
+        }
+    return r;
 }
 
 // Panel k covers the azimuths within half a sector of its centre line, 2 pi k / N: by definition the

@@ -18,8 +18,8 @@
 //   canopy.rest_position(k, i), canopy.normal(k, i)     // node i of panel k: 3-D rest point, unit normal
 //   canopy.node_position(k, i)     // rest + u n: where the membrane is now
 //   canopy.displacement(k, i), canopy.normal_velocity(k, i)   // u (m) and du/dt (m/s) along n
-//   canopy.max_displacement()      // the largest u over every node: a bound for a collision broad
-//                                  // phase (drop_on_canopy.cpp); no allocation
+//   canopy.displacement_range()    // {lowest, highest} u over every node: bounds for a collision
+//                                  // broad phase (drop_on_canopy.cpp); no allocation
 //   canopy.rest_height(x, y), canopy.surface_normal(x, y)     // the rest surface over a plan point
 //
 // Geometry (seed section 5.1.2, Fig. 10-11): seen from above, panel k is the triangle between the
@@ -56,6 +56,10 @@ struct CanopyGeometry {
     double curvature_radius_m = std::numeric_limits<double>::infinity();   // Rc; infinity: flat
 };
 
+struct DisplacementRange {
+    double lowest = 0.0, highest = 0.0;   // m
+};
+
 struct CanopyHit {
     int panel = -1;   // -1: the point is not on the canopy
     int node = -1;
@@ -89,7 +93,7 @@ public:
     Vec3 node_position(int panel, int node) const;
     double displacement(int panel, int node) const;
     double normal_velocity(int panel, int node) const;
-    double max_displacement() const;   // m, the largest u of any node (NaN states are passed over)
+    DisplacementRange displacement_range() const;   // over every node (NaN states are passed over)
     double rest_height(double x, double y) const;
     Vec3 surface_normal(double x, double y) const;
     bool flat() const { return !(geometry_.curvature_radius_m < std::numeric_limits<double>::infinity()); }

@@ -131,60 +131,67 @@ void DropOnCanopy::process(int frames, float* const* outputs) {
 // distance d beyond that band is at least d n_z(rim) along the normal. Skipped:
 //   - off the rim's circle: every panel (a triangle from the shaft to two rib tips at radius R) lies
 //     inside it (with a relative 1e-12 for the rounding of the rib tips' coordinates);
-//   - above: h <= 0 needs a <= u_j, so a mass can only collide if a <= max u. Exactly: a > max_j u_j
-//     (a computed by the same calls and operations as in collide_one: on a flat canopy z_rest = +0
-//     and n_z = 1, so a is p_z itself; a correctly rounded a - u_j is <= 0 exactly when a <= u_j,
-//     and were collide_one's product fused with its subtraction, its h <= 0 would still imply
-//     a <= u_j), after the quicker p_z > top_ + max(max u, 0) / n_z(rim) (with 1e-9 of it and 1e-12 m
-//     for the rounding), which needs no square root. Reading max u is a pass over every node (a call
-//     each, 400 for the default canopy: about what 16 lookups cost, measured), so it is done only when
-//     it pays: when 16 or more masses were in the band last step (an impact, several drops). Otherwise
-//     the band's constant bound: p_z > top_ + reach_, i.e. more than 5 cm over the rest cap, where no
-//     membrane displacement reaches (a 5 mm drop at terminal speed moves the nylon canopy by 0.08 mm,
-//     an 8 mm one at 30 m/s on vinyl by well under a millimetre; the runtime guard resets a runaway
-//     panel);
+//   - above: h <= 0 needs a <= u_j. The band's bound: more than reach_ over top_, 5 cm along the
+//     normal, where the membrane does not reach (its largest excursion from one drop, measured: 0.9 mm
+//     for 5 mm at terminal speed on nylon, 16 mm for 8 mm at 30 m/s on vinyl). Tighter, when collide()
+//     has read the membrane's u this step: exactly a > max_j u_j (a computed by the same calls and
+//     operations as in collide_one: on a flat canopy z_rest = +0 and n_z = 1, so a is p_z itself; a
+//     correctly rounded a - u_j is <= 0 exactly when a <= u_j, and were collide_one's product fused
+//     with its subtraction, its h <= 0 would still imply a <= u_j), after the quicker
+//     p_z > top_ + max(max u, 0) / n_z(rim) (1e-9 of it and 1e-12 m for the rounding), which needs no
+//     square root;
 //   - below: -h < T (v2 - v . n_j) + skin needs a > u_j - skin - T (du_j/dt + |v|), since pending_j
 //     (what this step's earlier collisions gave node j) is never positive (each impulse pushes the node
 //     down, away from the drop: J >= 0) and v . n_j >= -|v| >= -|v|_1 (n_j is a unit vector). With
-//     the same 5 cm bounding the membrane's |u| + T |du/dt|, a mass more than 5 cm + skin + T |v|_1
-//     under the band (along the normal) cannot collide. The mass's own travel is counted, so a mass
-//     fast enough to cross more than that in one step is still caught by collide_one's swept test
-//     (the fixed band let one through at 2000 m/s at 48 kHz, 360 m/s at 8 kHz).
-// The canopy does not move during collide() (it steps afterwards), so max u holds for the whole step.
-// A node gone NaN is passed over by it and never collides in collide_one.
+//     5 cm bounding the membrane's |u| + T |du/dt|, a mass more than 5 cm + skin + T |v|_1 under the
+//     rim's rest height (along the normal) cannot collide. Counting the mass's own travel keeps a mass
+//     fast enough to cross the band in one step for collide_one's swept test (the fixed band let one
+//     through from 2400 m/s at 48 kHz, 400 m/s at 8 kHz).
+// Reading u is a pass over every node (a call each, 400 for the default canopy: about what 16 lookups
+// cost, measured), so collide() reads it when it pays, when 16 or more masses were in the band the step
+// before (an impact, several drops); and, to watch the band's bound, at least every 256 steps while
+// masses are inside the rim, and every step while the last reading found |u| beyond a quarter of the
+// band (12.5 mm; or no finite node). The canopy does not move during collide() (it steps afterwards),
+// so a reading holds for the whole step. A node gone NaN is passed over by it and never collides.
 void DropOnCanopy::collide() {
     collider_.begin_step();
     const double r = canopy_.geometry().radius_m;
     const double r2_max = r * r * (1.0 + 1e-12);
     const bool flat = canopy_.flat();
     const double below = bottom_ - reach_;
-    const double travel = 1.0 + 1e-9;   // for the rounding of the terms below
-    const double skin = collider_.options().skin_m * travel / rim_normal_z_, t = collider_.time_step() * travel / rim_normal_z_;
-    const bool bounded = near_masses_ >= 16;
+    const double per_normal = (1.0 + 1e-9) / rim_normal_z_;   // vertical per normal distance, rounded up
+    const double skin = collider_.options().skin_m, t = collider_.time_step();
+    const bool read = near_masses_ >= 16 || displaced_ || unread_steps_ >= 255;
+    bool have_u = false;
     double u_max = 0.0, above = top_ + reach_;
-    if (bounded) {
-        u_max = canopy_.max_displacement();
-        above = top_ + std::max(u_max, 0.0) * travel / rim_normal_z_ + 1e-12;
-    }
     int near = 0;
     for (const int d : pool_.active()) {
         const int n = pool_.mass_count(d);
         for (int m = 0; m < n; ++m) {
             const Vec3 p = pool_.position(d, m);
             if (p.x * p.x + p.y * p.y > r2_max) continue;
+            if (read && !have_u) {
+                const DisplacementRange u = canopy_.displacement_range();
+                u_max = u.highest;
+                above = top_ + std::max(u_max, 0.0) * per_normal + 1e-12;
+                displaced_ = !(std::max(u.highest, -u.lowest) <= 0.25 * 0.05);
+                have_u = true;
+            }
             if (p.z <= top_ + reach_ && p.z >= below) ++near;
             if (p.z > above) continue;
-            if (bounded) {
+            if (have_u) {
                 const double a = flat ? p.z : (p.z - canopy_.rest_height(p.x, p.y)) * canopy_.surface_normal(p.x, p.y).z;
                 if (a > u_max) continue;
             }
             const Vec3 v = pool_.velocity(d, m);
-            if (p.z < below && p.z < below - skin - t * (std::fabs(v.x) + std::fabs(v.y) + std::fabs(v.z))) continue;
+            if (p.z < below && p.z < below - (skin + t * (std::fabs(v.x) + std::fabs(v.y) + std::fabs(v.z))) * per_normal)
+                continue;
             Vec3 force;
             if (collider_.collide_one(canopy_, p, v, pool_.mass(d, m), force)) pool_.apply_force(d, m, force);
         }
     }
     near_masses_ = near;
+    unread_steps_ = have_u ? 0 : std::min(unread_steps_ + 1, 255);
 }
 
 DropOnCanopyStats DropOnCanopy::stats() const {

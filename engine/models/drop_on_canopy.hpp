@@ -131,7 +131,9 @@ private:
     long canopy_resets_ = 0;
     std::uint64_t frames_ = 0;
     double rim_normal_z_ = 1.0;   // n_z of the rest cap at the rim: the smallest inside it
-    int near_masses_ = 0;         // masses in the band last step: collide() reads max u when many
+    int near_masses_ = 0;         // masses in the band last step   } when collide() reads the
+    int unread_steps_ = 0;        // steps since it read u           } membrane's displacement
+    bool displaced_ = false;      // |u| beyond a quarter of the band at that reading
 };
 
 }  // namespace ameoto
