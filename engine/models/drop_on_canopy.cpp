@@ -144,9 +144,10 @@ void DropOnCanopy::process(int frames, float* const* outputs) {
 //     (what this step's earlier collisions gave node j) is never positive (each impulse pushes the node
 //     down, away from the drop: J >= 0) and v . n_j >= -|v| >= -|v|_1 (n_j is a unit vector). With
 //     5 cm bounding the membrane's |u| + T |du/dt|, a mass more than 5 cm + skin + T |v|_1 under the
-//     rim's rest height (along the normal) cannot collide. Counting the mass's own travel keeps a mass
-//     fast enough to cross the band in one step for collide_one's swept test (the fixed band let one
-//     through from 2400 m/s at 48 kHz, 400 m/s at 8 kHz).
+//     rim's rest height (along the normal) cannot collide; when u has been read this step, the 5 cm is
+//     added to the lowest u instead (then it only bounds T |du/dt|: 2400 m/s at 48 kHz). Counting the
+//     mass's own travel keeps a mass fast enough to cross the band in one step for collide_one's swept
+//     test (the fixed band let one through from 2400 m/s at 48 kHz, 400 m/s at 8 kHz).
 // Reading u is a pass over every node (a call each, 400 for the default canopy: about what 16 lookups
 // cost, measured), so collide() reads it when it pays, when 16 or more masses were in the band the step
 // before (an impact, several drops); and, to watch the band's bound, at least every 256 steps while
@@ -158,7 +159,8 @@ void DropOnCanopy::collide() {
     const double r = canopy_.geometry().radius_m;
     const double r2_max = r * r * (1.0 + 1e-12);
     const bool flat = canopy_.flat();
-    const double below = bottom_ - reach_;
+    const double band_below = bottom_ - reach_;
+    double below = band_below;
     const double per_normal = (1.0 + 1e-9) / rim_normal_z_;   // vertical per normal distance, rounded up
     const double skin = collider_.options().skin_m, t = collider_.time_step();
     const bool read = near_masses_ >= 16 || displaced_ || unread_steps_ >= 255;
@@ -174,10 +176,11 @@ void DropOnCanopy::collide() {
                 const DisplacementRange u = canopy_.displacement_range();
                 u_max = u.highest;
                 above = top_ + std::max(u_max, 0.0) * per_normal + 1e-12;
+                below = band_below - std::max(-u.lowest, 0.0) * per_normal;
                 displaced_ = !(std::max(u.highest, -u.lowest) <= 0.25 * 0.05);
                 have_u = true;
             }
-            if (p.z <= top_ + reach_ && p.z >= below) ++near;
+            if (p.z <= top_ + reach_ && p.z >= band_below) ++near;
             if (p.z > above) continue;
             if (have_u) {
                 const double a = flat ? p.z : (p.z - canopy_.rest_height(p.x, p.y)) * canopy_.surface_normal(p.x, p.y).z;
