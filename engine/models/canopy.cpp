@@ -52,6 +52,17 @@ Canopy::Canopy(const CanopyGeometry& geometry, const MembraneMaterial& material,
     const Membrane prototype = build_membrane(outline_, geometry.masses_per_panel, material, time_step_s, options);
     panels_.assign(static_cast<std::size_t>(geometry.panels), prototype);
     nodes_ = prototype.network.mass_count();
+    const double sector = 2.0 * constants::pi / geometry.panels;
+    for (int k = 0; k < geometry.panels; ++k) {
+        cos_azimuth_.push_back(std::cos(panel_azimuth(k)));
+        sin_azimuth_.push_back(std::sin(panel_azimuth(k)));
+    }
+    for (int k = 0; k <= geometry.panels; ++k)
+        boundary_.push_back({std::cos((k - 0.5) * sector), std::sin((k - 0.5) * sector)});
+    for (std::size_t e = 0; e < edges_.size(); ++e) {
+        const Point2 a = outline_[e].start, b = outline_[(e + 1) % outline_.size()].start;
+        edges_[e] = {a.x, a.y, b.x - a.x, b.y - a.y, std::hypot(b.x - a.x, b.y - a.y)};
+    }
     rest_.resize(static_cast<std::size_t>(geometry.panels * nodes_));
     normal_.resize(rest_.size());
     for (int k = 0; k < geometry.panels; ++k) {
@@ -66,9 +77,11 @@ Canopy::Canopy(const CanopyGeometry& geometry, const MembraneMaterial& material,
 double Canopy::panel_azimuth(int panel) const { return 2.0 * constants::pi * panel / geometry_.panels; }
 
 Point2 Canopy::to_local(int panel, double x, double y) const {
-    const double a = panel_azimuth(panel);
-    const double along = x * std::cos(a) + y * std::sin(a);      // distance out from the shaft
-    const double across = -x * std::sin(a) + y * std::cos(a);
+    // The rotation by -azimuth, with the constructor's std::cos / std::sin of it: the same values the
+    // same expressions gave when they were evaluated here.
+    const double c = cos_azimuth_[static_cast<std::size_t>(panel)], s = sin_azimuth_[static_cast<std::size_t>(panel)];
+    const double along = x * c + y * s;      // distance out from the shaft
+    const double across = -x * s + y * c;
     return {across, height_ - along};
 }
 
@@ -103,13 +116,76 @@ double Canopy::normal_velocity(int panel, int node) const {
     return panels_[static_cast<std::size_t>(panel)].network.velocity(node);
 }
 
-CanopyHit Canopy::locate(double x, double y) const {
+// The extremes of u over every node, as displacement() reads them. A NaN (a panel gone unstable,
+// before the runtime guard resets it) never wins a comparison, so it is passed over; with no finite
+// node at all the range is empty (lowest +infinity, highest -infinity).
+DisplacementRange Canopy::displacement_range() const {
+    DisplacementRange r{std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
+    for (const Membrane& p : panels_)
+        for (int i = 0; i < nodes_; ++i) {
+            const double u = p.network.position(i);
+            r.lowest = std::min(r.lowest, u);
+            r.highest = std::max(r.highest, u);
+        }
+    return r;
+}
+
+// Panel k covers the azimuths within half a sector of its centre line, 2 pi k / N: by definition the
+// panel is round(atan2(y, x) / sector) mod N (panel_by_atan2). To skip the atan2, an approximate
+// azimuth (within 1e-5 rad) proposes a panel, and two cross products confirm that (x, y) lies strictly
+// inside that panel's sector, between its boundary rays b_k and b_k+1: b_k x p > 0 > b_k+1 x p (a wedge
+// narrower than pi, as N >= 3). The margin, 1e-10 (|x| + |y|) >= 1e-10 |p|, puts p more than 1e-10 rad
+// inside the sector: far beyond the rounding of these products (a few 1e-16 (|x| + |y|)) and of
+// atan2(y, x) / sector (a few 1e-16 relative), so atan2 would round to the same panel. Only points
+// within that margin of a rib's line (or of the shaft, where both products vanish), or where the
+// approximation missed by a panel, ask atan2; so do NaN and infinities (the comparisons fail).
+int Canopy::panel_at(double x, double y) const {
+    const int n = geometry_.panels;
+    const double ax = std::fabs(x), ay = std::fabs(y);
+    const double hi = ax > ay ? ax : ay, lo = ax > ay ? ay : ax;
+    if (ax + ay > 0.0 && ax + ay <= std::numeric_limits<double>::max()) {   // not the shaft, NaN or infinite
+        // atan(z) on [0, 1] to 1e-5 rad (Abramowitz & Stegun 4.4.47), then the octant.
+        const double z = lo / hi, z2 = z * z;
+        double a = z * (0.9998660 + z2 * (-0.3302995 + z2 * (0.1801410 + z2 * (-0.0851330 + z2 * 0.0208351))));
+        if (ay > ax) a = 0.5 * constants::pi - a;
+        if (x < 0.0) a = constants::pi - a;
+        if (y < 0.0) a = -a;
+        // a / sector is in [-N/2, N/2]: shifted positive, the truncation rounds to the nearest panel.
+        int k = static_cast<int>(a * (n / (2.0 * constants::pi)) + 0.5 + n) - n;
+        if (k < 0) k += n;
+        if (k >= n) k -= n;
+        const Point2 b0 = boundary_[static_cast<std::size_t>(k)], b1 = boundary_[static_cast<std::size_t>(k) + 1];
+        const double margin = 1e-10 * (ax + ay);
+        if (b0.x * y - b0.y * x > margin && b1.x * y - b1.y * x < -margin) return k;
+    }
+    return panel_by_atan2(x, y);
+}
+
+int Canopy::panel_by_atan2(double x, double y) const {
     const double sector = 2.0 * constants::pi / geometry_.panels;
-    int panel = static_cast<int>(std::lround(std::atan2(y, x) / sector));
-    panel = ((panel % geometry_.panels) + geometry_.panels) % geometry_.panels;
+    const int panel = static_cast<int>(std::lround(std::atan2(y, x) / sector));
+    return ((panel % geometry_.panels) + geometry_.panels) % geometry_.panels;
+}
+
+// polygon_contains(outline_, local) (core/triangular_lattice.cpp): outside when any edge's signed
+// distance (e x (p - a)) / |e| is negative. Dividing by the positive length keeps the sign unless the
+// quotient underflows to -0, so the division (to compare exactly as polygon_contains does) is only
+// evaluated where the cross product is already negative.
+bool Canopy::inside_outline(Point2 p) const {
+    for (const OutlineEdge& e : edges_) {
+        const double cross = e.ex * (p.y - e.ay) - e.ey * (p.x - e.ax);
+        if (cross < 0.0 && cross / e.length < 0.0) return false;
+    }
+    return true;
+}
+
+// Every panel's lattice is the prototype's (the constructor copies it): the first panel's serves all,
+// so one node index stays in cache.
+CanopyHit Canopy::locate(double x, double y) const {
+    const int panel = panel_at(x, y);
     const Point2 local = to_local(panel, x, y);
-    if (!polygon_contains(outline_, local)) return {};
-    return {panel, panels_[static_cast<std::size_t>(panel)].lattice.nearest_node(local)};
+    if (!inside_outline(local)) return {};
+    return {panel, panels_.front().lattice.nearest_node(local)};
 }
 
 Point2 Canopy::sample_point(Random& rng) const {

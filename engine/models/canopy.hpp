@@ -8,7 +8,8 @@
 //                                  // throws std::invalid_argument (bad geometry or material, with the
 //                                  // reason) or StabilityError (refused: the bound in the message)
 //   Canopy::check(geometry, material, T, options)   // the same verdict without building: MaterialCheck
-//   canopy.locate(x, y)            // -> {panel, node} under a point in canopy coordinates, or panel -1
+//   canopy.locate(x, y)            // -> {panel, node} under a point in canopy coordinates, or panel -1;
+//                                  // no allocation, no trigonometry in the common case (see canopy.cpp)
 //   canopy.sample_point(rng)       // a point uniform over the canopy's plan area (for rain)
 //   canopy.apply_force(hit, N)     // a force along the node's normal n for the next step
 //   canopy.step(panel_forces)      // one sample: fills one net force per panel (N); no allocation
@@ -17,6 +18,8 @@
 //   canopy.rest_position(k, i), canopy.normal(k, i)     // node i of panel k: 3-D rest point, unit normal
 //   canopy.node_position(k, i)     // rest + u n: where the membrane is now
 //   canopy.displacement(k, i), canopy.normal_velocity(k, i)   // u (m) and du/dt (m/s) along n
+//   canopy.displacement_range()    // {lowest, highest} u over every node: bounds for a collision
+//                                  // broad phase (drop_on_canopy.cpp); no allocation
 //   canopy.rest_height(x, y), canopy.surface_normal(x, y)     // the rest surface over a plan point
 //
 // Geometry (seed section 5.1.2, Fig. 10-11): seen from above, panel k is the triangle between the
@@ -36,6 +39,7 @@
 // and the surface's larger true area (a factor 1 / n_z, up to 1 / cos(asin(R / Rc)) at the rim:
 // 3.3 % for Rc = 2 m, 15 % for Rc = 1 m, with R = 0.5 m). Valid while the slope stays small.
 
+#include <array>
 #include <limits>
 #include <vector>
 
@@ -50,6 +54,10 @@ struct CanopyGeometry {
     double radius_m = 0.5;                  // plan radius of the rib tips
     int masses_per_panel = 50;
     double curvature_radius_m = std::numeric_limits<double>::infinity();   // Rc; infinity: flat
+};
+
+struct DisplacementRange {
+    double lowest = 0.0, highest = 0.0;   // m
 };
 
 struct CanopyHit {
@@ -85,6 +93,7 @@ public:
     Vec3 node_position(int panel, int node) const;
     double displacement(int panel, int node) const;
     double normal_velocity(int panel, int node) const;
+    DisplacementRange displacement_range() const;   // over every node (NaN states are passed over)
     double rest_height(double x, double y) const;
     Vec3 surface_normal(double x, double y) const;
     bool flat() const { return !(geometry_.curvature_radius_m < std::numeric_limits<double>::infinity()); }
@@ -93,6 +102,9 @@ private:
     // Local panel frame: hem along y = 0 from (-w, 0) to (w, 0), apex (the shaft) at (0, h).
     Point2 to_local(int panel, double x, double y) const;
     Point2 to_canopy(int panel, Point2 local) const;
+    int panel_at(double x, double y) const;          // locate's panel: the azimuth's nearest centre line
+    int panel_by_atan2(double x, double y) const;    // the same by atan2 (the definition; the fallback)
+    bool inside_outline(Point2 local) const;         // polygon_contains(outline_, local), precomputed
     std::size_t index(int panel, int node) const {
         return static_cast<std::size_t>(panel) * static_cast<std::size_t>(nodes_) + static_cast<std::size_t>(node);
     }
@@ -102,6 +114,16 @@ private:
     std::vector<PolygonEdge> outline_;
     std::vector<Membrane> panels_;
     std::vector<Vec3> rest_, normal_;   // per panel and node, panel-major
+    // locate()'s tables, set by the constructor so that locate needs no trigonometry: per panel the
+    // cosine and sine of its azimuth (to_local); the sector boundaries' unit vectors, boundary k at
+    // azimuth (k - 1/2) 2 pi / N for k = 0..N (panel k lies between boundaries k and k + 1); and the
+    // outline's edges as polygon_contains computes them.
+    struct OutlineEdge {
+        double ax = 0.0, ay = 0.0, ex = 0.0, ey = 0.0, length = 0.0;
+    };
+    std::vector<double> cos_azimuth_, sin_azimuth_;
+    std::vector<Point2> boundary_;
+    std::array<OutlineEdge, 3> edges_{};
 };
 
 }  // namespace ameoto

@@ -156,6 +156,10 @@ private:
     int latency_samples_ = 0;
     std::vector<Vec3> listener_points_;
     Vec3 contact_force_{};
+    double rim_normal_z_ = 1.0;   // n_z of the rest cap at the rim: the smallest inside it
+    int near_masses_ = 0;         // masses in the band last step   } when collide() reads the
+    int unread_steps_ = 0;        // steps since it read u           } membrane's displacement
+    bool displaced_ = false;      // |u| beyond a quarter of the band at that reading
 };
 
 }  // namespace ameoto

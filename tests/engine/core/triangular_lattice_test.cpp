@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <vector>
 
@@ -187,4 +188,122 @@ TEST_CASE("triangular_lattice: nearest_node returns the nearest node") {
     }
     const ameoto::TriangularLattice empty;
     CHECK(empty.nearest_node({0, 0}) == -1);
+}
+
+namespace {
+
+// The original nearest_node: every node, least squared distance, lowest index on a tie.
+int nearest_by_scan(const ameoto::TriangularLattice& lat, Point2 p) {
+    int best = -1;
+    double best_d2 = std::numeric_limits<double>::infinity();
+    for (std::size_t i = 0; i < lat.nodes.size(); ++i) {
+        const double dx = lat.nodes[i].x - p.x, dy = lat.nodes[i].y - p.y;
+        const double d2 = dx * dx + dy * dy;
+        if (d2 < best_d2) {
+            best_d2 = d2;
+            best = static_cast<int>(i);
+        }
+    }
+    return best;
+}
+
+// Query points that stress the lookup: uniform over a box well beyond the polygon, on its edges and
+// vertices, at the nodes, half way along links and at triangle centres (ties between 2 and 3 nodes),
+// near those ties by an ulp or so, and far away.
+std::vector<Point2> stress_points(const std::vector<PolygonEdge>& poly, const ameoto::TriangularLattice& lat,
+                                  ameoto::Random& rng, int random_count) {
+    double x_lo = 1e300, x_hi = -1e300, y_lo = 1e300, y_hi = -1e300;
+    for (const auto& e : poly) {
+        x_lo = std::min(x_lo, e.start.x);
+        x_hi = std::max(x_hi, e.start.x);
+        y_lo = std::min(y_lo, e.start.y);
+        y_hi = std::max(y_hi, e.start.y);
+    }
+    const double margin = 0.5 * std::max(x_hi - x_lo, y_hi - y_lo);
+    std::vector<Point2> points;
+    for (int t = 0; t < random_count; ++t)
+        points.push_back({rng.uniform(x_lo - margin, x_hi + margin), rng.uniform(y_lo - margin, y_hi + margin)});
+    for (std::size_t i = 0; i < poly.size(); ++i) {
+        const Point2 a = poly[i].start, b = poly[(i + 1) % poly.size()].start;
+        points.push_back(a);
+        for (int t = 0; t < 200; ++t) {
+            const double s = rng.uniform();
+            points.push_back({a.x + s * (b.x - a.x), a.y + s * (b.y - a.y)});
+        }
+    }
+    for (const auto& n : lat.nodes) points.push_back(n);
+    for (const auto& l : lat.links) {
+        const Point2 a = lat.nodes[static_cast<std::size_t>(l.a)], b = lat.nodes[static_cast<std::size_t>(l.b)];
+        const Point2 mid{0.5 * (a.x + b.x), 0.5 * (a.y + b.y)};
+        points.push_back(mid);
+        points.push_back({std::nextafter(mid.x, 1e300), mid.y});
+        points.push_back({mid.x, std::nextafter(mid.y, -1e300)});
+        // The third corner of a lattice triangle on this link: its centre is equidistant from three sites.
+        const double cx = mid.x - (b.y - a.y) * std::sqrt(3.0) / 6.0, cy = mid.y + (b.x - a.x) * std::sqrt(3.0) / 6.0;
+        points.push_back({cx, cy});
+        points.push_back({std::nextafter(cx, -1e300), std::nextafter(cy, 1e300)});
+    }
+    points.push_back({x_lo - 1e3, y_lo + 1e3});
+    points.push_back({1e200, -1e200});
+    const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
+    points.push_back({nan, y_lo});
+    points.push_back({x_lo, nan});
+    points.push_back({inf, y_lo});
+    points.push_back({x_lo, -inf});
+    return points;
+}
+
+}  // namespace
+
+TEST_CASE("triangular_lattice: the O(1) nearest_node gives exactly the brute force's index") {
+    struct Case {
+        const char* name;
+        std::vector<PolygonEdge> poly;
+        std::vector<double> spacings;
+    };
+    const std::vector<PolygonEdge> sliver = {{{0.0, 0.0}, true}, {{1.0, 0.02}, false}, {{0.05, 0.06}, true}};
+    std::vector<PolygonEdge> far_away = triangle(true);   // the lattice far from the origin
+    for (auto& e : far_away) e.start = {e.start.x + 1234.5, e.start.y - 987.25};
+    const std::vector<Case> cases = {
+        {"umbrella panel", umbrella_panel(), {0.04, 0.0617, 0.013, 0.3}},
+        {"square", square(1.0, false), {0.1, 0.0999, 0.33, 2.0}},
+        {"triangle", triangle(true), {0.05, 0.031, 0.2}},
+        {"sliver", sliver, {0.01, 0.02, 0.005}},
+        {"far from the origin", far_away, {0.05, 0.0123}},
+    };
+    ameoto::Random rng(11);
+    long checked = 0;
+    for (const Case& c : cases) {
+        for (const double h : c.spacings) {
+            const auto lat = ameoto::build_triangular_lattice(c.poly, h);
+            INFO(c.name, ", spacing ", h, ", ", lat.nodes.size(), " nodes");
+            CHECK(lat.grid.node_count == lat.nodes.size());
+            for (const Point2 p : stress_points(c.poly, lat, rng, 4000)) {
+                const int want = nearest_by_scan(lat, p);
+                const int got = lat.nearest_node(p);
+                if (got != want) {
+                    CAPTURE(p.x);
+                    CAPTURE(p.y);
+                    CHECK(got == want);
+                }
+                ++checked;
+            }
+        }
+    }
+    MESSAGE(checked, " queries, all identical to the brute force");
+    CHECK(checked > 50000);
+}
+
+TEST_CASE("triangular_lattice: nearest_node falls back to the brute force without a current grid") {
+    auto lat = ameoto::build_triangular_lattice(umbrella_panel(), 0.05);
+    ameoto::TriangularLattice by_hand;   // no grid: the brute force
+    by_hand.nodes = lat.nodes;
+    lat.nodes.push_back({0.0, 0.1});     // the grid no longer covers every node: the brute force
+    ameoto::Random rng(5);
+    for (int t = 0; t < 500; ++t) {
+        const Point2 p{rng.uniform(-0.3, 0.3), rng.uniform(-0.1, 0.6)};
+        CHECK(by_hand.nearest_node(p) == nearest_by_scan(by_hand, p));
+        CHECK(lat.nearest_node(p) == nearest_by_scan(lat, p));
+    }
+    CHECK(lat.nearest_node({std::nan(""), 0.1}) == -1);   // as the brute force: NaN is nearest nothing
 }

@@ -1,11 +1,13 @@
 // Tests for engine/models/canopy: the umbrella's panels, where a point lands, and the runtime guard.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
 #include <vector>
 
+#include "engine/core/physical_constants.hpp"
 #include "engine/core/random.hpp"
 #include "engine/models/canopy.hpp"
 
@@ -256,4 +258,113 @@ TEST_CASE("canopy: geometry and materials are checked, with reasons; stability p
     CHECK_FALSE(refused.ok);
     CHECK(refused.reason.find("omega_max T = 51") != std::string::npos);
     CHECK(ameoto::Canopy::check(ameoto::CanopyGeometry{}, seed, kT).stability.sub_steps == 27);
+}
+
+namespace {
+
+// Canopy::locate as it was first written, kept as the reference: the panel by atan2, the rotation by
+// std::cos / std::sin of its azimuth, polygon_contains on the outline, the brute-force nearest node.
+ameoto::CanopyHit reference_locate(const ameoto::Canopy& c, double x, double y) {
+    const int n = c.panel_count();
+    const double sector = 2.0 * ameoto::constants::pi / n;
+    int panel = static_cast<int>(std::lround(std::atan2(y, x) / sector));
+    panel = ((panel % n) + n) % n;
+    const double half_angle = ameoto::constants::pi / n;
+    const double w = c.geometry().radius_m * std::sin(half_angle), h = c.geometry().radius_m * std::cos(half_angle);
+    const double a = c.panel_azimuth(panel);
+    const double along = x * std::cos(a) + y * std::sin(a);
+    const double across = -x * std::sin(a) + y * std::cos(a);
+    const ameoto::Point2 local{across, h - along};
+    const std::vector<ameoto::PolygonEdge> outline = {{{-w, 0.0}, false}, {{w, 0.0}, true}, {{0.0, h}, true}};
+    if (!ameoto::polygon_contains(outline, local)) return {};
+    return {panel, c.panel(panel).lattice.nearest_node_brute_force(local)};
+}
+
+}  // namespace
+
+TEST_CASE("canopy: locate gives exactly the reference formula's hit (atan2, sincos, brute force)") {
+    struct Shape {
+        int panels;
+        double radius;
+        int masses;
+    };
+    // 3 and 5 panels: a sector boundary on the -x axis, where atan2 jumps; 2 m: edges longer than 1 m.
+    const Shape shapes[] = {{8, 0.5, 50}, {3, 0.4, 30}, {5, 0.5, 80}, {12, 0.7, 40}, {64, 0.5, 12}, {8, 2.0, 200}};
+    ameoto::Random rng(21);
+    long queries = 0, on_canopy = 0;
+    for (const Shape& shape : shapes) {
+        const ameoto::Canopy c(ameoto::CanopyGeometry{shape.panels, shape.radius, shape.masses},
+                               ameoto::MembraneMaterial::nylon_canopy(), kT);
+        const double r = shape.radius;
+        std::vector<ameoto::Point2> points;
+        for (int t = 0; t < 20000; ++t) points.push_back({rng.uniform(-1.2 * r, 1.2 * r), rng.uniform(-1.2 * r, 1.2 * r)});
+        for (int t = 0; t < 2000; ++t) points.push_back(c.sample_point(rng));
+        // On and a few ulps beside the ribs (the sector boundaries), out to the rib tips and beyond.
+        for (int k = 0; k <= shape.panels; ++k) {
+            const double b = (k - 0.5) * 2.0 * ameoto::constants::pi / shape.panels;
+            for (int t = 0; t < 40; ++t) {
+                const double d = rng.uniform(0.0, 1.1 * r);
+                double x = d * std::cos(b), y = d * std::sin(b);
+                points.push_back({x, y});
+                for (int step = 0; step < 3; ++step) {
+                    x = std::nextafter(x, t % 2 ? 1e300 : -1e300);
+                    y = std::nextafter(y, t % 3 ? 1e300 : -1e300);
+                    points.push_back({x, y});
+                }
+                points.push_back({x * (1.0 + 1e-9), y});
+                points.push_back({x, y * (1.0 + 1e-9)});
+            }
+        }
+        // The shaft and its signed zeros, the node sites, the hem, NaN and infinities.
+        for (const double x : {0.0, -0.0, 1e-300, -1e-300})
+            for (const double y : {0.0, -0.0, 1e-300, -1e-300}) points.push_back({x, y});
+        for (int k = 0; k < c.panel_count(); ++k)
+            for (int i = 0; i < c.nodes_per_panel(); ++i) points.push_back({c.rest_position(k, i).x, c.rest_position(k, i).y});
+        for (int t = 0; t < 200; ++t) {
+            const double a = rng.uniform(0.0, 2.0 * ameoto::constants::pi), d = r * std::cos(ameoto::constants::pi / shape.panels);
+            points.push_back({d * std::cos(a), d * std::sin(a)});
+        }
+        const double inf = std::numeric_limits<double>::infinity(), nan = std::numeric_limits<double>::quiet_NaN();
+        for (const ameoto::Point2 p : {ameoto::Point2{nan, 0.1}, {0.1, nan}, {inf, 0.0}, {-inf, 1.0}, {0.0, -inf}, {1e300, 1e300}})
+            points.push_back(p);
+        for (const ameoto::Point2 p : points) {
+            const ameoto::CanopyHit want = reference_locate(c, p.x, p.y), got = c.locate(p.x, p.y);
+            if (got.panel != want.panel || got.node != want.node) {
+                CAPTURE(shape.panels);
+                CAPTURE(p.x);
+                CAPTURE(p.y);
+                CHECK(got.panel == want.panel);
+                CHECK(got.node == want.node);
+            }
+            ++queries;
+            on_canopy += want.panel >= 0 ? 1 : 0;
+        }
+    }
+    MESSAGE(queries, " points (", on_canopy, " on the canopy), every hit identical to the reference");
+    CHECK(on_canopy > 50000);
+}
+
+TEST_CASE("canopy: displacement_range is the lowest and highest u over every node") {
+    ameoto::Canopy c(ameoto::CanopyGeometry{}, ameoto::MembraneMaterial::nylon_canopy(), kT);
+    CHECK(c.displacement_range().lowest == 0.0);
+    CHECK(c.displacement_range().highest == 0.0);
+    std::vector<double> forces(static_cast<std::size_t>(c.panel_count()));
+    c.apply_force(c.locate(0.2, 0.03), -0.5);
+    c.apply_force(c.locate(-0.1, -0.25), 0.3);
+    bool up = false, down = false;
+    for (int n = 0; n < 40; ++n) {
+        c.step(forces.data());
+        double lo = 1e300, hi = -1e300;
+        for (int k = 0; k < c.panel_count(); ++k)
+            for (int i = 0; i < c.nodes_per_panel(); ++i) {
+                lo = std::min(lo, c.displacement(k, i));
+                hi = std::max(hi, c.displacement(k, i));
+                up = up || c.displacement(k, i) > 0.0;
+                down = down || c.displacement(k, i) < 0.0;
+            }
+        CHECK(c.displacement_range().lowest == lo);
+        CHECK(c.displacement_range().highest == hi);
+    }
+    CHECK(up);
+    CHECK(down);
 }
