@@ -49,8 +49,8 @@
 // one-poles with tau from 0.0275 s (0.1 mm) to 0.935 s (5.8 mm), interpolated linearly in ln tau
 // (and linearly in tau between the raw wind, tau = 0, and the first filter; against the closed-form
 // response to a 0 -> 10 m/s ramp in 1 s the error is at most 0.037 m/s for 0.05..5.8 mm, tested). The
-// drop's own history over
-// the ground (it has fallen through the gusts upwind) is not tracked: all drops see the wind here.
+// drop's own history over the ground (it has fallen through the gusts upwind) is not tracked: all drops
+// see the wind here.
 //
 // Rain rate seen by a surface (why gusts modulate it): rain falling with velocity V = (u_h, -v_t) through
 // air crosses a surface of unit normal n at N(D) max(0, -V.n) per m^2, so relative to a horizontal surface
