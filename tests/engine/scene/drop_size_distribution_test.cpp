@@ -1,9 +1,13 @@
-// Tests for engine/scene/drop_size_distribution: Marshall-Palmer and the impact flux it implies.
+// Tests for engine/scene/drop_size_distribution: Marshall-Palmer, Joss et al., gamma (and Zhang's mu-Lambda),
+// the water each delivers, and the impact flux they imply.
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <functional>
+#include <string>
 #include <utility>
+#include <vector>
 
 #include "engine/scene/drop_size_distribution.hpp"
 #include "engine/scene/terminal_speed.hpp"
@@ -88,4 +92,104 @@ TEST_CASE("drop_size_distribution: plain Marshall-Palmer over-delivers water (1.
     // physics.md s.2 (computed values), 3 %.
     CHECK(water_mm_per_h(1.0) == doctest::Approx(1.18 * 1.0).epsilon(0.03));
     CHECK(water_mm_per_h(100.0) == doctest::Approx(1.05 * 100.0).epsilon(0.03));
+}
+
+namespace {
+
+// The five distributions the rain scenes offer (drop_size_distribution.hpp), with their names.
+struct NamedDsd {
+    const char* name;
+    ameoto::DropSizeDistribution dsd;
+};
+
+std::vector<NamedDsd> all_dsds() {
+    using D = ameoto::DropSizeDistribution;
+    return {{"Marshall-Palmer", D::marshall_palmer()},
+            {"Joss drizzle", D::joss_drizzle()},
+            {"Joss thunderstorm", D::joss_thunderstorm()},
+            {"gamma mu=2 Lambda=4", D::gamma(2.0, 4.0)},
+            {"gamma Zhang Lambda=3", D::gamma_zhang(3.0)}};
+}
+
+double water_independent(const ameoto::DropSizeDistribution& dsd, double r) {
+    // N0 once (water-matched N0 is itself an integral); the shape and the quadrature are this file's own.
+    const double n0 = dsd.n0_at(r);
+    return 6.0 * kPi * 1e-4 * n0 * simpson([&](double d) { return d * d * d * v_of_mm(d) * dsd.shape(d, r); }, 1e-9, 20.0, 40000);
+}
+
+}  // namespace
+
+TEST_CASE("drop_size_distribution: Joss et al. 1968 presets and the gamma family's parameters") {
+    using D = ameoto::DropSizeDistribution;
+    for (double r : {0.5, 1.0, 10.0, 50.0}) {
+        CAPTURE(r);
+        // physics.md s.2: drizzle N0 = 30000, Lambda = 5.7 R^-0.21; thunderstorm N0 = 1400, Lambda = 3.0 R^-0.21
+        // (rounding only, 1e-12).
+        CHECK(D::joss_drizzle().lambda_per_mm(r) == doctest::Approx(5.7 * std::pow(r, -0.21)).epsilon(1e-12));
+        CHECK(D::joss_drizzle().number_density(0.0, r) == doctest::Approx(30000.0).epsilon(1e-12));
+        CHECK(D::joss_thunderstorm().lambda_per_mm(r) == doctest::Approx(3.0 * std::pow(r, -0.21)).epsilon(1e-12));
+        CHECK(D::joss_thunderstorm().number_density(1.0, r) ==
+              doctest::Approx(1400.0 * std::exp(-3.0 * std::pow(r, -0.21))).epsilon(1e-12));
+        // A fixed-Lambda gamma keeps its shape at every rate.
+        CHECK(D::gamma(2.0, 4.0).lambda_per_mm(r) == 4.0);
+        CHECK(D::gamma(2.0, 4.0).mu_at(r) == 2.0);
+        CHECK(D::gamma(2.0, 4.0).shape(1.5, r) == doctest::Approx(1.5 * 1.5 * std::exp(-6.0)).epsilon(1e-12));
+    }
+    // Zhang et al. 2001 (physics.md s.2): mu = -0.016 Lambda^2 + 1.213 Lambda - 1.957 (rounding only).
+    for (double l : {1.0, 3.0, 10.0, 20.0}) CHECK(ameoto::zhang_mu(l) == doctest::Approx(-0.016 * l * l + 1.213 * l - 1.957).epsilon(1e-12));
+    CHECK(D::gamma_zhang(3.0).mu_at(7.0) == doctest::Approx(1.538).epsilon(1e-12));
+    // With a rate-dependent slope, mu follows Lambda.
+    D z = D::gamma_zhang(4.1);
+    z.lambda_exponent = -0.21;
+    CHECK(z.mu_at(50.0) == doctest::Approx(ameoto::zhang_mu(4.1 * std::pow(50.0, -0.21))).epsilon(1e-12));
+    // The old name is the same type, and its default is Marshall-Palmer.
+    const ameoto::MarshallPalmer old{};
+    CHECK(old.n0_per_m3_mm == 8000.0);
+    CHECK(old.n0_mode == ameoto::N0Mode::published);
+}
+
+TEST_CASE("drop_size_distribution: delivered water per distribution (N0 published vs water-matched)") {
+    for (const auto& [name, dsd] : all_dsds()) {
+        INFO(std::string(name));
+        std::string line = std::string(name) + ": water delivered / R at R = 1, 10, 50, 100 mm/h:";
+        for (double r : {1.0, 10.0, 50.0, 100.0}) {
+            const double w = dsd.water_mm_per_h(r);
+            // The engine's water integral against the independent Simpson here (40000 intervals): 1e-4.
+            CHECK(w == doctest::Approx(water_independent(dsd, r)).epsilon(1e-4));
+            if (dsd.n0_mode == ameoto::N0Mode::water_matched) {
+                // drop_size_distribution.hpp: water-matched N0 delivers exactly R (quadrature only, 1e-6).
+                CHECK(w == doctest::Approx(r).epsilon(1e-6));
+            }
+            char buf[32];
+            std::snprintf(buf, sizeof buf, " %.3f", w / r);
+            line += buf;
+        }
+        MESSAGE(line);
+    }
+    // A preset switched to water_matched delivers R too; its shape (and so its sampled sizes) is unchanged.
+    auto mp = ameoto::DropSizeDistribution::marshall_palmer();
+    mp.n0_mode = ameoto::N0Mode::water_matched;
+    CHECK(mp.water_mm_per_h(1.0) == doctest::Approx(1.0).epsilon(1e-6));
+    // physics.md s.2: plain MP delivers 1.18 R at 1 mm/h, so the matched N0 is 8000 / 1.18 (3 %).
+    CHECK(mp.n0_at(1.0) == doctest::Approx(8000.0 / 1.18).epsilon(0.03));
+    CHECK(mp.shape(2.0, 1.0) == ameoto::DropSizeDistribution::marshall_palmer().shape(2.0, 1.0));
+}
+
+TEST_CASE("drop_size_distribution: impact_flux of every distribution agrees with an independent integral") {
+    for (const auto& [name, dsd] : all_dsds()) {
+        for (double r : {1.0, 10.0, 50.0}) {
+            INFO(std::string(name));
+            CAPTURE(r);
+            const double n0 = dsd.n0_at(r);
+            const double mine =
+                n0 * simpson([&](double d) { return dsd.shape(d, r) * v_of_mm(d); }, 0.5, 6.0, 40000);
+            // Same 1e-3 as the Marshall-Palmer case above.
+            CHECK(ameoto::impact_flux(dsd, r, 0.5, 6.0) == doctest::Approx(mine).epsilon(1e-3));
+        }
+    }
+    // A gamma with mu < 0 has N(0) infinite but a finite flux from D = 0 (v ~ D^2 there).
+    const auto g = ameoto::DropSizeDistribution::gamma(-0.5, 2.0);
+    const double all = ameoto::impact_flux(g, 10.0, 0.0, 6.0);
+    CHECK(std::isfinite(all));
+    CHECK(all > ameoto::impact_flux(g, 10.0, 0.5, 6.0));
 }

@@ -1,16 +1,20 @@
 // Tests for engine/scene/rain_spawner: Poisson arrivals at the impact flux, flux-weighted diameters,
-// and the rate ramp.
+// the rate ramp, and the same for every drop size distribution.
 #include <doctest/doctest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "engine/core/random.hpp"
 #include "engine/scene/drop_size_distribution.hpp"
 #include "engine/scene/rain_spawner.hpp"
 #include "engine/scene/terminal_speed.hpp"
+#include "tests/support/rt_probe_scope.hpp"
 
 namespace {
 
@@ -266,4 +270,235 @@ TEST_CASE("rain_spawner: rejects bad configurations") {
     cfg.d_min_mm = 3.0;
     cfg.d_max_mm = 2.0;
     CHECK_THROWS(ameoto::RainSpawner{cfg});
+}
+
+// ---- Every drop size distribution (drop_size_distribution.hpp) through the spawner ----
+
+namespace {
+
+struct NamedDsd {
+    const char* name;
+    ameoto::DropSizeDistribution dsd;
+};
+
+std::vector<NamedDsd> all_dsds() {
+    using D = ameoto::DropSizeDistribution;
+    D zhang_mp_slope = D::gamma_zhang(4.1);   // Zhang's mu with Marshall-Palmer's slope: mu from 2.75 to 0.17
+    zhang_mp_slope.lambda_exponent = -0.21;
+    return {{"Marshall-Palmer", D::marshall_palmer()},
+            {"Joss drizzle", D::joss_drizzle()},
+            {"Joss thunderstorm", D::joss_thunderstorm()},
+            {"gamma mu=2 Lambda=4", D::gamma(2.0, 4.0)},
+            {"gamma mu=-0.5 Lambda=2", D::gamma(-0.5, 2.0)},
+            {"gamma Zhang Lambda=3", D::gamma_zhang(3.0)},
+            {"gamma Zhang Lambda=4.1R^-0.21", zhang_mp_slope}};
+}
+
+// Flux-weighted CDF of D^mu exp(-lambda D) v(D) on [lo, hi] (trapezoid on a fine grid; this file's own).
+struct GammaFluxCdf {
+    double lo, hi, step;
+    std::vector<double> cdf;
+    GammaFluxCdf(double mu, double lambda, double lo_mm, double hi_mm, int points) : lo(lo_mm), hi(hi_mm) {
+        step = (hi - lo) / (points - 1);
+        cdf.assign(static_cast<std::size_t>(points), 0.0);
+        auto f = [&](double d) { return std::pow(d, mu) * std::exp(-lambda * d) * v_of_mm(d); };
+        for (int i = 1; i < points; ++i) {
+            const double a = lo + (i - 1) * step, b = lo + i * step;
+            cdf[static_cast<std::size_t>(i)] = cdf[static_cast<std::size_t>(i - 1)] + 0.5 * (f(a) + f(b)) * step;
+        }
+        const double total = cdf.back();
+        for (auto& c : cdf) c /= total;
+    }
+    double operator()(double d) const {
+        if (d <= lo) return 0.0;
+        if (d >= hi) return 1.0;
+        const double pos = (d - lo) / step;
+        const auto i = std::min(static_cast<std::size_t>(pos), cdf.size() - 2);
+        const double t = pos - static_cast<double>(i);
+        return cdf[i] * (1.0 - t) + cdf[i + 1] * t;
+    }
+};
+
+// Asymptotic Kolmogorov p-value with Stephens' small-sample correction (Press et al., Numerical Recipes,
+// 3rd ed., section 14.3.3): p = Q(lambda), lambda = (sqrt(n) + 0.12 + 0.11 / sqrt(n)) D.
+double ks_p_value(double d, int n) {
+    const double sn = std::sqrt(static_cast<double>(n));
+    const double l = (sn + 0.12 + 0.11 / sn) * d;
+    if (l < 0.2) return 1.0;
+    double p = 0.0, sign = 1.0;
+    for (int k = 1; k <= 100; ++k) {
+        p += sign * 2.0 * std::exp(-2.0 * k * k * l * l);
+        sign = -sign;
+    }
+    return std::clamp(p, 0.0, 1.0);
+}
+
+// Weighted maximum likelihood of Lambda for D^mu(Lambda) exp(-Lambda D) truncated to [lo, hi], with mu
+// fixed or tied to Lambda (Zhang). Weights 1/v(D) turn the impacts back into N(D). A log grid over
+// 0.3..40 mm^-1, then golden section around the best point.
+double fit_lambda(const std::vector<double>& d, const ameoto::DropSizeDistribution& dsd, double lo, double hi) {
+    double sw = 0.0, swd = 0.0, swl = 0.0;
+    for (double x : d) {
+        const double w = 1.0 / v_of_mm(x);
+        sw += w;
+        swd += w * x;
+        swl += w * std::log(x);
+    }
+    auto loglik = [&](double l) {
+        const double mu = dsd.mu_from_lambda ? ameoto::zhang_mu(l) : dsd.mu;
+        const int m = 2000;
+        const double h = (hi - lo) / m;
+        double z = 0.0;
+        for (int i = 0; i <= m; ++i) {
+            const double x = lo + i * h;
+            z += ((i == 0 || i == m) ? 1.0 : ((i % 2) ? 4.0 : 2.0)) * std::pow(x, mu) * std::exp(-l * x);
+        }
+        z *= h / 3.0;
+        return mu * swl - l * swd - sw * std::log(z);
+    };
+    double best = 0.3, best_ll = -1e300;
+    for (int i = 0; i <= 200; ++i) {
+        const double l = 0.3 * std::pow(40.0 / 0.3, i / 200.0);
+        const double ll = loglik(l);
+        if (ll > best_ll) best_ll = ll, best = l;
+    }
+    double a = best / 1.03, b = best * 1.03;
+    const double g = 0.5 * (std::sqrt(5.0) - 1.0);
+    for (int it = 0; it < 80; ++it) {
+        const double c = b - g * (b - a), e = a + g * (b - a);
+        (loglik(c) > loglik(e) ? b : a) = (loglik(c) > loglik(e) ? e : c);
+    }
+    return 0.5 * (a + b);
+}
+
+}  // namespace
+
+TEST_CASE("rain_spawner: every DSD's sampled diameters follow its flux-weighted distribution") {
+    const double lo = 0.5, hi = 6.0;
+    const int n = 20000;
+    for (const auto& [name, dsd] : all_dsds()) {
+        INFO(std::string(name));
+        ameoto::RainSpawner::Config cfg;
+        cfg.dsd = dsd;
+        ameoto::RainSpawner rain(cfg);
+        std::string line = std::string(name) + ":";
+        for (double r : {1.0, 10.0, 50.0}) {
+            CAPTURE(r);
+            rain.set_rate_now(r);
+            ameoto::Random rng(4000 + static_cast<std::uint64_t>(r));
+            std::vector<double> d(static_cast<std::size_t>(n));
+            for (auto& x : d) x = rain.sample_diameter_m(rng) * 1e3;
+            CHECK(*std::min_element(d.begin(), d.end()) >= lo);
+            CHECK(*std::max_element(d.begin(), d.end()) <= hi);
+            std::sort(d.begin(), d.end());
+            const GammaFluxCdf cdf(dsd.mu_at(r), dsd.lambda_per_mm(r), lo, hi, 22001);
+            double ks = 0.0;
+            for (int i = 0; i < n; ++i) {
+                const double f = cdf(d[static_cast<std::size_t>(i)]);
+                ks = std::max({ks, f - static_cast<double>(i) / n, static_cast<double>(i + 1) / n - f});
+            }
+            const double p = ks_p_value(ks, n);
+            // physics.md s.5 item 6 and the brief: KS p > 0.01 against N(D) v(D) on [0.5, 6] mm.
+            CHECK(p > 0.01);
+            const double lambda = fit_lambda(d, dsd, lo, hi);
+            const double expected = dsd.lambda_per_mm(r);
+            // physics.md s.5 item 6: fitted Lambda within 3 % of the distribution's Lambda(R).
+            CHECK(lambda == doctest::Approx(expected).epsilon(0.03));
+            char buf[96];
+            std::snprintf(buf, sizeof buf, "  R=%g: Lambda fit %.4f vs %.4f (%+.2f %%), KS D=%.4f p=%.3f", r, lambda,
+                          expected, 100.0 * (lambda / expected - 1.0), ks, p);
+            line += buf;
+        }
+        MESSAGE(line);
+    }
+}
+
+TEST_CASE("rain_spawner: every DSD's counts follow its own flux table; arrivals are Poisson") {
+    for (const auto& [name, dsd] : all_dsds()) {
+        INFO(std::string(name));
+        ameoto::RainSpawner::Config cfg;
+        cfg.dsd = dsd;
+        ameoto::RainSpawner rain(cfg);
+        // The table against the integral: 0.2 % (as for Marshall-Palmer above).
+        for (double r : {0.05, 1.0, 5.0, 50.0, 300.0}) {
+            CAPTURE(r);
+            CHECK(rain.flux_per_m2_s(r) == doctest::Approx(ameoto::impact_flux(dsd, r, 0.5, 6.0)).epsilon(0.002));
+        }
+        rain.set_rate_now(10.0);
+        ameoto::Random rng(77);
+        const int window = 480, windows = 10000;   // 10 ms at 48 kHz, 100 s
+        double sum = 0.0, sum2 = 0.0;
+        for (int w = 0; w < windows; ++w) {
+            int c = 0;
+            for (int s = 0; s < window; ++s) c += rain.advance(kDt, rng);
+            sum += c;
+            sum2 += static_cast<double>(c) * c;
+        }
+        const double mean = sum / windows, var = (sum2 - sum * sum / windows) / (windows - 1);
+        const double expected = rain.flux_per_m2_s(10.0) * 100.0;
+        // Poisson count over 100 s: within 5 standard deviations of the table's flux.
+        CHECK(std::abs(sum - expected) < 5.0 * std::sqrt(expected));
+        // Fano factor 1 +/- 0.05 (3.5 standard errors for 10^4 windows, as above).
+        CHECK(var / mean == doctest::Approx(1.0).epsilon(0.05));
+        char buf[160];
+        std::snprintf(buf, sizeof buf, "%s: flux D>=0.5 mm at 1/5/10/50 mm/h = %.0f/%.0f/%.0f/%.0f m^-2 s^-1; counted %.0f m^-2 s^-1 at 10; Fano %.3f",
+                      name, rain.flux_per_m2_s(1.0), rain.flux_per_m2_s(5.0), rain.flux_per_m2_s(10.0),
+                      rain.flux_per_m2_s(50.0), sum / 100.0, var / mean);
+        MESSAGE(buf);
+    }
+}
+
+TEST_CASE("rain_spawner: the flux scale multiplies the arrival rate exactly (time rescaling)") {
+    // advance(dt, rng, s): arrivals at s times the flux; s = 1 is the plain advance, sample for sample.
+    ameoto::RainSpawner a(ameoto::RainSpawner::Config{}), b(ameoto::RainSpawner::Config{});
+    a.set_rate_now(20.0);
+    b.set_rate_now(20.0);
+    ameoto::Random ra(3), rb(3);
+    for (int n = 0; n < 48000; ++n) REQUIRE(a.advance(kDt, ra) == b.advance(kDt, rb, 1.0));
+    // A varying scale (a square wave 0.5 / 2.5, mean 1.5) over 50 s: count within 5 sigma of its integral.
+    ameoto::RainSpawner c(ameoto::RainSpawner::Config{});
+    c.set_rate_now(5.0);
+    ameoto::Random rc(11);
+    double count = 0.0, expected = 0.0;
+    for (int n = 0; n < 50 * 48000; ++n) {
+        const double s = ((n / 4800) % 2) ? 2.5 : 0.5;
+        count += c.advance(kDt, rc, s);
+        expected += c.flux_per_m2_s(5.0) * s * kDt;
+    }
+    CHECK(std::abs(count - expected) < 5.0 * std::sqrt(expected));
+    CHECK(c.advance(kDt, rc, 0.0) == 0);
+}
+
+TEST_CASE("rain_spawner: rejects distributions without a valid shape over 0.01..500 mm/h") {
+    ameoto::RainSpawner::Config cfg;
+    cfg.dsd = ameoto::DropSizeDistribution::gamma(-1.2, 2.0);   // mu <= -1: not integrable
+    CHECK_THROWS_AS(ameoto::RainSpawner{cfg}, std::invalid_argument);
+    cfg.dsd = ameoto::DropSizeDistribution::gamma(1.0, -2.0);   // Lambda <= 0
+    CHECK_THROWS_AS(ameoto::RainSpawner{cfg}, std::invalid_argument);
+    cfg.dsd = ameoto::DropSizeDistribution::gamma_zhang(0.5);   // Zhang mu(0.5) = -1.35
+    CHECK_THROWS_AS(ameoto::RainSpawner{cfg}, std::invalid_argument);
+}
+
+TEST_CASE("rain_spawner: allocation-free per sample with every DSD (real-time audit)") {
+    for (const auto& [name, dsd] : all_dsds()) {
+        INFO(std::string(name));
+        ameoto::RainSpawner::Config cfg;
+        cfg.dsd = dsd;
+        ameoto::RainSpawner rain(cfg);
+        ameoto::Random rng(1);
+        rain.set_rate_now(5.0);
+        double sink = 0.0;
+        ameoto::test::RtAudit audit;
+        {
+            ameoto::test::RtAudit::Scope scope;
+            rain.set_rate(40.0);   // a ramp, so the shape is recomputed per sample
+            for (int n = 0; n < 4800; ++n) {
+                const int k = rain.advance(kDt, rng, 1.2);
+                for (int i = 0; i < k; ++i) sink += rain.sample_diameter_m(rng);
+            }
+        }
+        CHECK(audit.entries() > 0);
+        CHECK_MESSAGE(audit.violations() == 0, audit.first());
+        CHECK(sink > 0.0);
+    }
 }
