@@ -27,6 +27,8 @@
 //   body.set_position(m, p); body.set_velocity(m, v); body.reset();
 //   body.position(m), velocity(m), momentum(), energy(), resets(), link_broken(l), stability(),
 //   linear_drag(m), quadratic_drag(m) ...
+//   body.set_portable_kernels(true);                          // baseline code even on AVX2 (tests)
+//   body.avx2_kernels();                                      // which code finalize() picked
 //
 // Links (seed section 4.1, in 3-D): d = x1 - x2, L = |d|, u = d / L. The link acts along its axis only:
 //   F1 = -F2 = s u,   s = -k (L - l0) - z ((v1 - v2) . u)
@@ -49,9 +51,30 @@
 //     breaks (the liquid's resistance to compression: broken neighbours collide instead of passing
 //     through each other). s = s_c + s_b while bonded, s = s_c once broken. The event's force is the
 //     spring's, -k (L - l0).
-// Internal links exert equal and opposite forces, so they conserve momentum (to rounding). A body whose
-// links are all cohesive with one set of parameters (a drop) runs them in a pass with those parameters
-// hoisted: the same arithmetic in the same order (the same result to the bit), about 1/4 faster.
+// Internal links exert equal and opposite forces, so they conserve momentum (to rounding).
+//
+// Vectorisation (body3d.cpp). The step runs as three kernels, each compiled twice from one source, for
+// baseline x86-64 (SSE2) and for AVX2, picked once by finalize() (set_portable_kernels() forces the
+// baseline). They are written on 4-lane vectors (GCC vector extensions):
+//   1. per mass, four masses at a time: velocities (CORDIS), gravity, drag, external forces;
+//   2. the links: any body runs generic_links(), a scalar loop that adds s u to a and -s u to b in link
+//      order (the reference). A body whose links are all cohesive with one set of parameters (a drop)
+//      runs a pass that computes four consecutive links at a time (their masses read from a per-step
+//      mirror holding each mass's position and velocity in one 64-byte row, transposed into lanes), and
+//      adds the forces either through per-mass lists ("dense", while at least a quarter of the links
+//      are bonded: each link writes +s u and -s u, and each mass adds its own in link order in 3.) or,
+//      once most are broken, directly, lane after lane ("sparse"); four broken links whose masses are
+//      apart cost one distance test as a group;
+//   3. per mass, four at a time: the link forces (dense), then the update.
+// Bit identity. Both builds and both link passes give the same result to the bit as the scalar code
+// they replace: each lane performs the same IEEE operations in the same order (+, -, *, /, sqrt are
+// correctly rounded whatever the vector width; no FMA: avx2 does not enable it and body3d.cpp is built
+// with -ffp-contract=off; nothing is reassociated); branches become lane masks; every force reaches its
+// mass's accumulator in link order, as in generic_links(), and a link that adds nothing there adds
+// -0.0 here, which leaves any sum unchanged (x + -0 = x for every x, -0 included); the sums that cross
+// lanes (kinetic and elastic energy, the position sum of the guard) are added lane by lane in the
+// scalar order. Tested: the uniform pass against the generic one (dense and sparse), the baseline build
+// against the AVX2 one.
 //
 // External forces per mass: gravity m g, linear drag -c v (the seed's model, section 4.5), quadratic
 // drag -b |v| v with b = rho_air C_d A / 2 (body3d_drag.hpp gives C_d and b for water drops), and
@@ -202,10 +225,17 @@ public:
     long resets() const { return resets_; }
     long dropped_breaks() const { return dropped_breaks_; }   // events lost to a full list (never expected)
 
+    // Which code runs the step: the AVX2 kernels (chosen at finalize() when the CPU has AVX2) or the
+    // baseline x86-64 (SSE2) ones. They give the same result to the bit (see the header); this forces
+    // the baseline, for the test that checks it. Takes effect at the next finalize().
+    void set_portable_kernels(bool on) { portable_kernels_ = on; }
+    bool avx2_kernels() const { return use_avx2_; }
+
 private:
     static std::size_t idx(int i) { return static_cast<std::size_t>(i); }
     void sub_step(int index);
-    double uniform_cohesive_links(int index);   // sub_step's link pass for uniform cohesive links
+    double generic_links(int index);   // sub_step's link pass for any links (scalar, the reference)
+    void build_link_scratch();         // finalize(): the uniform pass's accumulation lists
     void check_link_args(int a, int b) const;
 
     // masses (structure of arrays)
@@ -226,9 +256,18 @@ private:
     std::vector<std::uint8_t> broken_;
     // finalize()'s scratch (members so that a reserved body finalizes without allocating)
     std::vector<double> k_sum_, z_sum_;
+    // The uniform cohesive pass's scratch (sized by finalize() within reserve()'s capacity; the arrays
+    // of doubles get 8 spare elements so that their working part can start on a 64-byte boundary):
+    std::vector<double> mirror_;                 // per mass x y z 0 vx vy vz 0 (64 bytes), sub-step start
+    std::vector<double> contribution_;           // per link +t and -t (x y z 0 each), then -0.0 at [0]
+    std::vector<std::int32_t> slots_;            // per group of 4 masses: its contributions, in link order
+    std::vector<std::int32_t> slot_start_;       // per group: where its slots start (groups + 1 entries)
+    std::vector<std::int32_t> degree_;           // per mass, build_link_scratch()'s count
+    std::vector<std::int32_t> link_ends_;        // per link 8 a, 8 b: its masses' rows in the mirror
     // events
     std::vector<LinkBreak> events_;
     std::size_t event_count_ = 0;
+    std::size_t broken_count_ = 0;   // broken links (kept by the passes, reset(), finalize())
 
     Vec3 gravity_{};
     Integrator integrator_ = Integrator::explicit_verlet;
@@ -242,6 +281,8 @@ private:
     long dropped_breaks_ = 0;
     bool finalized_ = false;
     bool uniform_cohesive_ = false;   // every link cohesive, all with the same parameters (finalize)
+    bool portable_kernels_ = false;   // set_portable_kernels()
+    bool use_avx2_ = false;           // finalize(): the CPU has AVX2 and portable_kernels_ is off
 };
 
 }  // namespace ameoto
