@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <immintrin.h>
 #include <stdexcept>
 
 namespace ameoto {
@@ -312,18 +313,17 @@ void Body3D::reset() {
 }
 
 // ---------------------------------------------------------------------------------------------
-// The step's kernels (see the header, "Vectorisation"). Plain functions on a StepView, each compiled
-// twice from one source: for the baseline x86-64 (SSE2) and, with target("avx2"), for AVX2; finalize()
-// picks one. The arithmetic is written on 4-lane vectors (GCC vector extensions): lane by lane the same
-// IEEE operations in the same order as the scalar code they stand for, so both builds give the same
-// bits. No FMA (target avx2 does not enable it, and this file is compiled with -ffp-contract=off), no
-// reassociation (sums across lanes are added lane by lane, in the scalar order).
+// The AVX2 step (see the header, "Vectorisation"): kernels on a StepView, compiled for AVX2 whatever the
+// build's target (the region below), run only where finalize() found AVX2. Written on 4-lane vectors
+// (GCC vector extensions): lane by lane the same IEEE operations in the same order as the scalar code
+// of sub_step_baseline() and generic_links(), so the same bits. No FMA (AVX2 does not include it, and
+// this file is compiled with -ffp-contract=off), no reassociation (sums across lanes are added lane by
+// lane, in the scalar order).
+
+#pragma GCC push_options
+#pragma GCC target("avx2")
 
 namespace {
-
-// The helpers take and return 32-byte vectors; they are inlined, never an ABI boundary. (Ignored to the
-// end of the file: GCC reports some of these notes at the end of the translation unit.)
-#pragma GCC diagnostic ignored "-Wpsabi"
 
 using v4d = double __attribute__((vector_size(32)));
 using v4m = std::int64_t __attribute__((vector_size(32)));   // a lane mask, 0 or -1, as comparisons give
@@ -349,10 +349,7 @@ AMEOTO_INLINE void storen(double* p, const v4d& v, int count) {
     for (int k = 0; k < count; ++k) p[k] = v[k];
 }
 AMEOTO_INLINE v4d splat(double a) { return v4d{a, a, a, a}; }
-// Lane by lane (-fno-math-errno lets GCC make one sqrtpd of it).
-AMEOTO_INLINE v4d vsqrt(const v4d& a) {
-    return v4d{__builtin_sqrt(a[0]), __builtin_sqrt(a[1]), __builtin_sqrt(a[2]), __builtin_sqrt(a[3])};
-}
+AMEOTO_INLINE v4d vsqrt(const v4d& a) { return _mm256_sqrt_pd(a); }
 
 // Rows (x y z w) of four items <-> columns x, y, z (w dropped; w = 0 going back).
 AMEOTO_INLINE void rows_to_columns(const v4d& r0, const v4d& r1, const v4d& r2, const v4d& r3, v4d& x, v4d& y,
@@ -377,21 +374,8 @@ AMEOTO_INLINE void columns_to_rows(const v4d& x, const v4d& y, const v4d& z, v4d
     r3 = __builtin_shufflevector(t1, t3, 2, 3, 6, 7);
 }
 
-// A lane mask as bits (lane k: bit k). Per instruction set (movmskpd), so not always_inline: a target
-// function cannot be forced into the generic templates below; GCC inlines it once those are inlined
-// into the kernels of its own target.
-struct Sse2 {
-    static int bits(const v4m& m) {
-        const v4d d = reinterpret_cast<v4d>(m);
-        const v2d lo = __builtin_shufflevector(d, d, 0, 1), hi = __builtin_shufflevector(d, d, 2, 3);
-        return __builtin_ia32_movmskpd(lo) | (__builtin_ia32_movmskpd(hi) << 2);
-    }
-};
-struct Avx2 {
-    __attribute__((target("avx2"))) static int bits(const v4m& m) {
-        return __builtin_ia32_movmskpd256(reinterpret_cast<v4d>(m));
-    }
-};
+// A lane mask as bits (lane k: bit k).
+AMEOTO_INLINE int lane_bits(const v4m& m) { return _mm256_movemask_pd(reinterpret_cast<__m256d>(m)); }
 
 double* align64(double* p) {
     const auto u = reinterpret_cast<std::uintptr_t>(p);
@@ -533,7 +517,7 @@ AMEOTO_INLINE void add_link_forces(const StepView& s, std::size_t first, int liv
     }
 }
 
-template <class Isa, bool Dense, int Count>
+template <bool Dense, int Count>
 AMEOTO_INLINE void link_group(const StepView& s, std::size_t first, double& elastic2) {
     constexpr int all = (1 << Count) - 1;   // the valid lanes' bits
     const std::int32_t* end = s.ends + 2 * first;
@@ -556,7 +540,7 @@ AMEOTO_INLINE void link_group(const StepView& s, std::size_t first, double& elas
     const v4m gone = {-std::int64_t{(gone_bits & 1) != 0}, -std::int64_t{(gone_bits & 2) != 0},
                       -std::int64_t{(gone_bits & 4) != 0}, -std::int64_t{(gone_bits & 8) != 0}};
     const v4m skip = gone & (length2 >= splat(s.core_len2));   // a broken bond's core, not touching
-    if (gone_bits == all && (Isa::bits(skip) & all) == all) {
+    if (gone_bits == all && (lane_bits(skip) & all) == all) {
         // All broken and apart (most of a shattered drop): the distance test is all.
         if constexpr (Dense) add_link_forces<Dense, Count>(s, first, 0, zero, zero, zero);
         return;
@@ -574,7 +558,7 @@ AMEOTO_INLINE void link_group(const StepView& s, std::size_t first, double& elas
     const v4d bond = spring - splat(s.damping) * axial_speed;
     const v4d e_spring = splat(s.k) * stretch * stretch;
     // The common case: bonded, no core, not breaking, and s = 0.0 + bond != 0 (so s = bond).
-    if (gone_bits == 0 && Isa::bits((gap > zero) | (-spring > splat(s.threshold)) | (bond == zero)) == 0) [[likely]] {
+    if (gone_bits == 0 && lane_bits((gap > zero) | (-spring > splat(s.threshold)) | (bond == zero)) == 0) [[likely]] {
         for (int k = 0; k < Count; ++k) elastic2 += e_spring[k];
         add_link_forces<Dense, Count>(s, first, all, bond * ux, bond * uy, bond * uz);
         return;
@@ -590,7 +574,7 @@ AMEOTO_INLINE void link_group(const StepView& s, std::size_t first, double& elas
         elastic2 += e_core[k];
         elastic2 += e_bond[k];
     }
-    const int breaks = Isa::bits(breaking) & all;
+    const int breaks = lane_bits(breaking) & all;
     for (int k = 0; k < Count; ++k) {
         if (!(breaks & (1 << k))) continue;
         const std::size_t l = first + static_cast<std::size_t>(k);
@@ -602,20 +586,20 @@ AMEOTO_INLINE void link_group(const StepView& s, std::size_t first, double& elas
             ++*s.dropped;
         }
     }
-    const int live = Isa::bits(~skip & (force != zero)) & all;
+    const int live = lane_bits(~skip & (force != zero)) & all;
     add_link_forces<Dense, Count>(s, first, live, force * ux, force * uy, force * uz);
 }
 
-template <class Isa, bool Dense>
+template <bool Dense>
 AMEOTO_INLINE double uniform_links(const StepView& view) {
     const StepView s = view;
     double elastic2 = 0.0;   // twice the elastic energy
     std::size_t l = 0;
-    for (; l + 4 <= s.links; l += 4) link_group<Isa, Dense, 4>(s, l, elastic2);
+    for (; l + 4 <= s.links; l += 4) link_group<Dense, 4>(s, l, elastic2);
     switch (s.links - l) {
-        case 3: link_group<Isa, Dense, 3>(s, l, elastic2); break;
-        case 2: link_group<Isa, Dense, 2>(s, l, elastic2); break;
-        case 1: link_group<Isa, Dense, 1>(s, l, elastic2); break;
+        case 3: link_group<Dense, 3>(s, l, elastic2); break;
+        case 2: link_group<Dense, 2>(s, l, elastic2); break;
+        case 1: link_group<Dense, 1>(s, l, elastic2); break;
         default: break;
     }
     return elastic2;
@@ -688,17 +672,16 @@ AMEOTO_INLINE double update(const StepView& view) {
 
 #undef AMEOTO_INLINE
 
-// The two builds of each kernel.
-double forces_baseline(const StepView& s) { return forces(s); }
-double uniform_links_baseline(const StepView& s) {
-    return s.slots ? uniform_links<Sse2, true>(s) : uniform_links<Sse2, false>(s);
-}
-double update_baseline(const StepView& s) { return update(s); }
-__attribute__((target("avx2"))) double forces_avx2(const StepView& s) { return forces(s); }
-__attribute__((target("avx2"))) double uniform_links_avx2(const StepView& s) {
-    return s.slots ? uniform_links<Avx2, true>(s) : uniform_links<Avx2, false>(s);
-}
-__attribute__((target("avx2"))) double update_avx2(const StepView& s) { return update(s); }
+// The kernels as functions of their own (AVX2 code: called only where finalize() found AVX2).
+double forces_avx2(const StepView& s) { return forces(s); }
+double uniform_links_avx2(const StepView& s) { return s.slots ? uniform_links<true>(s) : uniform_links<false>(s); }
+double update_avx2(const StepView& s) { return update(s); }
+
+}  // namespace
+
+#pragma GCC pop_options
+
+namespace {
 
 bool cpu_has_avx2() {
     __builtin_cpu_init();
@@ -708,6 +691,14 @@ bool cpu_has_avx2() {
 }  // namespace
 
 void Body3D::sub_step(int index) {
+    if (use_avx2_) {
+        sub_step_avx2(index);
+    } else {
+        sub_step_baseline(index);
+    }
+}
+
+void Body3D::sub_step_avx2(int index) {
     StepView s;
     s.n = x_.size();
     s.links = link_a_.size();
@@ -765,15 +756,158 @@ void Body3D::sub_step(int index) {
         s.broken_count = &broken_count_;
         s.index = index;
     }
-    const double kinetic2 = use_avx2_ ? forces_avx2(s) : forces_baseline(s);
-    double elastic2 = 0.0;
-    if (uniform_cohesive_) {
-        elastic2 = use_avx2_ ? uniform_links_avx2(s) : uniform_links_baseline(s);
-    } else {
-        elastic2 = generic_links(index);
-    }
+    const double kinetic2 = forces_avx2(s);
+    const double elastic2 = uniform_cohesive_ ? uniform_links_avx2(s) : generic_links(index);
     last_energy_ = 0.5 * (kinetic2 + elastic2);
-    last_position_sum_ = use_avx2_ ? update_avx2(s) : update_baseline(s);
+    last_position_sum_ = update_avx2(s);
+}
+
+// The scalar step: the reference, and the code on a CPU without AVX2.
+void Body3D::sub_step_baseline(int index) {
+    // Local restrict pointers (as in transverse_network.cpp): the force stores cannot alias the
+    // positions, so the compiler keeps them in registers. (The loops stay scalar: their sums keep the
+    // scalar order; sub_step_avx2() vectorises them.)
+    const std::size_t n = x_.size();
+    double* __restrict x = x_.data();
+    double* __restrict y = y_.data();
+    double* __restrict z = z_.data();
+    double* __restrict px = px_.data();
+    double* __restrict py = py_.data();
+    double* __restrict pz = pz_.data();
+    double* __restrict vx = vx_.data();
+    double* __restrict vy = vy_.data();
+    double* __restrict vz = vz_.data();
+    double* __restrict fx = fx_.data();
+    double* __restrict fy = fy_.data();
+    double* __restrict fz = fz_.data();
+    const double* __restrict ex = ex_.data();
+    const double* __restrict ey = ey_.data();
+    const double* __restrict ez = ez_.data();
+    const double* __restrict m = mass_.data();
+    const double* __restrict inv_m = inv_mass_.data();
+    const double* __restrict lin = linear_drag_.data();
+    const double* __restrict quad = quadratic_drag_.data();
+    const double dt = sub_dt_, inv_dt = 1.0 / dt;
+    const bool cordis = integrator_ == Integrator::explicit_verlet;
+
+    // 1. Velocities (CORDIS: backward difference) and mass-local forces: external, gravity, drag.
+    if (cordis) {
+        for (std::size_t i = 0; i < n; ++i) {
+            vx[i] = (x[i] - px[i]) * inv_dt;
+            vy[i] = (y[i] - py[i]) * inv_dt;
+            vz[i] = (z[i] - pz[i]) * inv_dt;
+        }
+    }
+    const double gx = gravity_.x, gy = gravity_.y, gz = gravity_.z;
+    double kinetic2 = 0.0;   // twice the kinetic energy
+    for (std::size_t i = 0; i < n; ++i) {
+        const double v2 = vx[i] * vx[i] + vy[i] * vy[i] + vz[i] * vz[i];
+        const double drag = lin[i] + quad[i] * std::sqrt(v2);   // -c v - b |v| v = -(c + b |v|) v
+        fx[i] = ex[i] + m[i] * gx - drag * vx[i];
+        fy[i] = ey[i] + m[i] * gy - drag * vy[i];
+        fz[i] = ez[i] + m[i] * gz - drag * vz[i];
+        kinetic2 += m[i] * v2;
+    }
+
+    // 2. Links: the uniform cohesive pass (a drop) or any links.
+    const double elastic2 = uniform_cohesive_ ? uniform_cohesive_links(index) : generic_links(index);
+    last_energy_ = 0.5 * (kinetic2 + elastic2);
+
+    // 3. Update. Fixed points have 1/m = 0 and zero velocity, so both schemes leave them in place.
+    double sum = 0.0;
+    if (cordis) {
+        // Position Verlet: x[n+1] = 2 x[n] - x[n-1] + T^2 F / m.
+        const double dt2 = dt * dt;
+        for (std::size_t i = 0; i < n; ++i) {
+            const double nx = 2.0 * x[i] - px[i] + dt2 * fx[i] * inv_m[i];
+            const double ny = 2.0 * y[i] - py[i] + dt2 * fy[i] * inv_m[i];
+            const double nz = 2.0 * z[i] - pz[i] + dt2 * fz[i] * inv_m[i];
+            px[i] = x[i];
+            py[i] = y[i];
+            pz[i] = z[i];
+            x[i] = nx;
+            y[i] = ny;
+            z[i] = nz;
+            sum += nx + ny + nz;
+        }
+    } else {
+        // Symplectic Euler: v += T F / m, then x += T v with the new v.
+        for (std::size_t i = 0; i < n; ++i) {
+            vx[i] += dt * fx[i] * inv_m[i];
+            vy[i] += dt * fy[i] * inv_m[i];
+            vz[i] += dt * fz[i] * inv_m[i];
+            px[i] = x[i];
+            py[i] = y[i];
+            pz[i] = z[i];
+            x[i] += dt * vx[i];
+            y[i] += dt * vy[i];
+            z[i] += dt * vz[i];
+            sum += x[i] + y[i] + z[i];
+        }
+    }
+    last_position_sum_ = sum;
+}
+
+double Body3D::uniform_cohesive_links(int index) {
+    const std::size_t links = link_a_.size();
+    const double* __restrict x = x_.data();
+    const double* __restrict y = y_.data();
+    const double* __restrict z = z_.data();
+    const double* __restrict vx = vx_.data();
+    const double* __restrict vy = vy_.data();
+    const double* __restrict vz = vz_.data();
+    double* __restrict fx = fx_.data();
+    double* __restrict fy = fy_.data();
+    double* __restrict fz = fz_.data();
+    const std::int32_t* __restrict la = link_a_.data();
+    const std::int32_t* __restrict lb = link_b_.data();
+    std::uint8_t* __restrict broken = broken_.data();
+    const double k = stiffness_[0], damping = damping_[0], l0 = rest_[0], threshold = break_force_[0];
+    const double core_len = core_length_[0], core_k = core_stiffness_[0];
+    double elastic2 = 0.0;
+    // The cohesive branch of generic_links(), with the parameters hoisted.
+    for (std::size_t l = 0; l < links; ++l) {
+        const bool gone = broken[l] != 0;
+        const auto a = static_cast<std::size_t>(la[l]);
+        const auto b = static_cast<std::size_t>(lb[l]);
+        const double dx = x[a] - x[b], dy = y[a] - y[b], dz = z[a] - z[b];
+        const double length2 = dx * dx + dy * dy + dz * dz;
+        if (gone && length2 >= core_len * core_len) continue;
+        const double length = std::sqrt(length2);
+        const double inv_length = length > 0.0 ? 1.0 / length : 0.0;
+        const double ux = dx * inv_length, uy = dy * inv_length, uz = dz * inv_length;
+        const double stretch = length - l0;
+        double s = 0.0;
+        const double gap = core_len - length;
+        if (gap > 0.0) {
+            s = core_k * gap;
+            elastic2 += core_k * gap * gap;
+        }
+        if (!gone) {
+            const double spring = -k * stretch;
+            if (-spring > threshold) {
+                broken[l] = 1;
+                ++broken_count_;
+                if (event_count_ < events_.size()) {
+                    events_[event_count_++] = LinkBreak{static_cast<std::int32_t>(l), la[l], lb[l], spring, index};
+                } else {
+                    ++dropped_breaks_;
+                }
+            } else {
+                const double axial_speed = (vx[a] - vx[b]) * ux + (vy[a] - vy[b]) * uy + (vz[a] - vz[b]) * uz;
+                s += spring - damping * axial_speed;
+                elastic2 += k * stretch * stretch;
+            }
+        }
+        if (s == 0.0) continue;
+        fx[a] += s * ux;
+        fy[a] += s * uy;
+        fz[a] += s * uz;
+        fx[b] -= s * ux;
+        fy[b] -= s * uy;
+        fz[b] -= s * uz;
+    }
+    return elastic2;
 }
 
 // 2. Links, any kind (gather/scatter): s along u on a, -s u on b, added to the force accumulator in link

@@ -27,7 +27,7 @@
 //   body.set_position(m, p); body.set_velocity(m, v); body.reset();
 //   body.position(m), velocity(m), momentum(), energy(), resets(), link_broken(l), stability(),
 //   linear_drag(m), quadratic_drag(m) ...
-//   body.set_portable_kernels(true);                          // baseline code even on AVX2 (tests)
+//   body.set_portable_kernels(true);                          // the scalar step even on AVX2 (tests)
 //   body.avx2_kernels();                                      // which code finalize() picked
 //
 // Links (seed section 4.1, in 3-D): d = x1 - x2, L = |d|, u = d / L. The link acts along its axis only:
@@ -53,9 +53,10 @@
 //     spring's, -k (L - l0).
 // Internal links exert equal and opposite forces, so they conserve momentum (to rounding).
 //
-// Vectorisation (body3d.cpp). The step runs as three kernels, each compiled twice from one source, for
-// baseline x86-64 (SSE2) and for AVX2, picked once by finalize() (set_portable_kernels() forces the
-// baseline). They are written on 4-lane vectors (GCC vector extensions):
+// Vectorisation (body3d.cpp). finalize() picks one of two steps: on a CPU with AVX2, three kernels
+// compiled for AVX2 whatever the build's target, written on 4-lane vectors (GCC vector extensions);
+// elsewhere (or after set_portable_kernels(true)) the scalar step, which is the reference. (A baseline
+// build of the vector code, 2 x 128-bit per vector, ran 4 times slower than the scalar step.)
 //   1. per mass, four masses at a time: velocities (CORDIS), gravity, drag, external forces;
 //   2. the links: any body runs generic_links(), a scalar loop that adds s u to a and -s u to b in link
 //      order (the reference). A body whose links are all cohesive with one set of parameters (a drop)
@@ -66,15 +67,15 @@
 //      once most are broken, directly, lane after lane ("sparse"); four broken links whose masses are
 //      apart cost one distance test as a group;
 //   3. per mass, four at a time: the link forces (dense), then the update.
-// Bit identity. Both builds and both link passes give the same result to the bit as the scalar code
-// they replace: each lane performs the same IEEE operations in the same order (+, -, *, /, sqrt are
-// correctly rounded whatever the vector width; no FMA: avx2 does not enable it and body3d.cpp is built
-// with -ffp-contract=off; nothing is reassociated); branches become lane masks; every force reaches its
-// mass's accumulator in link order, as in generic_links(), and a link that adds nothing there adds
+// Bit identity. The AVX2 step gives the scalar step's result to the bit, so a render is the same on any
+// x86-64: each lane performs the same IEEE operations in the same order (+, -, *, /, sqrt are correctly
+// rounded whatever the vector width; no FMA: AVX2 does not include it and body3d.cpp is built with
+// -ffp-contract=off; nothing is reassociated); branches become lane masks; every force reaches its
+// mass's accumulator in link order, as in the scalar pass, and a link that adds nothing there adds
 // -0.0 here, which leaves any sum unchanged (x + -0 = x for every x, -0 included); the sums that cross
 // lanes (kinetic and elastic energy, the position sum of the guard) are added lane by lane in the
-// scalar order. Tested: the uniform pass against the generic one (dense and sparse), the baseline build
-// against the AVX2 one.
+// scalar order. Tested every step on a shattering drop (dense and sparse): AVX2 uniform pass, scalar
+// uniform pass, AVX2 per-mass kernels with the generic pass.
 //
 // External forces per mass: gravity m g, linear drag -c v (the seed's model, section 4.5), quadratic
 // drag -b |v| v with b = rho_air C_d A / 2 (body3d_drag.hpp gives C_d and b for water drops), and
@@ -226,15 +227,18 @@ public:
     long dropped_breaks() const { return dropped_breaks_; }   // events lost to a full list (never expected)
 
     // Which code runs the step: the AVX2 kernels (chosen at finalize() when the CPU has AVX2) or the
-    // baseline x86-64 (SSE2) ones. They give the same result to the bit (see the header); this forces
-    // the baseline, for the test that checks it. Takes effect at the next finalize().
+    // scalar step. They give the same result to the bit (see the header); this forces the scalar step,
+    // for the test that checks it. Takes effect at the next finalize().
     void set_portable_kernels(bool on) { portable_kernels_ = on; }
     bool avx2_kernels() const { return use_avx2_; }
 
 private:
     static std::size_t idx(int i) { return static_cast<std::size_t>(i); }
-    void sub_step(int index);
-    double generic_links(int index);   // sub_step's link pass for any links (scalar, the reference)
+    void sub_step(int index);              // sub_step_avx2() or sub_step_baseline() (finalize() picks)
+    void sub_step_avx2(int index);         // the vectorised kernels
+    void sub_step_baseline(int index);     // scalar: the reference
+    double generic_links(int index);       // the link pass for any links (scalar)
+    double uniform_cohesive_links(int index);   // the baseline's link pass for uniform cohesive links
     void build_link_scratch();         // finalize(): the uniform pass's accumulation lists
     void check_link_args(int a, int b) const;
 
