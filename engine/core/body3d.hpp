@@ -64,8 +64,11 @@
 //      mirror holding each mass's position and velocity in one 64-byte row, transposed into lanes), and
 //      adds the forces either through per-mass lists ("dense", while at least a quarter of the links
 //      are bonded: each link writes +s u and -s u, and each mass adds its own in link order in 3.) or,
-//      once most are broken, directly, lane after lane ("sparse"); four broken links whose masses are
-//      apart cost one distance test as a group;
+//      once most are broken, directly, lane after lane ("sparse"). The sparse pass computes only a list
+//      of candidates, in link order: the bonded links and the broken ones whose masses were within
+//      core length + 8 h when listed; it lists again once any two masses may have approached by 4 h
+//      (a bound from the range of the masses' displacements since), so a link left out is one the
+//      scalar pass skips (broken, core not touching);
 //   3. per mass, four at a time: the link forces (dense), then the update.
 // Bit identity. The AVX2 step gives the scalar step's result to the bit, so a render is the same on any
 // x86-64: each lane performs the same IEEE operations in the same order (+, -, *, /, sqrt are correctly
@@ -268,6 +271,10 @@ private:
     std::vector<std::int32_t> slot_start_;       // per group: where its slots start (groups + 1 entries)
     std::vector<std::int32_t> degree_;           // per mass, build_link_scratch()'s count
     std::vector<std::int32_t> link_ends_;        // per link 8 a, 8 b: its masses' rows in the mirror
+    std::vector<std::int32_t> candidates_;       // the sparse pass's links, in order (sub_step_avx2())
+    std::vector<double> listed_x_, listed_y_, listed_z_;   // the positions they were listed at
+    std::size_t candidate_count_ = 0;
+    bool candidates_valid_ = false;
     // events
     std::vector<LinkBreak> events_;
     std::size_t event_count_ = 0;
