@@ -217,8 +217,8 @@ const Body3DStability& Body3D::finalize(double time_step_s, int forced_sub_steps
 }
 
 // The uniform pass's per-mass lists: for each group of 4 masses (4 g .. 4 g + 3), rows of 4 slots, one
-// per mass, each naming the contribution entry to add (1 + 2 l: link l's force on a; 2 + 2 l: on b;
-// 0: -0.0, padding; stored as offsets 4 e), in link order per mass: the order in which the scalar pass
+// per mass, each naming the contribution entry to add (2 l: link l's force on a; 2 l + 1: on b;
+// 2 links: -0.0, padding; stored as offsets 4 e), in link order per mass: the order in which the scalar pass
 // adds them. And each link's masses as rows of the mirror (8 a, 8 b).
 void Body3D::build_link_scratch() {
     const std::size_t n = x_.size(), links = link_a_.size(), groups = (n + 3) / 4;
@@ -233,7 +233,7 @@ void Body3D::build_link_scratch() {
         for (std::size_t i = 4 * g; i < std::min(n, 4 * g + 4); ++i) rows = std::max(rows, degree_[i]);
         slot_start_[g + 1] = slot_start_[g] + 4 * rows;
     }
-    slots_.assign(static_cast<std::size_t>(slot_start_[groups]), 0);
+    slots_.assign(static_cast<std::size_t>(slot_start_[groups]), static_cast<std::int32_t>(8 * links));   // -0.0
     std::fill(degree_.begin(), degree_.end(), 0);   // now each mass's next row
     auto place = [&](std::size_t mass, std::int32_t entry) {
         slots_[static_cast<std::size_t>(slot_start_[mass / 4] + 4 * degree_[mass]) + mass % 4] = entry;
@@ -241,8 +241,8 @@ void Body3D::build_link_scratch() {
     };
     link_ends_.resize(2 * links);
     for (std::size_t l = 0; l < links; ++l) {
-        place(idx(link_a_[l]), static_cast<std::int32_t>(4 * (1 + 2 * l)));   // offsets in doubles
-        place(idx(link_b_[l]), static_cast<std::int32_t>(4 * (2 + 2 * l)));
+        place(idx(link_a_[l]), static_cast<std::int32_t>(8 * l));   // offsets in doubles
+        place(idx(link_b_[l]), static_cast<std::int32_t>(8 * l + 4));
         link_ends_[2 * l] = 8 * link_a_[l];
         link_ends_[2 * l + 1] = 8 * link_b_[l];
     }
@@ -398,7 +398,7 @@ struct StepView {
     bool cordis;
     // The uniform cohesive pass (null otherwise).
     double* mirror;                 // per mass x y z 0 vx vy vz 0, written by forces()
-    double* contribution;           // entry e at 4 e: [0] = -0.0, [1 + 2 l] = +t, [2 + 2 l] = -t of link l
+    double* contribution;           // entry e at 4 e: [2 l] = +t, [2 l + 1] = -t of link l, [2 links] = -0.0
     const std::int32_t* ends;       // per link 8 a, 8 b: its masses' rows in the mirror
     const std::int32_t* slots;      // per group of 4 masses, rows of 4 entries x 4 (one per mass);
                                     // null: the sparse pass
@@ -495,7 +495,7 @@ template <bool Dense, int Count>
 AMEOTO_INLINE void add_link_forces(const StepView& s, const LaneLinks& g, int live, const v4d& tx, const v4d& ty,
                                    const v4d& tz) {
     if constexpr (Dense) {
-        // Dense groups are consecutive links: entries 1 + 2 l[0] ... are one block.
+        // Dense groups are consecutive links: entries 2 l[0] ... are one block.
         const v4d minus_zero = splat(-0.0);
         v4d p0, p1, p2, p3, m0, m1, m2, m3;
         if (live == (1 << Count) - 1) [[likely]] {
@@ -510,7 +510,7 @@ AMEOTO_INLINE void add_link_forces(const StepView& s, const LaneLinks& g, int li
             columns_to_rows(on ? tx : minus_zero, on ? ty : minus_zero, on ? tz : minus_zero, p0, p1, p2, p3);
             columns_to_rows(on ? -tx : minus_zero, on ? -ty : minus_zero, on ? -tz : minus_zero, m0, m1, m2, m3);
         }
-        double* out = s.contribution + 4 + 8 * g.l[0];
+        double* out = s.contribution + 8 * g.l[0];
         store4(out, p0);
         store4(out + 4, m0);
         if (Count > 1) store4(out + 8, p1);
