@@ -53,23 +53,24 @@
 //     spring's, -k (L - l0).
 // Internal links exert equal and opposite forces, so they conserve momentum (to rounding).
 //
-// Vectorisation (body3d.cpp). finalize() picks one of two steps: on a CPU with AVX2, three kernels
-// compiled for AVX2 whatever the build's target, written on 4-lane vectors (GCC vector extensions);
-// elsewhere (or after set_portable_kernels(true)) the scalar step, which is the reference. (A baseline
-// build of the vector code, 2 x 128-bit per vector, ran 4 times slower than the scalar step.)
+// Vectorisation (body3d.cpp). finalize() picks one of two steps: on a CPU with AVX2, for a body of 16
+// masses or more, kernels compiled for AVX2 whatever the build's target, written on 4-lane vectors
+// (GCC vector extensions); otherwise (or after set_portable_kernels(true)) the scalar step, which is
+// the reference. (The same vector code
+// built for baseline x86-64, two 128-bit halves per vector, ran 4 times slower than the scalar step.)
 //   1. per mass, four masses at a time: velocities (CORDIS), gravity, drag, external forces;
-//   2. the links: any body runs generic_links(), a scalar loop that adds s u to a and -s u to b in link
-//      order (the reference). A body whose links are all cohesive with one set of parameters (a drop)
-//      runs a pass that computes four consecutive links at a time (their masses read from a per-step
-//      mirror holding each mass's position and velocity in one 64-byte row, transposed into lanes), and
-//      adds the forces either through per-mass lists ("dense", while at least a quarter of the links
-//      are bonded: each link writes +s u and -s u, and each mass adds its own in link order in 3.) or,
-//      once most are broken, directly, lane after lane ("sparse"). The sparse pass computes only a list
-//      of candidates, in link order: the bonded links and the broken ones whose masses were within
-//      core length + 8 h when listed; it lists again once any two masses may have approached by 4 h
-//      (a bound from the range of the masses' displacements since), so a link left out is one the
-//      scalar pass skips (broken, core not touching);
-//   3. per mass, four at a time: the link forces (dense), then the update.
+//   2. the links. Any body: generic_links(), a scalar loop that adds s u to a and -s u to b in link
+//      order. A body whose links are all cohesive with one set of parameters (a drop): four links at a
+//      time, their masses read from a mirror written in 1. (position and velocity, one 64-byte row per
+//      mass) and transposed into lanes. While at least a quarter of the links are bonded ("dense") it
+//      computes every link, and each writes +s u and -s u for 3. to add per mass in link order; once
+//      most are broken ("sparse") it computes only candidates, in link order, and adds their forces
+//      lane after lane. The candidates are the bonded links and the broken ones whose masses were
+//      within core length + 8 h (h: the rest length) when listed; the list is made again once any two
+//      masses may have approached by 4 h (bounded by the range of the masses' displacements since), so
+//      every link left out is one the scalar pass skips (broken, core not touching);
+//   3. per mass, four at a time: the dense pass's link forces, then the update.
+// 5 mm drop per 48 kHz step (docs/engine.md, "The drop"): awake 6.1 -> 3.3 us, shattered 2.0 -> 0.85 us.
 // Bit identity. The AVX2 step gives the scalar step's result to the bit, so a render is the same on any
 // x86-64: each lane performs the same IEEE operations in the same order (+, -, *, /, sqrt are correctly
 // rounded whatever the vector width; no FMA: AVX2 does not include it and body3d.cpp is built with
@@ -229,8 +230,8 @@ public:
     long resets() const { return resets_; }
     long dropped_breaks() const { return dropped_breaks_; }   // events lost to a full list (never expected)
 
-    // Which code runs the step: the AVX2 kernels (chosen at finalize() when the CPU has AVX2) or the
-    // scalar step. They give the same result to the bit (see the header); this forces the scalar step,
+    // Which code runs the step: the AVX2 kernels (chosen at finalize() when the CPU has AVX2 and the
+    // body 16 masses or more) or the scalar step. They give the same result to the bit (see the header); this forces the scalar step,
     // for the test that checks it. Takes effect at the next finalize().
     void set_portable_kernels(bool on) { portable_kernels_ = on; }
     bool avx2_kernels() const { return use_avx2_; }
