@@ -218,10 +218,10 @@ const Body3DStability& Body3D::finalize(double time_step_s, int forced_sub_steps
     return stability_;
 }
 
-// The uniform pass's per-mass lists: for each group of 4 masses (4 g .. 4 g + 3), rows of 4 slots, one
-// per mass, each naming the contribution entry to add (2 l: link l's force on a; 2 l + 1: on b;
-// 2 links: -0.0, padding; stored as offsets 4 e), in link order per mass: the order in which the scalar pass
-// adds them. And each link's masses as rows of the mirror (8 a, 8 b).
+// The AVX2 uniform pass's lists. Per group of 4 masses (4 g .. 4 g + 3), rows of 4 slots, one per
+// mass, each naming the contribution entry to add (2 l: link l's force on a; 2 l + 1: on b; 2 links:
+// -0.0, the padding; stored as offsets 4 e), in link order per mass: the order in which the scalar pass
+// adds them. Per link its masses as rows of the mirror (8 a, 8 b). And the sparse pass's scratch.
 void Body3D::build_link_scratch() {
     const std::size_t n = x_.size(), links = link_a_.size(), groups = (n + 3) / 4;
     degree_.assign(n, 0);
@@ -235,7 +235,7 @@ void Body3D::build_link_scratch() {
         for (std::size_t i = 4 * g; i < std::min(n, 4 * g + 4); ++i) rows = std::max(rows, degree_[i]);
         slot_start_[g + 1] = slot_start_[g] + 4 * rows;
     }
-    slots_.assign(static_cast<std::size_t>(slot_start_[groups]), static_cast<std::int32_t>(8 * links));   // -0.0
+    slots_.assign(static_cast<std::size_t>(slot_start_[groups]), static_cast<std::int32_t>(8 * links));   // padding
     std::fill(degree_.begin(), degree_.end(), 0);   // now each mass's next row
     auto place = [&](std::size_t mass, std::int32_t entry) {
         slots_[static_cast<std::size_t>(slot_start_[mass / 4] + 4 * degree_[mass]) + mass % 4] = entry;

@@ -56,8 +56,8 @@
 // Vectorisation (body3d.cpp). finalize() picks one of two steps: on a CPU with AVX2, for a body of 16
 // masses or more, kernels compiled for AVX2 whatever the build's target, written on 4-lane vectors
 // (GCC vector extensions); otherwise (or after set_portable_kernels(true)) the scalar step, which is
-// the reference. (The same vector code
-// built for baseline x86-64, two 128-bit halves per vector, ran 4 times slower than the scalar step.)
+// the reference. (The same vector code built for baseline x86-64, two 128-bit halves per vector, ran
+// 4 times slower than the scalar step.)
 //   1. per mass, four masses at a time: velocities (CORDIS), gravity, drag, external forces;
 //   2. the links. Any body: generic_links(), a scalar loop that adds s u to a and -s u to b in link
 //      order. A body whose links are all cohesive with one set of parameters (a drop): four links at a
@@ -70,7 +70,8 @@
 //      masses may have approached by 4 h (bounded by the range of the masses' displacements since), so
 //      every link left out is one the scalar pass skips (broken, core not touching);
 //   3. per mass, four at a time: the dense pass's link forces, then the update.
-// 5 mm drop per 48 kHz step (docs/engine.md, "The drop"): awake 6.1 -> 3.3 us, shattered 2.0 -> 0.85 us.
+// A 5 mm drop per 48 kHz step, scalar -> AVX2 (docs/engine.md, "The drop"): awake 5.6 -> 3.1 us,
+// shattered 1.8 -> 0.81 us.
 // Bit identity. The AVX2 step gives the scalar step's result to the bit, so a render is the same on any
 // x86-64: each lane performs the same IEEE operations in the same order (+, -, *, /, sqrt are correctly
 // rounded whatever the vector width; no FMA: AVX2 does not include it and body3d.cpp is built with
@@ -231,8 +232,9 @@ public:
     long dropped_breaks() const { return dropped_breaks_; }   // events lost to a full list (never expected)
 
     // Which code runs the step: the AVX2 kernels (chosen at finalize() when the CPU has AVX2 and the
-    // body 16 masses or more) or the scalar step. They give the same result to the bit (see the header); this forces the scalar step,
-    // for the test that checks it. Takes effect at the next finalize().
+    // body 16 masses or more) or the scalar step. They give the same result to the bit (see the
+    // header); this forces the scalar step, for the test that checks it. Takes effect at the next
+    // finalize().
     void set_portable_kernels(bool on) { portable_kernels_ = on; }
     bool avx2_kernels() const { return use_avx2_; }
 
@@ -243,7 +245,7 @@ private:
     void sub_step_baseline(int index);     // scalar: the reference
     double generic_links(int index);       // the link pass for any links (scalar)
     double uniform_cohesive_links(int index);   // the baseline's link pass for uniform cohesive links
-    void build_link_scratch();         // finalize(): the uniform pass's accumulation lists
+    void build_link_scratch();             // finalize(): the uniform pass's lists and scratch
     void check_link_args(int a, int b) const;
 
     // masses (structure of arrays)
@@ -267,7 +269,7 @@ private:
     // The uniform cohesive pass's scratch (sized by finalize() within reserve()'s capacity; the arrays
     // of doubles get 8 spare elements so that their working part can start on a 64-byte boundary):
     std::vector<double> mirror_;                 // per mass x y z 0 vx vy vz 0 (64 bytes), sub-step start
-    std::vector<double> contribution_;           // per link +t and -t (x y z 0 each), then -0.0 at [0]
+    std::vector<double> contribution_;           // per link +t and -t (x y z 0 each), then -0.0 x 4
     std::vector<std::int32_t> slots_;            // per group of 4 masses: its contributions, in link order
     std::vector<std::int32_t> slot_start_;       // per group: where its slots start (groups + 1 entries)
     std::vector<std::int32_t> degree_;           // per mass, build_link_scratch()'s count
@@ -294,7 +296,7 @@ private:
     bool finalized_ = false;
     bool uniform_cohesive_ = false;   // every link cohesive, all with the same parameters (finalize)
     bool portable_kernels_ = false;   // set_portable_kernels()
-    bool use_avx2_ = false;           // finalize(): the CPU has AVX2 and portable_kernels_ is off
+    bool use_avx2_ = false;           // finalize(): AVX2, 16 masses or more, portable_kernels_ off
 };
 
 }  // namespace ameoto
