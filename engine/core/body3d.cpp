@@ -2,9 +2,15 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <immintrin.h>
 #include <stdexcept>
 
 namespace ameoto {
+
+namespace {
+bool cpu_has_avx2();   // with the kernels, below
+}  // namespace
 
 double Body3DStability::margin() const {
     const double dt = time_step / sub_steps;
@@ -88,6 +94,16 @@ void Body3D::reserve(int masses, int links) {
     kind_.reserve(l);
     broken_.reserve(l);
     events_.reserve(std::max<std::size_t>(l, 1));
+    // The uniform pass's scratch (build_link_scratch()): groups of 4 masses hold 4 x (their largest
+    // degree) slots, at most 4 x (the sum of their degrees), so at most 8 per link.
+    mirror_.reserve(8 * m + 8);
+    contribution_.reserve(4 * (2 * l + 1) + 8);
+    slots_.reserve(8 * l);
+    slot_start_.reserve(m / 4 + 2);
+    degree_.reserve(m);
+    link_ends_.reserve(2 * l);
+    candidates_.reserve(l);
+    for (auto* a : {&listed_x_, &listed_y_, &listed_z_}) a->reserve(m);
 }
 
 void Body3D::clear() {
@@ -100,6 +116,7 @@ void Body3D::clear() {
     for (auto* a : {&stiffness_, &damping_, &rest_, &break_force_, &core_length_, &core_stiffness_}) a->clear();
     kind_.clear();
     broken_.clear();
+    broken_count_ = 0;
     event_count_ = 0;
     last_energy_ = 0.0;
     last_position_sum_ = 0.0;
@@ -192,8 +209,50 @@ const Body3DStability& Body3D::finalize(double time_step_s, int forced_sub_steps
                             core_length_[l] == core_length_[0] && core_stiffness_[l] == core_stiffness_[0];
     events_.assign(std::max<std::size_t>(breakable, 1), LinkBreak{});
     event_count_ = 0;
+    broken_count_ = static_cast<std::size_t>(broken_link_count());
+    if (uniform_cohesive_) build_link_scratch();
+    // Below 16 masses the kernels' fixed cost outweighs their gain (a 2 mm drop, 7 masses: 0.29 us
+    // against the scalar 0.20 us); either step gives the same bits.
+    use_avx2_ = !portable_kernels_ && n >= 16 && cpu_has_avx2();
     finalized_ = true;
     return stability_;
+}
+
+// The AVX2 uniform pass's lists. Per group of 4 masses (4 g .. 4 g + 3), rows of 4 slots, one per
+// mass, each naming the contribution entry to add (2 l: link l's force on a; 2 l + 1: on b; 2 links:
+// -0.0, the padding; stored as offsets 4 e), in link order per mass: the order in which the scalar pass
+// adds them. Per link its masses as rows of the mirror (8 a, 8 b). And the sparse pass's scratch.
+void Body3D::build_link_scratch() {
+    const std::size_t n = x_.size(), links = link_a_.size(), groups = (n + 3) / 4;
+    degree_.assign(n, 0);
+    for (std::size_t l = 0; l < links; ++l) {
+        ++degree_[idx(link_a_[l])];
+        ++degree_[idx(link_b_[l])];
+    }
+    slot_start_.assign(groups + 1, 0);
+    for (std::size_t g = 0; g < groups; ++g) {
+        std::int32_t rows = 0;
+        for (std::size_t i = 4 * g; i < std::min(n, 4 * g + 4); ++i) rows = std::max(rows, degree_[i]);
+        slot_start_[g + 1] = slot_start_[g] + 4 * rows;
+    }
+    slots_.assign(static_cast<std::size_t>(slot_start_[groups]), static_cast<std::int32_t>(8 * links));   // padding
+    std::fill(degree_.begin(), degree_.end(), 0);   // now each mass's next row
+    auto place = [&](std::size_t mass, std::int32_t entry) {
+        slots_[static_cast<std::size_t>(slot_start_[mass / 4] + 4 * degree_[mass]) + mass % 4] = entry;
+        ++degree_[mass];
+    };
+    link_ends_.resize(2 * links);
+    for (std::size_t l = 0; l < links; ++l) {
+        place(idx(link_a_[l]), static_cast<std::int32_t>(8 * l));   // offsets in doubles
+        place(idx(link_b_[l]), static_cast<std::int32_t>(8 * l + 4));
+        link_ends_[2 * l] = 8 * link_a_[l];
+        link_ends_[2 * l + 1] = 8 * link_b_[l];
+    }
+    candidates_.assign(links, 0);
+    for (auto* a : {&listed_x_, &listed_y_, &listed_z_}) a->assign(n, 0.0);
+    candidates_valid_ = false;
+    mirror_.assign(8 * n + 8, 0.0);
+    contribution_.assign(4 * (2 * links + 1) + 8, -0.0);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -254,14 +313,616 @@ void Body3D::reset() {
     std::copy(z0_.begin(), z0_.end(), pz_.begin());
     for (auto* a : {&vx_, &vy_, &vz_, &ex_, &ey_, &ez_}) std::fill(a->begin(), a->end(), 0.0);
     std::fill(broken_.begin(), broken_.end(), std::uint8_t{0});
+    broken_count_ = 0;
+    candidates_valid_ = false;
     event_count_ = 0;
     last_energy_ = 0.0;
     last_position_sum_ = 0.0;
 }
 
+// ---------------------------------------------------------------------------------------------
+// The AVX2 step (see the header, "Vectorisation"): kernels on a StepView, compiled for AVX2 whatever the
+// build's target (the region below), run only where finalize() found AVX2. Written on 4-lane vectors
+// (GCC vector extensions): lane by lane the same IEEE operations in the same order as the scalar code
+// of sub_step_baseline() and uniform_cohesive_links(), so the same bits. No FMA (AVX2 does not include
+// it, and this file is compiled with -ffp-contract=off), no reassociation (sums across lanes are added
+// lane by lane, in the scalar order). sub_step_avx2() runs them in order: forces(), the links
+// (generic_links(), dense_links() or sparse_links()), update().
+
+#pragma GCC push_options
+#pragma GCC target("avx2")
+
+namespace {
+
+using v4d = double __attribute__((vector_size(32)));
+using v4m = std::int64_t __attribute__((vector_size(32)));   // a lane mask, 0 or -1, as comparisons give
+
+#define AMEOTO_INLINE inline __attribute__((always_inline))
+
+AMEOTO_INLINE v4d load4(const double* p) {
+    v4d v;
+    __builtin_memcpy(&v, p, sizeof v);
+    return v;
+}
+AMEOTO_INLINE void store4(double* p, const v4d& v) { __builtin_memcpy(p, &v, sizeof v); }
+// Lanes past `count` (an array's tail) read as 0 and are not written.
+AMEOTO_INLINE v4d loadn(const double* p, int count) {
+    if (count == 4) return load4(p);
+    v4d v = {0.0, 0.0, 0.0, 0.0};
+    for (int k = 0; k < count; ++k) v[k] = p[k];
+    return v;
+}
+AMEOTO_INLINE void storen(double* p, const v4d& v, int count) {
+    if (count == 4) return store4(p, v);
+    for (int k = 0; k < count; ++k) p[k] = v[k];
+}
+AMEOTO_INLINE v4d splat(double a) { return v4d{a, a, a, a}; }
+AMEOTO_INLINE v4d vsqrt(const v4d& a) { return _mm256_sqrt_pd(a); }
+
+// Rows (x y z w) of four items <-> columns x, y, z (w dropped; w = 0 going back).
+AMEOTO_INLINE void rows_to_columns(const v4d& r0, const v4d& r1, const v4d& r2, const v4d& r3, v4d& x, v4d& y,
+                                   v4d& z) {
+    const v4d t0 = __builtin_shufflevector(r0, r1, 0, 4, 2, 6);   // x0 x1 z0 z1
+    const v4d t1 = __builtin_shufflevector(r0, r1, 1, 5, 3, 7);   // y0 y1 w0 w1
+    const v4d t2 = __builtin_shufflevector(r2, r3, 0, 4, 2, 6);   // x2 x3 z2 z3
+    const v4d t3 = __builtin_shufflevector(r2, r3, 1, 5, 3, 7);   // y2 y3 w2 w3
+    x = __builtin_shufflevector(t0, t2, 0, 1, 4, 5);
+    y = __builtin_shufflevector(t1, t3, 0, 1, 4, 5);
+    z = __builtin_shufflevector(t0, t2, 2, 3, 6, 7);
+}
+AMEOTO_INLINE void columns_to_rows(const v4d& x, const v4d& y, const v4d& z, v4d& r0, v4d& r1, v4d& r2, v4d& r3) {
+    const v4d zero = {0.0, 0.0, 0.0, 0.0};
+    const v4d t0 = __builtin_shufflevector(x, y, 0, 4, 2, 6);      // x0 y0 x2 y2
+    const v4d t1 = __builtin_shufflevector(x, y, 1, 5, 3, 7);      // x1 y1 x3 y3
+    const v4d t2 = __builtin_shufflevector(z, zero, 0, 4, 2, 6);   // z0 0 z2 0
+    const v4d t3 = __builtin_shufflevector(z, zero, 1, 5, 3, 7);   // z1 0 z3 0
+    r0 = __builtin_shufflevector(t0, t2, 0, 1, 4, 5);
+    r1 = __builtin_shufflevector(t1, t3, 0, 1, 4, 5);
+    r2 = __builtin_shufflevector(t0, t2, 2, 3, 6, 7);
+    r3 = __builtin_shufflevector(t1, t3, 2, 3, 6, 7);
+}
+
+// A lane mask as bits (lane k: bit k).
+AMEOTO_INLINE int lane_bits(const v4m& m) { return _mm256_movemask_pd(reinterpret_cast<__m256d>(m)); }
+
+double* align64(double* p) {
+    const auto u = reinterpret_cast<std::uintptr_t>(p);
+    return reinterpret_cast<double*>((u + 63) & ~std::uintptr_t{63});
+}
+
+// Everything a sub-step's kernels read and write. Each kernel copies it first: a local copy lives in
+// registers, where a reference would be read again after every store of a double.
+struct StepView {
+    std::size_t n = 0, links = 0;
+    double *x, *y, *z, *px, *py, *pz, *vx, *vy, *vz, *fx, *fy, *fz;
+    const double *ex, *ey, *ez, *m, *inv_m, *lin, *quad;
+    double gx, gy, gz, dt, inv_dt;
+    bool cordis;
+    // The uniform cohesive pass (null otherwise).
+    double* mirror;                 // per mass x y z 0 vx vy vz 0, written by forces()
+    double* contribution;           // entry e at 4 e: [2 l] = +t, [2 l + 1] = -t of link l, [2 links] = -0.0
+    const std::int32_t* ends;       // per link 8 a, 8 b: its masses' rows in the mirror
+    const std::int32_t* slots;      // per group of 4 masses, rows of 4 entries x 4 (one per mass);
+                                    // null: the sparse pass
+    const std::int32_t* slot_start;
+    std::int32_t* candidates;       // the sparse pass's links
+    std::size_t candidate_count;
+    double near;                    // a broken link is listed if its masses are closer than this
+    double *listed_x, *listed_y, *listed_z;   // positions when listed
+    const std::int32_t *la, *lb;
+    std::uint8_t* broken;
+    double k, damping, l0, threshold, core_len, core_len2, core_k;
+    LinkBreak* events;
+    std::size_t event_capacity;
+    std::size_t* event_count;
+    long* dropped;
+    std::size_t* broken_count;
+    int index;
+};
+
+// 1. Velocities (CORDIS: backward difference) and mass-local forces: external, gravity, drag; for the
+// uniform pass also the mirror (position and velocity as one 64-byte row per mass: a link reads each
+// end with two loads). Adds m v^2 to kinetic2 in mass order.
+template <int Count>
+AMEOTO_INLINE void forces_group(const StepView& s, std::size_t i, double& kinetic2) {
+    v4d vx, vy, vz;
+    if (s.cordis) {
+        const v4d inv_dt = splat(s.inv_dt);
+        vx = (loadn(s.x + i, Count) - loadn(s.px + i, Count)) * inv_dt;
+        vy = (loadn(s.y + i, Count) - loadn(s.py + i, Count)) * inv_dt;
+        vz = (loadn(s.z + i, Count) - loadn(s.pz + i, Count)) * inv_dt;
+        storen(s.vx + i, vx, Count);
+        storen(s.vy + i, vy, Count);
+        storen(s.vz + i, vz, Count);
+    } else {
+        vx = loadn(s.vx + i, Count);
+        vy = loadn(s.vy + i, Count);
+        vz = loadn(s.vz + i, Count);
+    }
+    const v4d v2 = vx * vx + vy * vy + vz * vz;
+    const v4d drag = loadn(s.lin + i, Count) + loadn(s.quad + i, Count) * vsqrt(v2);   // -(c + b |v|) v
+    const v4d m = loadn(s.m + i, Count);
+    storen(s.fx + i, loadn(s.ex + i, Count) + m * splat(s.gx) - drag * vx, Count);
+    storen(s.fy + i, loadn(s.ey + i, Count) + m * splat(s.gy) - drag * vy, Count);
+    storen(s.fz + i, loadn(s.ez + i, Count) + m * splat(s.gz) - drag * vz, Count);
+    const v4d mv2 = m * v2;
+    for (int k = 0; k < Count; ++k) kinetic2 += mv2[k];
+    if (s.mirror) {
+        v4d p0, p1, p2, p3, v0, v1, v2, v3;
+        columns_to_rows(loadn(s.x + i, Count), loadn(s.y + i, Count), loadn(s.z + i, Count), p0, p1, p2, p3);
+        columns_to_rows(vx, vy, vz, v0, v1, v2, v3);
+        double* row = s.mirror + 8 * i;
+        store4(row, p0);
+        store4(row + 4, v0);
+        if (Count > 1) store4(row + 8, p1);
+        if (Count > 1) store4(row + 12, v1);
+        if (Count > 2) store4(row + 16, p2);
+        if (Count > 2) store4(row + 20, v2);
+        if (Count > 3) store4(row + 24, p3);
+        if (Count > 3) store4(row + 28, v3);
+    }
+}
+
+AMEOTO_INLINE double forces(const StepView& view) {
+    const StepView s = view;
+    double kinetic2 = 0.0;   // twice the kinetic energy
+    std::size_t i = 0;
+    for (; i + 4 <= s.n; i += 4) forces_group<4>(s, i, kinetic2);
+    switch (s.n - i) {
+        case 3: forces_group<3>(s, i, kinetic2); break;
+        case 2: forces_group<2>(s, i, kinetic2); break;
+        case 1: forces_group<1>(s, i, kinetic2); break;
+        default: break;
+    }
+    return kinetic2;
+}
+
+// 2. The uniform cohesive pass, four links per group. Per lane exactly the scalar pass's arithmetic
+// (uniform_cohesive_links()), its branches turned into lane masks. A link's force is s u on a and -s u
+// on b; s = 0 or a skipped link (broken, core not touching) adds nothing. Two ways to add them, both in
+// link order per mass (so the scalar pass's sums):
+//   dense (at least a quarter of the links bonded): links l .. l + 3 at a time; each writes +t = s u
+//     and -t to `contribution`, -0.0 for nothing (x + -0 = x for every x), and accumulate() adds them
+//     per mass through the slot lists;
+//   sparse (most links broken): the candidate links (see sub_step_avx2()), four at a time; the acting
+//     ones are added at once to the force accumulator, lane after lane, as the scalar pass does.
+// Adds the elastic terms to elastic2 in link order.
+
+// A group's links: l[k] for lane k; lanes past Count repeat the last link and are ignored.
+struct LaneLinks {
+    std::size_t l[4];
+};
+
+template <bool Dense, int Count>
+AMEOTO_INLINE void add_link_forces(const StepView& s, const LaneLinks& g, int live, const v4d& tx, const v4d& ty,
+                                   const v4d& tz) {
+    if constexpr (Dense) {
+        // Dense groups are consecutive links: entries 2 l[0] ... are one block.
+        const v4d minus_zero = splat(-0.0);
+        v4d p0, p1, p2, p3, m0, m1, m2, m3;
+        if (live == (1 << Count) - 1) [[likely]] {
+            columns_to_rows(tx, ty, tz, p0, p1, p2, p3);
+            m0 = -p0;   // exact negation
+            m1 = -p1;
+            m2 = -p2;
+            m3 = -p3;
+        } else {
+            const v4m on = {-std::int64_t{(live & 1) != 0}, -std::int64_t{(live & 2) != 0},
+                            -std::int64_t{(live & 4) != 0}, -std::int64_t{(live & 8) != 0}};
+            columns_to_rows(on ? tx : minus_zero, on ? ty : minus_zero, on ? tz : minus_zero, p0, p1, p2, p3);
+            columns_to_rows(on ? -tx : minus_zero, on ? -ty : minus_zero, on ? -tz : minus_zero, m0, m1, m2, m3);
+        }
+        double* out = s.contribution + 8 * g.l[0];
+        store4(out, p0);
+        store4(out + 4, m0);
+        if (Count > 1) store4(out + 8, p1);
+        if (Count > 1) store4(out + 12, m1);
+        if (Count > 2) store4(out + 16, p2);
+        if (Count > 2) store4(out + 20, m2);
+        if (Count > 3) store4(out + 24, p3);
+        if (Count > 3) store4(out + 28, m3);
+    } else {
+        for (int k = 0; k < Count; ++k) {
+            if (!(live & (1 << k))) continue;
+            const auto a = static_cast<std::size_t>(s.la[g.l[k]]), b = static_cast<std::size_t>(s.lb[g.l[k]]);
+            s.fx[a] += tx[k];
+            s.fy[a] += ty[k];
+            s.fz[a] += tz[k];
+            s.fx[b] -= tx[k];
+            s.fy[b] -= ty[k];
+            s.fz[b] -= tz[k];
+        }
+    }
+}
+
+// d = x_a - x_b of the group's links, as columns.
+template <int Count>
+AMEOTO_INLINE void link_offsets(const StepView& s, const LaneLinks& g, int row, v4d& x, v4d& y, v4d& z) {
+    auto a = [&](int k) { return s.mirror + s.ends[2 * g.l[k]] + row; };
+    auto b = [&](int k) { return s.mirror + s.ends[2 * g.l[k] + 1] + row; };
+    rows_to_columns(load4(a(0)) - load4(b(0)), load4(a(1)) - load4(b(1)), load4(a(2)) - load4(b(2)),
+                    load4(a(3)) - load4(b(3)), x, y, z);
+}
+
+template <int Count>
+AMEOTO_INLINE int gone_bits(const StepView& s, const LaneLinks& g, bool consecutive) {
+    if (Count == 4 && consecutive) {
+        std::uint32_t word;   // broken flags are 0 or 1
+        __builtin_memcpy(&word, s.broken + g.l[0], sizeof word);
+        return static_cast<int>((word & 1u) | (word >> 7 & 2u) | (word >> 14 & 4u) | (word >> 21 & 8u));
+    }
+    int bits = 0;
+    for (int k = 0; k < Count; ++k) bits |= s.broken[g.l[k]] != 0 ? 1 << k : 0;
+    return bits;
+}
+
+AMEOTO_INLINE v4m lane_mask(int bits) {
+    return v4m{-std::int64_t{(bits & 1) != 0}, -std::int64_t{(bits & 2) != 0}, -std::int64_t{(bits & 4) != 0},
+               -std::int64_t{(bits & 8) != 0}};
+}
+
+template <bool Dense, int Count>
+AMEOTO_INLINE void link_group(const StepView& s, const LaneLinks& g, bool consecutive, double& elastic2) {
+    constexpr int all = (1 << Count) - 1;   // the valid lanes' bits
+    const int gone_lanes = gone_bits<Count>(s, g, consecutive);
+    const v4d zero = splat(0.0), minus_zero = splat(-0.0);
+    v4d dx, dy, dz;   // d = x_a - x_b
+    link_offsets<Count>(s, g, 0, dx, dy, dz);
+    const v4d length2 = dx * dx + dy * dy + dz * dz;
+    const v4m gone = lane_mask(gone_lanes);
+    const v4m skip = gone & (length2 >= splat(s.core_len2));   // a broken bond's core, not touching
+    if (gone_lanes == all && (lane_bits(skip) & all) == all) {
+        // All broken and apart (much of a shattered drop): the distance test is all.
+        if constexpr (Dense) add_link_forces<Dense, Count>(s, g, 0, zero, zero, zero);
+        return;
+    }
+    v4d wx, wy, wz;   // w = v_a - v_b
+    link_offsets<Count>(s, g, 4, wx, wy, wz);
+    const v4d length = vsqrt(length2);
+    const v4d inv_length = length > zero ? splat(1.0) / length : zero;   // L = 0: no axis, no force
+    const v4d ux = dx * inv_length, uy = dy * inv_length, uz = dz * inv_length;
+    const v4d stretch = length - splat(s.l0);
+    const v4d gap = splat(s.core_len) - length;   // the core pushes while gap > 0
+    const v4d spring = splat(-s.k) * stretch;
+    const v4d axial_speed = wx * ux + wy * uy + wz * uz;
+    const v4d bond = spring - splat(s.damping) * axial_speed;
+    const v4d e_spring = splat(s.k) * stretch * stretch;
+    // The common case: bonded, no core, not breaking, and s = 0.0 + bond != 0 (so s = bond).
+    if (gone_lanes == 0 && lane_bits((gap > zero) | (-spring > splat(s.threshold)) | (bond == zero)) == 0) [[likely]] {
+        for (int k = 0; k < Count; ++k) elastic2 += e_spring[k];
+        add_link_forces<Dense, Count>(s, g, all, bond * ux, bond * uy, bond * uz);
+        return;
+    }
+    const v4m core_on = (gap > zero) & ~skip;
+    const v4d s_core = core_on ? splat(s.core_k) * gap : zero;
+    const v4m breaking = ~gone & (-spring > splat(s.threshold));   // torn apart: the spring's pull only
+    const v4m acting = ~gone & ~breaking;
+    const v4d force = acting ? s_core + bond : s_core;
+    const v4d e_core = core_on ? splat(s.core_k) * gap * gap : minus_zero;
+    const v4d e_bond = acting ? e_spring : minus_zero;
+    for (int k = 0; k < Count; ++k) {
+        elastic2 += e_core[k];
+        elastic2 += e_bond[k];
+    }
+    const int breaks = lane_bits(breaking) & all;
+    for (int k = 0; k < Count; ++k) {
+        if (!(breaks & (1 << k))) continue;
+        const std::size_t l = g.l[k];
+        s.broken[l] = 1;
+        ++*s.broken_count;
+        if (*s.event_count < s.event_capacity) {
+            s.events[(*s.event_count)++] = LinkBreak{static_cast<std::int32_t>(l), s.la[l], s.lb[l], spring[k], s.index};
+        } else {
+            ++*s.dropped;
+        }
+    }
+    const int live = lane_bits(~skip & (force != zero)) & all;
+    add_link_forces<Dense, Count>(s, g, live, force * ux, force * uy, force * uz);
+}
+
+template <int Count>
+AMEOTO_INLINE LaneLinks consecutive_links(std::size_t first) {
+    LaneLinks g;
+    for (int k = 0; k < 4; ++k) g.l[k] = first + static_cast<std::size_t>(k < Count ? k : Count - 1);
+    return g;
+}
+
+template <int Count>
+AMEOTO_INLINE LaneLinks listed_links(const std::int32_t* list) {
+    LaneLinks g;
+    for (int k = 0; k < 4; ++k) g.l[k] = static_cast<std::size_t>(list[k < Count ? k : Count - 1]);
+    return g;
+}
+
+// Dense: every link, l .. l + 3 at a time.
+AMEOTO_INLINE double dense_links(const StepView& view) {
+    const StepView s = view;
+    double elastic2 = 0.0;   // twice the elastic energy
+    std::size_t l = 0;
+    for (; l + 4 <= s.links; l += 4) link_group<true, 4>(s, consecutive_links<4>(l), true, elastic2);
+    switch (s.links - l) {
+        case 3: link_group<true, 3>(s, consecutive_links<3>(l), true, elastic2); break;
+        case 2: link_group<true, 2>(s, consecutive_links<2>(l), true, elastic2); break;
+        case 1: link_group<true, 1>(s, consecutive_links<1>(l), true, elastic2); break;
+        default: break;
+    }
+    return elastic2;
+}
+
+// Sparse: the candidates, four at a time.
+AMEOTO_INLINE double sparse_links(const StepView& view) {
+    const StepView s = view;
+    double elastic2 = 0.0;
+    std::size_t j = 0;
+    for (; j + 4 <= s.candidate_count; j += 4) link_group<false, 4>(s, listed_links<4>(s.candidates + j), false, elastic2);
+    switch (s.candidate_count - j) {
+        case 3: link_group<false, 3>(s, listed_links<3>(s.candidates + j), false, elastic2); break;
+        case 2: link_group<false, 2>(s, listed_links<2>(s.candidates + j), false, elastic2); break;
+        case 1: link_group<false, 1>(s, listed_links<1>(s.candidates + j), false, elastic2); break;
+        default: break;
+    }
+    return elastic2;
+}
+
+// The sparse pass's candidates: the bonded links and the broken ones whose masses are closer than
+// s.near (core length + margin), in link order; and the positions they were listed at. Returns how many.
+template <int Count>
+AMEOTO_INLINE void list_group(const StepView& s, std::size_t first, std::size_t& count) {
+    const LaneLinks g = consecutive_links<Count>(first);
+    const int gone_lanes = gone_bits<Count>(s, g, true);
+    int keep = ~gone_lanes;
+    if (gone_lanes != 0) {
+        v4d dx, dy, dz;
+        link_offsets<Count>(s, g, 0, dx, dy, dz);
+        keep |= lane_bits(~(dx * dx + dy * dy + dz * dz >= splat(s.near * s.near)));   // NaN: kept
+    }
+    for (int k = 0; k < Count; ++k) {
+        if (keep & (1 << k)) s.candidates[count++] = static_cast<std::int32_t>(first + static_cast<std::size_t>(k));
+    }
+}
+
+AMEOTO_INLINE std::size_t list_candidates(const StepView& view) {
+    const StepView s = view;
+    std::size_t count = 0, l = 0;
+    for (; l + 4 <= s.links; l += 4) list_group<4>(s, l, count);
+    switch (s.links - l) {
+        case 3: list_group<3>(s, l, count); break;
+        case 2: list_group<2>(s, l, count); break;
+        case 1: list_group<1>(s, l, count); break;
+        default: break;
+    }
+    for (std::size_t i = 0; i < s.n; ++i) {
+        s.listed_x[i] = s.x[i];
+        s.listed_y[i] = s.y[i];
+        s.listed_z[i] = s.z[i];
+    }
+    return count;
+}
+
+// How far any two masses can have moved towards each other since they were listed: the relative
+// displacement of a and b is at most the range (max - min over the masses) of the displacements, per
+// axis. Returns the squared bound (NaN if a position is not finite).
+AMEOTO_INLINE double approach_bound2(const StepView& view) {
+    const StepView s = view;
+    v4d lo_x = splat(0.0), lo_y = lo_x, lo_z = lo_x, hi_x = lo_x, hi_y = lo_x, hi_z = lo_x;
+    v4m bad = {0, 0, 0, 0};
+    auto take = [&](std::size_t i, int count) {
+        const v4d dx = loadn(s.x + i, count) - loadn(s.listed_x + i, count);
+        const v4d dy = loadn(s.y + i, count) - loadn(s.listed_y + i, count);
+        const v4d dz = loadn(s.z + i, count) - loadn(s.listed_z + i, count);
+        bad |= (dx != dx) | (dy != dy) | (dz != dz);
+        lo_x = _mm256_min_pd(lo_x, dx);
+        lo_y = _mm256_min_pd(lo_y, dy);
+        lo_z = _mm256_min_pd(lo_z, dz);
+        hi_x = _mm256_max_pd(hi_x, dx);
+        hi_y = _mm256_max_pd(hi_y, dy);
+        hi_z = _mm256_max_pd(hi_z, dz);
+    };
+    std::size_t i = 0;
+    for (; i + 4 <= s.n; i += 4) take(i, 4);
+    if (i < s.n) take(i, static_cast<int>(s.n - i));   // the tail's empty lanes read 0: a displacement of 0
+    if (lane_bits(bad) != 0) return std::numeric_limits<double>::quiet_NaN();
+    const v4d rx = hi_x - lo_x, ry = hi_y - lo_y, rz = hi_z - lo_z;
+    double range_x = 0.0, range_y = 0.0, range_z = 0.0;
+    for (int k = 0; k < 4; ++k) {
+        range_x = std::max(range_x, rx[k]);
+        range_y = std::max(range_y, ry[k]);
+        range_z = std::max(range_z, rz[k]);
+    }
+    return range_x * range_x + range_y * range_y + range_z * range_z;
+}
+
+// 3. Update, four masses per group; for the uniform pass first the link forces, added per mass in link
+// order. Adds the new coordinates to sum in mass order. Fixed points have 1/m = 0 and zero velocity,
+// so both schemes leave them in place.
+template <int Count>
+AMEOTO_INLINE void update_group(const StepView& s, std::size_t i, double& sum) {
+    v4d fx = loadn(s.fx + i, Count), fy = loadn(s.fy + i, Count), fz = loadn(s.fz + i, Count);
+    if (s.slots) {
+        v4d f0, f1, f2, f3;
+        columns_to_rows(fx, fy, fz, f0, f1, f2, f3);
+        const std::int32_t* slot = s.slots + s.slot_start[i / 4];
+        const std::int32_t* const end = s.slots + s.slot_start[i / 4 + 1];
+        for (; slot != end; slot += 4) {
+            f0 += load4(s.contribution + slot[0]);
+            f1 += load4(s.contribution + slot[1]);
+            f2 += load4(s.contribution + slot[2]);
+            f3 += load4(s.contribution + slot[3]);
+        }
+        rows_to_columns(f0, f1, f2, f3, fx, fy, fz);
+    }
+    const v4d inv_m = loadn(s.inv_m + i, Count);
+    const v4d x = loadn(s.x + i, Count), y = loadn(s.y + i, Count), z = loadn(s.z + i, Count);
+    v4d nx, ny, nz;
+    if (s.cordis) {
+        // Position Verlet: x[n+1] = 2 x[n] - x[n-1] + T^2 F / m.
+        const v4d dt2 = splat(s.dt * s.dt), two = splat(2.0);
+        nx = two * x - loadn(s.px + i, Count) + dt2 * fx * inv_m;
+        ny = two * y - loadn(s.py + i, Count) + dt2 * fy * inv_m;
+        nz = two * z - loadn(s.pz + i, Count) + dt2 * fz * inv_m;
+    } else {
+        // Symplectic Euler: v += T F / m, then x += T v with the new v.
+        const v4d dt = splat(s.dt);
+        const v4d vx = loadn(s.vx + i, Count) + dt * fx * inv_m;
+        const v4d vy = loadn(s.vy + i, Count) + dt * fy * inv_m;
+        const v4d vz = loadn(s.vz + i, Count) + dt * fz * inv_m;
+        storen(s.vx + i, vx, Count);
+        storen(s.vy + i, vy, Count);
+        storen(s.vz + i, vz, Count);
+        nx = x + dt * vx;
+        ny = y + dt * vy;
+        nz = z + dt * vz;
+    }
+    storen(s.px + i, x, Count);
+    storen(s.py + i, y, Count);
+    storen(s.pz + i, z, Count);
+    storen(s.x + i, nx, Count);
+    storen(s.y + i, ny, Count);
+    storen(s.z + i, nz, Count);
+    const v4d row_sum = nx + ny + nz;
+    for (int k = 0; k < Count; ++k) sum += row_sum[k];
+}
+
+AMEOTO_INLINE double update(const StepView& view) {
+    const StepView s = view;
+    double sum = 0.0;
+    std::size_t i = 0;
+    for (; i + 4 <= s.n; i += 4) update_group<4>(s, i, sum);
+    switch (s.n - i) {
+        case 3: update_group<3>(s, i, sum); break;
+        case 2: update_group<2>(s, i, sum); break;
+        case 1: update_group<1>(s, i, sum); break;
+        default: break;
+    }
+    return sum;
+}
+
+#undef AMEOTO_INLINE
+
+// The kernels as functions of their own (AVX2 code: called only where finalize() found AVX2).
+double forces_avx2(const StepView& s) { return forces(s); }
+double dense_links_avx2(const StepView& s) { return dense_links(s); }
+double sparse_links_avx2(const StepView& s) { return sparse_links(s); }
+std::size_t list_candidates_avx2(const StepView& s) { return list_candidates(s); }
+double approach_bound2_avx2(const StepView& s) { return approach_bound2(s); }
+double update_avx2(const StepView& s) { return update(s); }
+
+}  // namespace
+
+#pragma GCC pop_options
+
+namespace {
+
+bool cpu_has_avx2() {
+    __builtin_cpu_init();
+    return __builtin_cpu_supports("avx2");
+}
+
+}  // namespace
+
 void Body3D::sub_step(int index) {
+    if (use_avx2_) {
+        sub_step_avx2(index);
+    } else {
+        sub_step_baseline(index);
+    }
+}
+
+void Body3D::sub_step_avx2(int index) {
+    StepView s;
+    s.n = x_.size();
+    s.links = link_a_.size();
+    s.x = x_.data();
+    s.y = y_.data();
+    s.z = z_.data();
+    s.px = px_.data();
+    s.py = py_.data();
+    s.pz = pz_.data();
+    s.vx = vx_.data();
+    s.vy = vy_.data();
+    s.vz = vz_.data();
+    s.fx = fx_.data();
+    s.fy = fy_.data();
+    s.fz = fz_.data();
+    s.ex = ex_.data();
+    s.ey = ey_.data();
+    s.ez = ez_.data();
+    s.m = mass_.data();
+    s.inv_m = inv_mass_.data();
+    s.lin = linear_drag_.data();
+    s.quad = quadratic_drag_.data();
+    s.gx = gravity_.x;
+    s.gy = gravity_.y;
+    s.gz = gravity_.z;
+    s.dt = sub_dt_;
+    s.inv_dt = 1.0 / sub_dt_;
+    s.cordis = integrator_ == Integrator::explicit_verlet;
+    s.mirror = nullptr;
+    s.contribution = nullptr;
+    s.slots = nullptr;
+    s.slot_start = nullptr;
+    if (uniform_cohesive_) {
+        s.mirror = align64(mirror_.data());
+        s.contribution = align64(contribution_.data());
+        s.ends = link_ends_.data();
+        // Dense while at least a quarter of the links are bonded (see dense_links()).
+        const bool dense = 4 * (link_a_.size() - broken_count_) >= link_a_.size();
+        s.slots = dense ? slots_.data() : nullptr;
+        s.candidates = candidates_.data();
+        s.listed_x = listed_x_.data();
+        s.listed_y = listed_y_.data();
+        s.listed_z = listed_z_.data();
+        s.near = core_length_[0] + 8.0 * rest_[0];
+        s.slot_start = slot_start_.data();
+        s.la = link_a_.data();
+        s.lb = link_b_.data();
+        s.broken = broken_.data();
+        s.k = stiffness_[0];
+        s.damping = damping_[0];
+        s.l0 = rest_[0];
+        s.threshold = break_force_[0];
+        s.core_len = core_length_[0];
+        s.core_len2 = core_length_[0] * core_length_[0];
+        s.core_k = core_stiffness_[0];
+        s.events = events_.data();
+        s.event_capacity = events_.size();
+        s.event_count = &event_count_;
+        s.dropped = &dropped_breaks_;
+        s.broken_count = &broken_count_;
+        s.index = index;
+    }
+    const double kinetic2 = forces_avx2(s);
+    double elastic2 = 0.0;
+    if (!uniform_cohesive_) {
+        elastic2 = generic_links(index);
+    } else if (s.slots) {
+        candidates_valid_ = false;
+        elastic2 = dense_links_avx2(s);
+    } else {
+        // The sparse pass computes only the candidates: a broken link left out had its masses at least
+        // core length + 8 h apart (h: rest length) when listed, and the list is made again before they
+        // can have approached by 4 h (so they stay 4 h clear of the core, far beyond rounding): until
+        // then the scalar pass skips it too. The bound compares the positions with those listed, so it
+        // holds whatever moved them (set_position() too). A position not finite: listed again, NaN
+        // links kept.
+        // (Margin and bound measured on a shattered 5 mm drop: lists again about every 9 steps.)
+        if (candidates_valid_ && !(approach_bound2_avx2(s) < 16.0 * rest_[0] * rest_[0])) candidates_valid_ = false;
+        if (!candidates_valid_) {
+            candidate_count_ = list_candidates_avx2(s);
+            candidates_valid_ = true;
+        }
+        s.candidate_count = candidate_count_;
+        elastic2 = sparse_links_avx2(s);
+    }
+    last_energy_ = 0.5 * (kinetic2 + elastic2);
+    last_position_sum_ = update_avx2(s);
+}
+
+// The scalar step: the reference, and the code on a CPU without AVX2.
+void Body3D::sub_step_baseline(int index) {
     // Local restrict pointers (as in transverse_network.cpp): the force stores cannot alias the
-    // positions, so the compiler keeps them in registers and vectorises the per-mass loops.
+    // positions, so the compiler keeps them in registers. (The loops stay scalar: their sums keep the
+    // scalar order; sub_step_avx2() vectorises them.)
     const std::size_t n = x_.size();
     double* __restrict x = x_.data();
     double* __restrict y = y_.data();
@@ -304,84 +965,8 @@ void Body3D::sub_step(int index) {
         kinetic2 += m[i] * v2;
     }
 
-    // 2. Links (gather/scatter): s along u on a, -s u on b. A body whose links are all cohesive with
-    // the same parameters (a drop) takes a loop with those parameters as constants: the same
-    // arithmetic in the same order, so the same result to the bit, at about 3/4 of the cost.
-    const std::size_t links = link_a_.size();
-    const std::int32_t* __restrict la = link_a_.data();
-    const std::int32_t* __restrict lb = link_b_.data();
-    const double* __restrict lk = stiffness_.data();
-    const double* __restrict lz = damping_.data();
-    const double* __restrict l0 = rest_.data();
-    const double* __restrict lbreak = break_force_.data();
-    const LinkKind* __restrict kind = kind_.data();
-    std::uint8_t* __restrict broken = broken_.data();
-    const double* __restrict core_len = core_length_.data();
-    const double* __restrict core_k = core_stiffness_.data();
-    double elastic2 = 0.0;   // twice the elastic energy
-    if (uniform_cohesive_) elastic2 = uniform_cohesive_links(index);
-    const std::size_t generic_links = uniform_cohesive_ ? 0 : links;
-    for (std::size_t l = 0; l < generic_links; ++l) {
-        const LinkKind type = kind[l];
-        const bool gone = broken[l] != 0;
-        if (gone && type != LinkKind::cohesive) continue;   // a broken cohesive link keeps its core
-        const auto a = static_cast<std::size_t>(la[l]);
-        const auto b = static_cast<std::size_t>(lb[l]);
-        const double dx = x[a] - x[b], dy = y[a] - y[b], dz = z[a] - z[b];
-        const double length2 = dx * dx + dy * dy + dz * dz;
-        if (gone && length2 >= core_len[l] * core_len[l]) continue;   // a broken bond's core, not touching
-        const double length = std::sqrt(length2);
-        const double inv_length = length > 0.0 ? 1.0 / length : 0.0;   // L = 0: no axis, no force
-        const double ux = dx * inv_length, uy = dy * inv_length, uz = dz * inv_length;
-        const double stretch = length - l0[l];
-        double s = 0.0;
-        if (type == LinkKind::cohesive) {
-            const double gap = core_len[l] - length;   // the core pushes while gap > 0
-            if (gap > 0.0) {
-                s = core_k[l] * gap;
-                elastic2 += core_k[l] * gap * gap;
-            }
-            if (!gone) {
-                const double spring = -lk[l] * stretch;
-                if (-spring > lbreak[l]) {   // torn apart: the spring's pull only (see the header)
-                    broken[l] = 1;
-                    if (event_count_ < events_.size()) {
-                        events_[event_count_++] = LinkBreak{static_cast<std::int32_t>(l), la[l], lb[l], spring, index};
-                    } else {
-                        ++dropped_breaks_;
-                    }
-                } else {
-                    const double axial_speed = (vx[a] - vx[b]) * ux + (vy[a] - vy[b]) * uy + (vz[a] - vz[b]) * uz;
-                    s += spring - lz[l] * axial_speed;
-                    elastic2 += lk[l] * stretch * stretch;
-                }
-            }
-            if (s == 0.0) continue;
-        } else {
-            const double axial_speed = (vx[a] - vx[b]) * ux + (vy[a] - vy[b]) * uy + (vz[a] - vz[b]) * uz;
-            s = -lk[l] * stretch - lz[l] * axial_speed;
-            if (type == LinkKind::contact) {
-                if (stretch >= 0.0) continue;   // not touching
-                s = std::max(s, 0.0);           // push only
-            }
-            if (std::abs(s) > lbreak[l]) {      // only breakable links have a finite threshold
-                broken[l] = 1;
-                if (event_count_ < events_.size()) {
-                    events_[event_count_++] = LinkBreak{static_cast<std::int32_t>(l), la[l], lb[l], s, index};
-                } else {
-                    ++dropped_breaks_;
-                }
-                continue;
-            }
-            elastic2 += lk[l] * stretch * stretch;
-        }
-        fx[a] += s * ux;
-        fy[a] += s * uy;
-        fz[a] += s * uz;
-        fx[b] -= s * ux;
-        fy[b] -= s * uy;
-        fz[b] -= s * uz;
-    }
+    // 2. Links: the uniform cohesive pass (a drop) or any links.
+    const double elastic2 = uniform_cohesive_ ? uniform_cohesive_links(index) : generic_links(index);
     last_energy_ = 0.5 * (kinetic2 + elastic2);
 
     // 3. Update. Fixed points have 1/m = 0 and zero velocity, so both schemes leave them in place.
@@ -436,7 +1021,7 @@ double Body3D::uniform_cohesive_links(int index) {
     const double k = stiffness_[0], damping = damping_[0], l0 = rest_[0], threshold = break_force_[0];
     const double core_len = core_length_[0], core_k = core_stiffness_[0];
     double elastic2 = 0.0;
-    // The cohesive branch of sub_step()'s loop, with the parameters hoisted.
+    // The cohesive branch of generic_links(), with the parameters hoisted.
     for (std::size_t l = 0; l < links; ++l) {
         const bool gone = broken[l] != 0;
         const auto a = static_cast<std::size_t>(la[l]);
@@ -458,6 +1043,7 @@ double Body3D::uniform_cohesive_links(int index) {
             const double spring = -k * stretch;
             if (-spring > threshold) {
                 broken[l] = 1;
+                ++broken_count_;
                 if (event_count_ < events_.size()) {
                     events_[event_count_++] = LinkBreak{static_cast<std::int32_t>(l), la[l], lb[l], spring, index};
                 } else {
@@ -470,6 +1056,96 @@ double Body3D::uniform_cohesive_links(int index) {
             }
         }
         if (s == 0.0) continue;
+        fx[a] += s * ux;
+        fy[a] += s * uy;
+        fz[a] += s * uz;
+        fx[b] -= s * ux;
+        fy[b] -= s * uy;
+        fz[b] -= s * uz;
+    }
+    return elastic2;
+}
+
+// 2. Links, any kind (gather/scatter): s along u on a, -s u on b, added to the force accumulator in link
+// order. The reference for the uniform pass above. Returns twice the elastic energy.
+double Body3D::generic_links(int index) {
+    const std::size_t links = link_a_.size();
+    const double* __restrict x = x_.data();
+    const double* __restrict y = y_.data();
+    const double* __restrict z = z_.data();
+    const double* __restrict vx = vx_.data();
+    const double* __restrict vy = vy_.data();
+    const double* __restrict vz = vz_.data();
+    double* __restrict fx = fx_.data();
+    double* __restrict fy = fy_.data();
+    double* __restrict fz = fz_.data();
+    const std::int32_t* __restrict la = link_a_.data();
+    const std::int32_t* __restrict lb = link_b_.data();
+    const double* __restrict lk = stiffness_.data();
+    const double* __restrict lz = damping_.data();
+    const double* __restrict l0 = rest_.data();
+    const double* __restrict lbreak = break_force_.data();
+    const LinkKind* __restrict kind = kind_.data();
+    std::uint8_t* __restrict broken = broken_.data();
+    const double* __restrict core_len = core_length_.data();
+    const double* __restrict core_k = core_stiffness_.data();
+    double elastic2 = 0.0;   // twice the elastic energy
+    for (std::size_t l = 0; l < links; ++l) {
+        const LinkKind type = kind[l];
+        const bool gone = broken[l] != 0;
+        if (gone && type != LinkKind::cohesive) continue;   // a broken cohesive link keeps its core
+        const auto a = static_cast<std::size_t>(la[l]);
+        const auto b = static_cast<std::size_t>(lb[l]);
+        const double dx = x[a] - x[b], dy = y[a] - y[b], dz = z[a] - z[b];
+        const double length2 = dx * dx + dy * dy + dz * dz;
+        if (gone && length2 >= core_len[l] * core_len[l]) continue;   // a broken bond's core, not touching
+        const double length = std::sqrt(length2);
+        const double inv_length = length > 0.0 ? 1.0 / length : 0.0;   // L = 0: no axis, no force
+        const double ux = dx * inv_length, uy = dy * inv_length, uz = dz * inv_length;
+        const double stretch = length - l0[l];
+        double s = 0.0;
+        if (type == LinkKind::cohesive) {
+            const double gap = core_len[l] - length;   // the core pushes while gap > 0
+            if (gap > 0.0) {
+                s = core_k[l] * gap;
+                elastic2 += core_k[l] * gap * gap;
+            }
+            if (!gone) {
+                const double spring = -lk[l] * stretch;
+                if (-spring > lbreak[l]) {   // torn apart: the spring's pull only (see the header)
+                    broken[l] = 1;
+                    ++broken_count_;
+                    if (event_count_ < events_.size()) {
+                        events_[event_count_++] = LinkBreak{static_cast<std::int32_t>(l), la[l], lb[l], spring, index};
+                    } else {
+                        ++dropped_breaks_;
+                    }
+                } else {
+                    const double axial_speed = (vx[a] - vx[b]) * ux + (vy[a] - vy[b]) * uy + (vz[a] - vz[b]) * uz;
+                    s += spring - lz[l] * axial_speed;
+                    elastic2 += lk[l] * stretch * stretch;
+                }
+            }
+            if (s == 0.0) continue;
+        } else {
+            const double axial_speed = (vx[a] - vx[b]) * ux + (vy[a] - vy[b]) * uy + (vz[a] - vz[b]) * uz;
+            s = -lk[l] * stretch - lz[l] * axial_speed;
+            if (type == LinkKind::contact) {
+                if (stretch >= 0.0) continue;   // not touching
+                s = std::max(s, 0.0);           // push only
+            }
+            if (std::abs(s) > lbreak[l]) {      // only breakable links have a finite threshold
+                broken[l] = 1;
+                ++broken_count_;
+                if (event_count_ < events_.size()) {
+                    events_[event_count_++] = LinkBreak{static_cast<std::int32_t>(l), la[l], lb[l], s, index};
+                } else {
+                    ++dropped_breaks_;
+                }
+                continue;
+            }
+            elastic2 += lk[l] * stretch * stretch;
+        }
         fx[a] += s * ux;
         fy[a] += s * uy;
         fz[a] += s * uz;

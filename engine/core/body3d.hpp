@@ -27,6 +27,8 @@
 //   body.set_position(m, p); body.set_velocity(m, v); body.reset();
 //   body.position(m), velocity(m), momentum(), energy(), resets(), link_broken(l), stability(),
 //   linear_drag(m), quadratic_drag(m) ...
+//   body.set_portable_kernels(true);                          // the scalar step even on AVX2 (tests)
+//   body.avx2_kernels();                                      // which code finalize() picked
 //
 // Links (seed section 4.1, in 3-D): d = x1 - x2, L = |d|, u = d / L. The link acts along its axis only:
 //   F1 = -F2 = s u,   s = -k (L - l0) - z ((v1 - v2) . u)
@@ -49,9 +51,36 @@
 //     breaks (the liquid's resistance to compression: broken neighbours collide instead of passing
 //     through each other). s = s_c + s_b while bonded, s = s_c once broken. The event's force is the
 //     spring's, -k (L - l0).
-// Internal links exert equal and opposite forces, so they conserve momentum (to rounding). A body whose
-// links are all cohesive with one set of parameters (a drop) runs them in a pass with those parameters
-// hoisted: the same arithmetic in the same order (the same result to the bit), about 1/4 faster.
+// Internal links exert equal and opposite forces, so they conserve momentum (to rounding).
+//
+// Vectorisation (body3d.cpp). finalize() picks one of two steps: on a CPU with AVX2, for a body of 16
+// masses or more, kernels compiled for AVX2 whatever the build's target, written on 4-lane vectors
+// (GCC vector extensions); otherwise (or after set_portable_kernels(true)) the scalar step, which is
+// the reference. (The same vector code built for baseline x86-64, two 128-bit halves per vector, ran
+// 4 times slower than the scalar step.)
+//   1. per mass, four masses at a time: velocities (CORDIS), gravity, drag, external forces;
+//   2. the links. Any body: generic_links(), a scalar loop that adds s u to a and -s u to b in link
+//      order. A body whose links are all cohesive with one set of parameters (a drop): four links at a
+//      time, their masses read from a mirror written in 1. (position and velocity, one 64-byte row per
+//      mass) and transposed into lanes. While at least a quarter of the links are bonded ("dense") it
+//      computes every link, and each writes +s u and -s u for 3. to add per mass in link order; once
+//      most are broken ("sparse") it computes only candidates, in link order, and adds their forces
+//      lane after lane. The candidates are the bonded links and the broken ones whose masses were
+//      within core length + 8 h (h: the rest length) when listed; the list is made again once any two
+//      masses may have approached by 4 h (bounded by the range of the masses' displacements since), so
+//      every link left out is one the scalar pass skips (broken, core not touching);
+//   3. per mass, four at a time: the dense pass's link forces, then the update.
+// A 5 mm drop per 48 kHz step, scalar -> AVX2 (docs/engine.md, "The drop"): awake 5.6 -> 3.1 us,
+// shattered 1.8 -> 0.81 us.
+// Bit identity. The AVX2 step gives the scalar step's result to the bit, so a render is the same on any
+// x86-64: each lane performs the same IEEE operations in the same order (+, -, *, /, sqrt are correctly
+// rounded whatever the vector width; no FMA: AVX2 does not include it and body3d.cpp is built with
+// -ffp-contract=off; nothing is reassociated); branches become lane masks; every force reaches its
+// mass's accumulator in link order, as in the scalar pass, and a link that adds nothing there adds
+// -0.0 here, which leaves any sum unchanged (x + -0 = x for every x, -0 included); the sums that cross
+// lanes (kinetic and elastic energy, the position sum of the guard) are added lane by lane in the
+// scalar order. Tested every step on a shattering drop (dense and sparse): AVX2 uniform pass, scalar
+// uniform pass, AVX2 per-mass kernels with the generic pass.
 //
 // External forces per mass: gravity m g, linear drag -c v (the seed's model, section 4.5), quadratic
 // drag -b |v| v with b = rho_air C_d A / 2 (body3d_drag.hpp gives C_d and b for water drops), and
@@ -202,10 +231,21 @@ public:
     long resets() const { return resets_; }
     long dropped_breaks() const { return dropped_breaks_; }   // events lost to a full list (never expected)
 
+    // Which code runs the step: the AVX2 kernels (chosen at finalize() when the CPU has AVX2 and the
+    // body 16 masses or more) or the scalar step. They give the same result to the bit (see the
+    // header); this forces the scalar step, for the test that checks it. Takes effect at the next
+    // finalize().
+    void set_portable_kernels(bool on) { portable_kernels_ = on; }
+    bool avx2_kernels() const { return use_avx2_; }
+
 private:
     static std::size_t idx(int i) { return static_cast<std::size_t>(i); }
-    void sub_step(int index);
-    double uniform_cohesive_links(int index);   // sub_step's link pass for uniform cohesive links
+    void sub_step(int index);              // sub_step_avx2() or sub_step_baseline() (finalize() picks)
+    void sub_step_avx2(int index);         // the vectorised kernels
+    void sub_step_baseline(int index);     // scalar: the reference
+    double generic_links(int index);       // the link pass for any links (scalar)
+    double uniform_cohesive_links(int index);   // the baseline's link pass for uniform cohesive links
+    void build_link_scratch();             // finalize(): the uniform pass's lists and scratch
     void check_link_args(int a, int b) const;
 
     // masses (structure of arrays)
@@ -226,9 +266,22 @@ private:
     std::vector<std::uint8_t> broken_;
     // finalize()'s scratch (members so that a reserved body finalizes without allocating)
     std::vector<double> k_sum_, z_sum_;
+    // The uniform cohesive pass's scratch (sized by finalize() within reserve()'s capacity; the arrays
+    // of doubles get 8 spare elements so that their working part can start on a 64-byte boundary):
+    std::vector<double> mirror_;                 // per mass x y z 0 vx vy vz 0 (64 bytes), sub-step start
+    std::vector<double> contribution_;           // per link +t and -t (x y z 0 each), then -0.0 x 4
+    std::vector<std::int32_t> slots_;            // per group of 4 masses: its contributions, in link order
+    std::vector<std::int32_t> slot_start_;       // per group: where its slots start (groups + 1 entries)
+    std::vector<std::int32_t> degree_;           // per mass, build_link_scratch()'s count
+    std::vector<std::int32_t> link_ends_;        // per link 8 a, 8 b: its masses' rows in the mirror
+    std::vector<std::int32_t> candidates_;       // the sparse pass's links, in order (sub_step_avx2())
+    std::vector<double> listed_x_, listed_y_, listed_z_;   // the positions they were listed at
+    std::size_t candidate_count_ = 0;
+    bool candidates_valid_ = false;
     // events
     std::vector<LinkBreak> events_;
     std::size_t event_count_ = 0;
+    std::size_t broken_count_ = 0;   // broken links (kept by the passes, reset(), finalize())
 
     Vec3 gravity_{};
     Integrator integrator_ = Integrator::explicit_verlet;
@@ -242,6 +295,8 @@ private:
     long dropped_breaks_ = 0;
     bool finalized_ = false;
     bool uniform_cohesive_ = false;   // every link cohesive, all with the same parameters (finalize)
+    bool portable_kernels_ = false;   // set_portable_kernels()
+    bool use_avx2_ = false;           // finalize(): AVX2, 16 masses or more, portable_kernels_ off
 };
 
 }  // namespace ameoto
