@@ -27,9 +27,12 @@
 //
 // Order within one sample (membrane_collision.hpp): collide (forces held for the next step), step the
 // canopy, step the drops, then read the sound from the canopy just stepped. The canopy's runtime
-// guard (Canopy::reset_unstable) runs every guard_interval samples (256), or when the caller calls guard(). Collisions are collide_drops' exactly, but
-// masses that cannot reach the membrane this step (off the rim's circle, or more than 5 cm from the
-// rest cap) are not looked up: after a splash, most pieces are.
+// guard (Canopy::reset_unstable) runs every guard_interval samples (256), or when the caller calls
+// guard(). Collisions are collide_drops' exactly (bit for bit, tested), but masses that cannot reach the
+// membrane this step are not looked up: off the rim's circle, above the membrane's highest node (when
+// collide() has read the membrane's extremes: after an impact, or while it is far displaced), beyond a
+// 5 cm band around the rest cap otherwise, or below it by more than the band plus their own travel
+// (drop_on_canopy.cpp, collide(), gives the argument).
 //
 // Placement: drop() puts the drop's lowest mass gap_m (0.5 mm) above the rest surface at (x, y)
 // (DropPool::underside), moving straight down at `speed`, so it reaches the membrane within a few
