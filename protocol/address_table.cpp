@@ -84,6 +84,101 @@ std::vector<AddressSpec> make_table() {
                      r.scene_name = a.texts[0];
                      return std::nullopt;
                  }});
+    t.push_back({"/rain/wind",
+                 {{"speed", ArgumentKind::number, "m/s", 0.0, 60.0, false, "mean wind speed; changes ramp over 1 s"},
+                  {"direction", ArgumentKind::number, "deg", -720.0, 720.0, false,
+                   "where the wind blows towards, counter-clockwise from x (forward)"},
+                  {"gust", ArgumentKind::number, "", 0.0, 1.0, true, "gustiness: turbulence intensity (default 0, steady)"}},
+                 "Set the wind: it tilts the rain, adds speed to the impacts, and gusts vary it.",
+                 "",
+                 [](const ValidatedArguments& a, const ProtocolContext&, Request& r) -> std::optional<std::string> {
+                     r.command.kind = CommandKind::wind;
+                     r.command.values[0] = a.numbers[0];
+                     r.command.values[1] = units::deg_to_rad(a.numbers[1]);
+                     r.command.values[2] = a.numbers.size() > 2 ? a.numbers[2] : 0.0;
+                     return std::nullopt;
+                 }});
+    t.push_back({"/rain/dsd",
+                 {{"name", ArgumentKind::text, "", 0, 0, false, "marshall-palmer, joss-drizzle, joss-thunderstorm or gamma",
+                   "joss-drizzle"},
+                  {"mu", ArgumentKind::number, "", -2.0, 15.0, true, "gamma: shape mu"},
+                  {"lambda", ArgumentKind::number, "1/mm", 0.0, 50.0, true, "gamma: slope; 0 = from the rate (Zhang et al. 2001)"}},
+                 "Set the drop size distribution of the rain.",
+                 "/done /rain/dsd (once the new rain falls)",
+                 [](const ValidatedArguments& a, const ProtocolContext&, Request& r) -> std::optional<std::string> {
+                     const std::string& name = a.texts[0];
+                     if (name != "marshall-palmer" && name != "joss-drizzle" && name != "joss-thunderstorm" && name != "gamma")
+                         return "no drop size distribution named '" + name +
+                                "' (marshall-palmer, joss-drizzle, joss-thunderstorm, gamma)";
+                     if (name != "gamma" && !a.numbers.empty()) return "mu and lambda are for gamma only";
+                     if (a.numbers.size() == 1) return "gamma takes mu and lambda together";
+                     r.action = Action::edit_scene;
+                     r.edit.op = SceneEdit::Op::dsd;
+                     r.edit.dsd = name;
+                     if (a.numbers.size() == 2) {
+                         r.edit.mu = a.numbers[0];
+                         r.edit.lambda = a.numbers[1];
+                     }
+                     return std::nullopt;
+                 }});
+    t.push_back({"/listener",
+                 {{"x", ArgumentKind::number, "m", -1000.0, 1000.0, false, "ears, forward"},
+                  {"y", ArgumentKind::number, "m", -1000.0, 1000.0, false, "ears, left"},
+                  {"z", ArgumentKind::number, "m", -1000.0, 1000.0, false, "ears, up (the ground is 0)"},
+                  {"facing", ArgumentKind::number, "deg", -720.0, 720.0, true, "facing, counter-clockwise from x (default 0)"}},
+                 "Move the listener; the sound of every surface glides there (an umbrella is carried along).",
+                 "",
+                 [](const ValidatedArguments& a, const ProtocolContext&, Request& r) -> std::optional<std::string> {
+                     r.command.kind = CommandKind::listener;
+                     for (int k = 0; k < 3; ++k) r.command.values[k] = a.numbers[static_cast<std::size_t>(k)];
+                     r.command.values[3] = a.numbers.size() > 3 ? units::deg_to_rad(a.numbers[3]) : 0.0;
+                     return std::nullopt;
+                 }});
+    auto surface_arguments = std::vector<ArgumentSpec>{
+        {"name", ArgumentKind::text, "", 0, 0, false, "the surface's name (1-32 of A-Z a-z 0-9 - _)", "roof"},
+        {"kind", ArgumentKind::text, "", 0, 0, false, "water, plate or ground (the umbrella comes with scenes)", "plate"},
+        {"material", ArgumentKind::text, "", 0, 0, false, "water: pond, puddle; plate: tin, glass, car-roof; ground: leaves, soil",
+         "tin"},
+        {"size_x", ArgumentKind::number, "m", 0.05, 100.0, false, "extent along x"},
+        {"size_y", ArgumentKind::number, "m", 0.05, 100.0, false, "extent along y"},
+        {"x", ArgumentKind::number, "m", -1000.0, 1000.0, false, "centre"},
+        {"y", ArgumentKind::number, "m", -1000.0, 1000.0, false, "centre"},
+        {"z", ArgumentKind::number, "m", -1000.0, 1000.0, false, "height (the ground is 0)"}};
+    auto surface_build = [](SceneEdit::Op op) {
+        return [op](const ValidatedArguments& a, const ProtocolContext&, Request& r) -> std::optional<std::string> {
+            SurfaceDescription f;
+            f.name = a.texts[0];
+            if (!is_scene_name(f.name)) return "surface name '" + f.name + "' is not 1-32 of A-Z a-z 0-9 - _";
+            const auto kind = surface_kind(a.texts[1]);
+            if (!kind || *kind == SurfaceKind::umbrella) return "kind '" + a.texts[1] + "' is not water, plate or ground";
+            f.kind = *kind;
+            f.material = a.texts[2];
+            f.size_x_m = a.numbers[0];
+            f.size_y_m = a.numbers[1];
+            f.x_m = a.numbers[2];
+            f.y_m = a.numbers[3];
+            f.z_m = a.numbers[4];
+            r.action = Action::edit_scene;
+            r.edit.op = op;
+            r.edit.surface = f;
+            return std::nullopt;
+        };
+    };
+    t.push_back({"/surface/add", surface_arguments, "Add a surface to the scene (rebuilt off the audio thread).",
+                 "/done /surface/add (once it sounds)", surface_build(SceneEdit::Op::surface_add)});
+    t.push_back({"/surface/set", surface_arguments, "Change a surface of the scene: kind, material, size, position.",
+                 "/done /surface/set (once it sounds)", surface_build(SceneEdit::Op::surface_set)});
+    t.push_back({"/surface/remove",
+                 {{"name", ArgumentKind::text, "", 0, 0, false, "the surface's name", "roof"}},
+                 "Remove a surface from the scene.",
+                 "/done /surface/remove",
+                 [](const ValidatedArguments& a, const ProtocolContext&, Request& r) -> std::optional<std::string> {
+                     if (!is_scene_name(a.texts[0])) return "surface name '" + a.texts[0] + "' is not 1-32 of A-Z a-z 0-9 - _";
+                     r.action = Action::edit_scene;
+                     r.edit.op = SceneEdit::Op::surface_remove;
+                     r.edit.surface.name = a.texts[0];
+                     return std::nullopt;
+                 }});
     t.push_back({"/lod",
                  {{"budget", ArgumentKind::number, "%", 1.0, 95.0, false,
                    "share of the block period the engine aims to spend; beyond it, detail is shed"},

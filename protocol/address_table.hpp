@@ -49,6 +49,15 @@ enum class Action {
     set_surface_material,   // build the surface in that material off the audio thread, then swap it in
     load_scene,             // resolve `scene_name` (built in, or a file in the scene folder), build, swap in
     save_scene,             // write the current scene as `scene_name` into the scene folder, atomically
+    edit_scene,             // change the current scene (`edit`) and rebuild it off the audio thread
+};
+
+// A change to the current scene that needs a rebuild: the drop size distribution, or a surface.
+struct SceneEdit {
+    enum class Op { dsd, surface_add, surface_set, surface_remove } op = Op::dsd;
+    std::string dsd;                 // dsd: its name
+    double mu = 2.0, lambda = 0.0;   // dsd gamma: shape, 1/mm (0: from the rate)
+    SurfaceDescription surface;      // surface_add / surface_set (all fields); surface_remove: its name
 };
 
 struct Request {
@@ -58,6 +67,7 @@ struct Request {
     std::string surface;                       // set_surface_material
     std::optional<MembraneMaterial> material;  // set_surface_material
     std::string scene_name;                    // load_scene, save_scene: a name, never a path
+    SceneEdit edit;                            // edit_scene
 };
 
 struct Validation {

@@ -2,12 +2,28 @@
 
 #include <lo/lo.h>
 
+#include <charconv>
 #include <cmath>
 #include <cstring>
 #include <memory>
 #include <stdexcept>
 
 namespace ameoto::protocol {
+
+namespace {
+// An OSC float (32 bits) as the decimal its sender most likely typed: the shortest text that reads back
+// as the same float, read as a double. 1.6f is 1.60000002384...; the server works with 1.6, so a
+// value saved back to a scene file reads as it was written. Exact for any float: distinct floats keep
+// distinct shortest texts.
+double float_as_typed(float f) {
+    if (!std::isfinite(f)) return static_cast<double>(f);
+    char text[32];
+    const auto r = std::to_chars(text, text + sizeof text, f);
+    double d = 0.0;
+    std::from_chars(text, r.ptr, d);
+    return d;
+}
+}  // namespace
 namespace {
 
 constexpr double ntp_unix_offset = 2208988800.0;   // seconds from 1900 to 1970
@@ -45,7 +61,7 @@ bool decode_message(const unsigned char* data, std::size_t size, Timetag tt, boo
         switch (a.type) {
             case 'i': a.integer = v->i; a.number = v->i; break;
             case 'h': a.integer = v->h; a.number = static_cast<double>(v->h); break;
-            case 'f': a.number = v->f; break;
+            case 'f': a.number = float_as_typed(v->f); break;
             case 'd': a.number = v->d; break;
             case 's': case 'S': a.text = &v->s; break;
             case 'T': a.number = 1; break;

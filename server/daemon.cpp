@@ -10,6 +10,8 @@
 #include <cstdio>
 #include <ctime>
 #include <iostream>
+#include <deque>
+#include <functional>
 #include <map>
 #include <memory>
 #include <optional>
@@ -114,10 +116,14 @@ struct Daemon::State {
     std::unique_ptr<SceneStore> store;
     SceneDescription current_scene;      // as it plays now (what /scene/save writes)
     RendererConfig base_config;          // the stream's (rate, channels, seed), before any scene
+    std::map<std::uint16_t, std::deque<std::string>> pending_done;   // per client: scene rebuilds sent, in order
 
     bool choose_backend();
     bool build_scene();
     void load_scene(const UdpEndpoint::Endpoint& sender, const std::string& address, const std::string& name);
+    void build_and_load(const UdpEndpoint::Endpoint& sender, const std::string& address,
+                        std::function<SceneDescription()> source);
+    void edit_scene(const UdpEndpoint::Endpoint& sender, const std::string& address, const protocol::SceneEdit& edit);
     void save_scene(const UdpEndpoint::Endpoint& sender, const std::string& address, const std::string& name);
     void use_geometry(const RendererConfig& config, bool has_umbrella);
     void rebuild_scene(const UdpEndpoint::Endpoint& sender, const std::string& address,
@@ -223,6 +229,53 @@ bool Daemon::State::build_scene() {
 // /scene/load: read (built in or from the folder) and build everything on the worker; the audio thread
 // takes it by pointer and rings the old scene out. A file that does not parse changes nothing.
 void Daemon::State::load_scene(const UdpEndpoint::Endpoint& sender, const std::string& address, const std::string& name) {
+    build_and_load(sender, address, [name, folder = store->folder()] { return SceneStore(folder).load(name); });
+}
+
+// /rain/dsd and /surface/...: the current scene changed, validated here, rebuilt like a loaded one.
+void Daemon::State::edit_scene(const UdpEndpoint::Endpoint& sender, const std::string& address, const protocol::SceneEdit& edit) {
+    using Op = protocol::SceneEdit::Op;
+    SceneDescription scene = current_scene;
+    auto found = std::find_if(scene.surfaces.begin(), scene.surfaces.end(),
+                              [&](const SurfaceDescription& f) { return f.name == edit.surface.name; });
+    std::string refusal;
+    switch (edit.op) {
+        case Op::dsd:
+            scene.rain.dsd = edit.dsd;
+            scene.rain.gamma_mu = edit.mu;
+            scene.rain.gamma_lambda_per_mm = edit.lambda;
+            break;
+        case Op::surface_add:
+            if (found != scene.surfaces.end())
+                refusal = "a surface named '" + edit.surface.name + "' is already in the scene (/surface/set changes it)";
+            else
+                scene.surfaces.push_back(edit.surface);
+            break;
+        case Op::surface_set:
+            if (found == scene.surfaces.end())
+                refusal = "no surface named '" + edit.surface.name + "' (/surface/add adds one)";
+            else if (found->kind == SurfaceKind::umbrella)
+                refusal = "the umbrella changes with /material/surface";
+            else
+                *found = edit.surface;
+            break;
+        case Op::surface_remove:
+            if (found == scene.surfaces.end())
+                refusal = "no surface named '" + edit.surface.name + "'";
+            else
+                scene.surfaces.erase(found);
+            break;
+    }
+    if (refusal.empty()) refusal = validate_scene(scene);
+    if (!refusal.empty()) {
+        reply(sender, "/fail", protocol::fail_arguments(address, refusal));
+        return;
+    }
+    build_and_load(sender, address, [scene] { return scene; });
+}
+
+void Daemon::State::build_and_load(const UdpEndpoint::Endpoint& sender, const std::string& address,
+                                   std::function<SceneDescription()> source) {
     const std::uint16_t reply_to = clients.index_of(sender);
     struct Built {
         std::unique_ptr<LoadedScene> loaded;
@@ -230,9 +283,9 @@ void Daemon::State::load_scene(const UdpEndpoint::Endpoint& sender, const std::s
         RendererConfig config;
     };
     worker->submit<std::shared_ptr<Built>>(
-        [name, store_folder = store->folder(), base = base_config, materials = custom_materials, settings = worker_settings] {
+        [source = std::move(source), base = base_config, materials = custom_materials, settings = worker_settings] {
             auto built = std::make_shared<Built>();
-            built->scene = SceneStore(store_folder).load(name);
+            built->scene = source();
             RendererConfig c = configure_for_scene(base, built->scene, find_custom_material, &materials);
             c.liquid = settings->liquid;   // the liquid chosen over OSC stays
             if (has_umbrella(built->scene)) {
@@ -256,6 +309,7 @@ void Daemon::State::load_scene(const UdpEndpoint::Endpoint& sender, const std::s
             built->loaded.release();   // the audio thread owns it now
             current_scene = built->scene;
             use_geometry(built->config, has_umbrella(current_scene));
+            pending_done[reply_to].push_back(address);
             say("scene " + current_scene.name);
         },
         [this, reply_to, address](const std::string& error) {
@@ -379,9 +433,25 @@ void Daemon::State::on_packet(const unsigned char* data, std::size_t size, const
             }
             case protocol::Action::load_scene: load_scene(sender, message.address, v.request.scene_name); break;
             case protocol::Action::save_scene: save_scene(sender, message.address, v.request.scene_name); break;
+            case protocol::Action::edit_scene: edit_scene(sender, message.address, v.request.edit); break;
             case protocol::Action::enqueue: {
                 Command c = v.request.command;
                 if (c.kind == CommandKind::rain_rate) current_scene.rain.rate_mm_per_h = c.values[0];
+                if (c.kind == CommandKind::wind) {
+                    current_scene.rain.wind_m_per_s = c.values[0];
+                    current_scene.rain.wind_direction_rad = c.values[1];
+                    current_scene.rain.gustiness = c.values[2];
+                }
+                if (c.kind == CommandKind::listener) {
+                    // An umbrella is carried: it keeps its place over the listener's head.
+                    for (SurfaceDescription& f : current_scene.surfaces)
+                        if (f.kind == SurfaceKind::umbrella) {
+                            f.x_m += c.values[0] - current_scene.listener.x_m;
+                            f.y_m += c.values[1] - current_scene.listener.y_m;
+                            f.z_m += c.values[2] - current_scene.listener.z_m;
+                        }
+                    current_scene.listener = ListenerDescription{c.values[0], c.values[1], c.values[2], c.values[3]};
+                }
                 if (c.kind == CommandKind::lod) {
                     current_scene.lod.budget_percent = 100.0 * c.values[0];
                     current_scene.lod.max_full = static_cast<int>(c.values[1]);
@@ -410,9 +480,16 @@ void Daemon::State::poll() {
         } else if (e.kind == RendererEventKind::swapped) {
             const char* address = e.command == CommandKind::swap_surface  ? "/material/surface"
                                   : e.command == CommandKind::swap_liquid ? "/material/liquid"
-                                  : e.command == CommandKind::load_scene  ? "/scene/load"
                                                                           : "/lod";
-            reply(to, "/done", {protocol::OscArgument::from_string(address)});
+            if (e.command == CommandKind::load_scene) {
+                // /scene/load, /rain/dsd or a /surface/...: the address waiting for it, in order.
+                auto& waiting = pending_done[e.reply_to];
+                const std::string what = waiting.empty() ? std::string("/scene/load") : waiting.front();
+                if (!waiting.empty()) waiting.pop_front();
+                reply(to, "/done", {protocol::OscArgument::from_string(what)});
+            } else {
+                reply(to, "/done", {protocol::OscArgument::from_string(address)});
+            }
         } else if (e.kind == RendererEventKind::synced) {
             reply(to, "/synced", {protocol::OscArgument::from_int(e.id)});
         } else {

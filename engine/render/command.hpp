@@ -19,6 +19,8 @@ enum class CommandKind : std::uint8_t {
     swap_liquid,   // object: an UmbrellaScene (new liquid), the same way
     lod,           // values[0]: budget, fraction of the block period; values[1]: most lattice drops at once
     load_scene,    // object: a LoadedScene (render/loaded_scene.hpp) built off the audio thread
+    wind,          // values: speed m/s, direction rad (toward, counter-clockwise from +x), gustiness 0..1
+    listener,      // values: x, y, z m, facing rad (the umbrella, if any, is held: it moves along)
 };
 
 struct Command {

@@ -12,6 +12,7 @@
 
 #include "engine/render/scene_surfaces.hpp"
 #include "engine/render/umbrella_scene.hpp"
+#include "engine/scene/rain_spawner.hpp"
 #include "engine/scene/scene_description.hpp"
 
 namespace ameoto {
@@ -19,10 +20,12 @@ namespace ameoto {
 struct LoadedScene {
     std::unique_ptr<UmbrellaScene> umbrella;
     std::unique_ptr<SceneSurfaces> surfaces;
+    std::unique_ptr<RainSpawner> rain;   // the umbrella's, for the scene's drop size distribution
     bool has_umbrella = true;
     double rain_rate_mm_per_h = 2.0;
     double lod_budget = 0.5;
     int max_full = 16;
+    double wind_m_per_s = 0.0, wind_direction_rad = 0.0, gustiness = 0.0;
 };
 
 }  // namespace ameoto

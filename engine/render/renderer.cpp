@@ -11,9 +11,10 @@ namespace ameoto {
 
 namespace {
 
-RainSpawner::Config rain_config_for(const Canopy& canopy) {
+RainSpawner::Config rain_config_for(const Canopy& canopy, const RainDescription& rain) {
     RainSpawner::Config rc;
     rc.area_m2 = canopy.area();
+    rc.dsd = drop_size_distribution_for(rain);
     return rc;
 }
 
@@ -63,7 +64,11 @@ std::unique_ptr<LoadedScene> Renderer::make_loaded_scene(const RendererConfig& c
                                                        config.full_scale_pa);
     loaded->has_umbrella = std::any_of(config.scene.surfaces.begin(), config.scene.surfaces.end(),
                                        [](const SurfaceDescription& s) { return s.kind == SurfaceKind::umbrella; });
+    loaded->rain = std::make_unique<RainSpawner>(rain_config_for(loaded->umbrella->drops.canopy(), config.scene.rain));
     loaded->rain_rate_mm_per_h = config.rain_rate_mm_per_h;
+    loaded->wind_m_per_s = config.scene.rain.wind_m_per_s;
+    loaded->wind_direction_rad = config.scene.rain.wind_direction_rad;
+    loaded->gustiness = config.scene.rain.gustiness;
     loaded->lod_budget = config.lod_budget;
     loaded->max_full = config.full_drops;
     return loaded;
@@ -96,7 +101,7 @@ Renderer::Renderer(const RendererConfig& config)
       dt_(1.0 / config.sample_rate),
       rng_(config.seed),
       scene_(make_scene(config_).release()),
-      rain_(rain_config_for(scene_->drops.canopy())),
+      rain_(new RainSpawner(rain_config_for(scene_->drops.canopy(), config_.scene.rain))),
       governor_(LodSettings{.budget = config_.lod_budget, .max_full = config_.full_drops}),
       grains_(std::make_unique<TextureGrains>(scene_->texture, config_.sample_rate)),
       grain_noise_(config.seed ^ 0x9E3779B97F4A7C15ull) {
@@ -104,7 +109,9 @@ Renderer::Renderer(const RendererConfig& config)
     surfaces_ = new SceneSurfaces(config_.scene, config_.sample_rate, config_.channels, config_.seed, config_.full_scale_pa);
     has_umbrella_ = std::any_of(config_.scene.surfaces.begin(), config_.scene.surfaces.end(),
                                 [](const SurfaceDescription& s) { return s.kind == SurfaceKind::umbrella; });
-    rain_.set_rate_now(has_umbrella_ ? config.rain_rate_mm_per_h : 0.0);
+    rain_->set_rate_now(has_umbrella_ ? config.rain_rate_mm_per_h : 0.0);
+    wind_ = Wind(Wind::Config{.turbulence_intensity = config_.scene.rain.gustiness});
+    wind_.set_now(config_.scene.rain.wind_m_per_s, config_.scene.rain.wind_direction_rad);
     surfaces_->set_rate_now(config.rain_rate_mm_per_h);
     rain_rate_ = config.rain_rate_mm_per_h;
 }
@@ -121,6 +128,7 @@ Renderer::~Renderer() {
     delete scene_;
     delete fading_surfaces_;
     delete surfaces_;
+    delete rain_;
 }
 
 bool Renderer::push_event_checked(const RendererEvent& event) {
@@ -167,6 +175,16 @@ void Renderer::swap_scene(const Command& c) {
     push_event({RendererEventKind::swapped, c.kind, c.reply_to, c.id});
 }
 
+void Renderer::set_wind(double speed, double direction, double gustiness) {
+    // A new gust intensity restarts the gust process (a Wind is plain data: no allocation); speed and
+    // direction ramp from where they are (wind.hpp).
+    const double mean = wind_.mean_speed(), heading = wind_.direction();
+    wind_ = Wind(Wind::Config{.turbulence_intensity = gustiness});
+    wind_.set_now(mean, heading);
+    wind_.set_speed(speed);
+    wind_.set_direction(direction);
+}
+
 void Renderer::load_scene(const Command& c) {
     auto* loaded = static_cast<LoadedScene*>(c.object);
     if (!loaded || !loaded->umbrella || !loaded->surfaces || loaded->umbrella->drops.channels() != config_.channels ||
@@ -186,7 +204,13 @@ void Renderer::load_scene(const Command& c) {
     has_umbrella_ = loaded->has_umbrella;
     grains_->set_calibration(scene_->texture);
     rain_rate_ = loaded->rain_rate_mm_per_h;
-    rain_.set_rate(has_umbrella_ ? rain_rate_ : 0.0);
+    // The new rain spawner takes over; the old one goes back in the envelope (no allocation here).
+    RainSpawner* old_rain = rain_;
+    rain_ = loaded->rain.release();
+    loaded->rain.reset(old_rain);
+    rain_->set_rate_now(has_umbrella_ ? old_rain->rate() : 0.0);
+    rain_->set_rate(has_umbrella_ ? rain_rate_ : 0.0);
+    set_wind(loaded->wind_m_per_s, loaded->wind_direction_rad, loaded->gustiness);
     surfaces_->set_rate_now(rain_rate_);
     LodSettings lod = governor_.settings();
     lod.budget = loaded->lod_budget;
@@ -231,12 +255,15 @@ void Renderer::start_rain_drop(double diameter, Point2 at) {
     const double height = drops.canopy().rest_height(at.x, at.y) + config_.listener_below_m;
     const double distance = std::sqrt(at.x * at.x + at.y * at.y + height * height);
     const double density = drops.config().liquid.density;
-    const double speed = arrival_speed(diameter, density);
+    // The wind adds horizontal speed: the membrane feels its component along the normal there (wind.hpp).
+    const Vec3 normal = drops.canopy().surface_normal(at.x, at.y);
+    const double still = arrival_speed(diameter, density);
+    const double speed = std::max(0.1 * still, wind_.impact(diameter, normal).normal_speed * std::sqrt(density / constants::water_density));
     const int full_active = static_cast<int>(drops.pool().active().size());
     ++block_drops_;
     switch (governor_.choose(diameter, speed, distance, full_active)) {
         case LodTier::full:
-            if (!drops.full() && drops.drop(diameter, 0.0, at.x, at.y)) {
+            if (!drops.full() && drops.drop(diameter, speed, at.x, at.y)) {
                 ++stats_.drops;
                 ++stats_.rain_tiers.full;
                 return;
@@ -244,7 +271,7 @@ void Renderer::start_rain_drop(double diameter, Point2 at) {
             [[fallthrough]];   // the pool filled up meanwhile (a /drop in the same sample): a template
         case LodTier::template_:
             ++stats_.rain_tiers.template_;
-            start_impact(diameter, 0.0, at.x, at.y);
+            start_impact(diameter, speed, at.x, at.y);
             return;
         case LodTier::texture:
             ++stats_.drops;
@@ -277,10 +304,18 @@ void Renderer::apply(const Command& c) {
         case CommandKind::drop: start_drop(c); break;
         case CommandKind::rain_rate:
             rain_rate_ = c.values[0];
-            if (has_umbrella_) rain_.set_rate(rain_rate_);
+            if (has_umbrella_) rain_->set_rate(rain_rate_);
             surfaces_->set_rate(rain_rate_);
             break;
         case CommandKind::load_scene: load_scene(c); break;
+        case CommandKind::wind: set_wind(c.values[0], c.values[1], c.values[2]); break;
+        case CommandKind::listener: {
+            // The umbrella is held by the listener: it moves along, so only the other surfaces' paths
+            // change (they glide there, propagation.hpp).
+            surfaces_->set_listener(c.values[0], c.values[1], c.values[2], c.values[3]);
+            if (fading_surfaces_) fading_surfaces_->set_listener(c.values[0], c.values[1], c.values[2], c.values[3]);
+            break;
+        }
         case CommandKind::sync: push_event({RendererEventKind::synced, c.kind, c.reply_to, c.id}); break;
         case CommandKind::swap_surface:
         case CommandKind::swap_liquid: swap_scene(c); break;
@@ -296,9 +331,9 @@ void Renderer::apply(const Command& c) {
 }
 
 void Renderer::render_sample(float* const* outputs, int offset) {
-    const int arrivals = rain_.advance(dt_, rng_);
+    const int arrivals = rain_->advance(dt_, rng_);
     for (int a = 0; a < arrivals; ++a) {
-        const double d = rain_.sample_diameter_m(rng_);
+        const double d = rain_->sample_diameter_m(rng_);
         start_rain_drop(d, scene_->drops.canopy().sample_point(rng_));
     }
     // The recorded force is along the membrane's normal as the collider gave it (a drop pushes down).
@@ -307,11 +342,11 @@ void Renderer::render_sample(float* const* outputs, int offset) {
     float frame[max_channels] = {};
     const int channels = config_.channels;
     if (has_umbrella_) scene_->drops.process_frame(frame);
-    surfaces_->render(frame, surface_rng_);
+    surfaces_->render(frame, surface_rng_, wind_);
     if (fading_) {
         float old[max_channels] = {};
         if (fading_has_umbrella_) fading_->drops.process_frame(old);
-        if (fading_surfaces_) fading_surfaces_->render(old, surface_rng_);
+        if (fading_surfaces_) fading_surfaces_->render(old, surface_rng_, wind_);
         for (int ch = 0; ch < channels; ++ch) frame[ch] += old[ch];
         if (--fade_left_ <= 0) {
             // If the event list is full they ring on and are handed back at a later sample.
@@ -324,6 +359,7 @@ void Renderer::render_sample(float* const* outputs, int offset) {
     // The governor is told the drop rate every governor_period samples, counted on the sample clock, so
     // its choices do not depend on the caller's block size (and, live only, the load last measured).
     if (++governor_samples_ == governor_period) {
+        wind_.advance(governor_period * dt_, grain_noise_);   // the wind's control rate: 64 samples
         governor_.end_block(config_.adaptive_lod ? measured_load_ : 0.0, block_drops_, governor_period * dt_);
         governor_samples_ = 0;
         block_drops_ = 0;
@@ -352,7 +388,7 @@ void Renderer::process(int frames, float* const* outputs) {
     stats_.active_full_drops = static_cast<int>(scene_->drops.pool().active().size());
     stats_.active_grains = grains_->active();
     stats_.detail = governor_.detail();
-    stats_.rain_rate_mm_per_h = has_umbrella_ ? rain_.rate() : rain_rate_;
+    stats_.rain_rate_mm_per_h = has_umbrella_ ? rain_->rate() : rain_rate_;
     stats_.surface_drops = surfaces_->drops();
 }
 

@@ -153,6 +153,7 @@ private:
     void start_rain_drop(double diameter_m, Point2 at);
     void swap_scene(const Command& command);
     void load_scene(const Command& command);
+    void set_wind(double speed, double direction, double gustiness);
     bool retire(void* object, RetiredObject type);
     void render_sample(float* const* outputs, int offset);
     void push_event(const RendererEvent& event) { (void)push_event_checked(event); }
@@ -172,7 +173,8 @@ private:
     int fade_left_ = 0;
     Random surface_rng_;                         // the other surfaces' rain, apart from the umbrella's
     double rain_rate_ = 0.0;                     // mm/h, the scene's target
-    RainSpawner rain_;
+    RainSpawner* rain_ = nullptr;        // the umbrella's rain (owned; swapped with a loaded scene's DSD)
+    Wind wind_;
     TemplatePool impacts_;
     LodGovernor governor_;
     std::unique_ptr<TextureGrains> grains_;

@@ -3,34 +3,53 @@
 #include <algorithm>
 #include <cmath>
 
-#include "engine/core/physical_constants.hpp"
 #include "engine/models/drop.hpp"
 
 namespace ameoto {
 
+namespace {
+constexpr double min_distance_m = 0.5;
+constexpr double water_density = 998.0;
+}  // namespace
+
 SceneSurfaces::SceneSurfaces(const SceneDescription& scene, double sample_rate, int channels, std::uint64_t seed,
                              double full_scale_pa)
-    : channels_(channels), dt_(1.0 / sample_rate) {
+    : channels_(channels), dt_(1.0 / sample_rate), inverse_full_scale_(1.0 / full_scale_pa) {
     const ListenerDescription& l = scene.listener;
+    listener_ = Vec3{l.x_m, l.y_m, l.z_m};
+    facing_rad_ = l.facing_rad;
+    const DropSizeDistribution dsd = drop_size_distribution_for(scene.rain);
     std::uint64_t k = 0;
     for (const SurfaceDescription& s : scene.surfaces) {
         if (s.kind == SurfaceKind::umbrella) continue;
-        Placed p{make_surface_source(s, sample_rate, seed + 0x51ED27u * ++k), RainSpawner(RainSpawner::Config{}), 1.0, 0.0, 1.0, {}, {}, 0, 0, 0.0};
-        p.rain = RainSpawner(RainSpawner::Config{.area_m2 = p.source->area_m2()});
-        p.rain.set_rate_now(scene.rain.rate_mm_per_h);
-        const double dx = s.x_m - l.x_m, dy = s.y_m - l.y_m, dz = s.z_m - l.z_m;
-        p.distance_m = std::max(0.5, std::sqrt(dx * dx + dy * dy + dz * dz));
-        p.gain = 1.0 / (p.distance_m * full_scale_pa);   // the source is referred to 1 m
-        p.delay = p.distance_m / (constants::speed_of_sound_air * dt_);
-        p.offset = static_cast<int>(std::floor(p.delay));
-        p.frac = p.delay - p.offset;
-        std::size_t length = 2;
-        while (length < static_cast<std::size_t>(p.offset) + 2) length <<= 1;
-        p.ring.assign(length, 0.0);
-        const auto g = pan_gains(std::atan2(dy, dx) - l.facing_rad, channels);
-        for (int c = 0; c < channels; ++c) p.pan[static_cast<std::size_t>(c)] = static_cast<float>(g[static_cast<std::size_t>(c)]);
-        placed_.push_back(std::move(p));
+        auto source = make_surface_source(s, sample_rate, seed + 0x51ED27u * ++k);
+        RainSpawner rain(RainSpawner::Config{.area_m2 = source->area_m2(), .dsd = dsd});
+        rain.set_rate_now(scene.rain.rate_mm_per_h);
+        PropagationConfig pc;
+        pc.sample_rate = sample_rate;
+        pc.max_distance_m = 2000.0;   // the scene file's positions reach 1000 m each way
+        pc.min_distance_m = min_distance_m;
+        placed_.push_back(Placed{std::move(source), std::move(rain), Propagation(pc), Vec3{s.x_m, s.y_m, s.z_m}, 1.0, {}});
+        place(placed_.back(), true);
     }
+}
+
+void SceneSurfaces::place(Placed& p, bool now) {
+    const Vec3 d = p.centre - listener_;
+    p.distance_m = std::max(min_distance_m, norm(d));
+    if (now) {
+        p.path.set_positions_now(listener_, p.centre);
+    } else {
+        p.path.set_listener(listener_);
+    }
+    const auto g = pan_gains(std::atan2(d.y, d.x) - facing_rad_, channels_);
+    for (int c = 0; c < channels_; ++c) p.pan[static_cast<std::size_t>(c)] = static_cast<float>(g[static_cast<std::size_t>(c)]);
+}
+
+void SceneSurfaces::set_listener(double x_m, double y_m, double z_m, double facing_rad) {
+    listener_ = Vec3{x_m, y_m, z_m};
+    facing_rad_ = facing_rad;
+    for (Placed& p : placed_) place(p, false);
 }
 
 void SceneSurfaces::set_rate(double mm_per_h) {
@@ -41,23 +60,21 @@ void SceneSurfaces::set_rate_now(double mm_per_h) {
     for (Placed& p : placed_) p.rain.set_rate_now(mm_per_h);
 }
 
-void SceneSurfaces::render(float* frame, Random& rng) {
+void SceneSurfaces::render(float* frame, Random& rng, const Wind& wind) {
+    const Vec3 up{0.0, 0.0, 1.0};   // the scene's surfaces lie horizontal (scene_description.hpp)
     for (Placed& p : placed_) {
         const int arrivals = p.rain.advance(dt_, rng);
         for (int a = 0; a < arrivals; ++a) {
             const double d = p.rain.sample_diameter_m(rng);
             const double u = rng.uniform(), v = rng.uniform();
-            p.source->strike(d, arrival_speed(d, density_), density_, u, v, rng);
+            // The wind adds a horizontal speed the surface does not feel along its normal (the modules
+            // take the normal speed); a horizontal surface's rate is the same in any wind (wind.hpp).
+            const double speed = std::max(0.5, wind.impact(d, up).normal_speed);
+            p.source->strike(d, speed, water_density, u, v, rng);
             ++drops_;
         }
         const double now = p.source->sample();
-        const std::size_t mask = p.ring.size() - 1;
-        p.write = static_cast<int>((static_cast<std::size_t>(p.write) + 1) & mask);
-        p.ring[static_cast<std::size_t>(p.write)] = std::isfinite(now) ? now : 0.0;
-        // Linear interpolation between floor(D) and floor(D) + 1 samples ago (as radiation.hpp).
-        const double a = p.ring[(static_cast<std::size_t>(p.write) - static_cast<std::size_t>(p.offset)) & mask];
-        const double b = p.ring[(static_cast<std::size_t>(p.write) - static_cast<std::size_t>(p.offset) - 1) & mask];
-        const auto s = static_cast<float>(p.gain * ((1.0 - p.frac) * a + p.frac * b));
+        const auto s = static_cast<float>(p.path.process(std::isfinite(now) ? now : 0.0) * inverse_full_scale_);
         for (int c = 0; c < channels_; ++c) frame[c] += p.pan[static_cast<std::size_t>(c)] * s;
     }
 }

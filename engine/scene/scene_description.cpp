@@ -53,6 +53,10 @@ const std::vector<std::string>& dsd_names() {
     return names;
 }
 
+// Angles are kept in radians and written in degrees: rounded to 1e-9 degree, so 30 degrees reads back
+// as 30 (radians to degrees and back is not exact in binary).
+std::string degrees_text(double rad) { return number(std::round(rad / degrees * 1e9) / 1e9); }
+
 }  // namespace
 
 SceneFileError::SceneFileError(std::string file, int line, std::string field, const std::string& reason)
@@ -145,6 +149,18 @@ std::string validate_scene(const SceneDescription& s) {
         }
     }
     return "";
+}
+
+DropSizeDistribution drop_size_distribution_for(const RainDescription& rain) {
+    if (rain.dsd == "joss-drizzle") return DropSizeDistribution::joss_drizzle();
+    if (rain.dsd == "joss-thunderstorm") return DropSizeDistribution::joss_thunderstorm();
+    if (rain.dsd == "gamma") {
+        if (rain.gamma_lambda_per_mm > 0.0) return DropSizeDistribution::gamma(rain.gamma_mu, rain.gamma_lambda_per_mm);
+        DropSizeDistribution d = DropSizeDistribution::gamma_zhang(4.1);
+        d.lambda_exponent = -0.21;
+        return d;
+    }
+    return DropSizeDistribution::marshall_palmer();
 }
 
 // ---- built-in scenes --------------------------------------------------------------------------------
@@ -420,9 +436,9 @@ std::string format_scene(const SceneDescription& s) {
     const RainDescription& r = s.rain;
     out << "rain rate=" << number(r.rate_mm_per_h) << " dsd=" << r.dsd << " mu=" << number(r.gamma_mu)
         << " lambda=" << number(r.gamma_lambda_per_mm) << " wind=" << number(r.wind_m_per_s)
-        << " direction=" << number(r.wind_direction_rad / degrees) << " gust=" << number(r.gustiness) << "\n";
+        << " direction=" << degrees_text(r.wind_direction_rad) << " gust=" << number(r.gustiness) << "\n";
     out << "listener x=" << number(s.listener.x_m) << " y=" << number(s.listener.y_m) << " z=" << number(s.listener.z_m)
-        << " facing=" << number(s.listener.facing_rad / degrees) << "\n";
+        << " facing=" << degrees_text(s.listener.facing_rad) << "\n";
     out << "lod budget=" << number(s.lod.budget_percent) << " full=" << s.lod.max_full << "\n";
     for (const SurfaceDescription& f : s.surfaces) {
         out << "surface " << f.name << " kind=" << surface_kind_name(f.kind) << " material=" << f.material

@@ -37,6 +37,8 @@
 #include <string_view>
 #include <vector>
 
+#include "engine/scene/drop_size_distribution.hpp"
+
 namespace ameoto {
 
 enum class SurfaceKind { umbrella, water, plate, ground };
@@ -115,5 +117,10 @@ std::optional<SurfaceKind> surface_kind(std::string_view name);
 // once defined over OSC; the file names presets only).
 std::vector<std::string> surface_materials(SurfaceKind kind);
 bool is_scene_name(std::string_view name);   // 1-32 of A-Z a-z 0-9 - _ (never a path)
+
+// The drop size distribution a scene's rain names (drop_size_distribution.hpp). gamma with lambda 0:
+// the slope follows the rate as Marshall-Palmer's (4.1 R^-0.21 per mm) with mu from it (Zhang et al.
+// 2001); otherwise the given mu and Lambda. Gamma distributions deliver exactly R of water.
+DropSizeDistribution drop_size_distribution_for(const RainDescription& rain);
 
 }  // namespace ameoto

@@ -225,6 +225,34 @@ TEST_CASE("scenes load and save over OSC: built-ins, the scene folder, refusals 
         const auto missing = client.request("/scene/load", {s("nowhere")}, "/fail", 5s);
         REQUIRE(missing);
         CHECK(missing->args[1].text.find("no scene named 'nowhere'") != std::string::npos);
+        // Editing the scene: surfaces, the drop size distribution, wind and the listener.
+        auto added = client.request("/surface/add", {s("roof"), s("plate"), s("glass"), f(0.8), f(0.6), f(2), f(1), f(2.5)}, "/done", 10s);
+        REQUIRE(added);
+        CHECK(added->args[0].text == "/surface/add");
+        const auto twice = client.request("/surface/add", {s("roof"), s("plate"), s("tin"), f(1), f(1), f(0), f(0), f(3)}, "/fail", 2s);
+        REQUIRE(twice);
+        CHECK(twice->args[1].text.find("already in the scene") != std::string::npos);
+        const auto gold = client.request("/surface/set", {s("roof"), s("plate"), s("gold"), f(1), f(1), f(0), f(0), f(3)}, "/fail", 2s);
+        REQUIRE(gold);
+        CHECK(gold->args[1].text.find("material 'gold' is not one of tin, glass, car-roof") != std::string::npos);
+        REQUIRE(client.request("/surface/set", {s("roof"), s("plate"), s("tin"), f(1), f(0.6), f(0), f(1), f(3)}, "/done", 10s));
+        const auto dsd = client.request("/rain/dsd", {s("gamma"), f(2), f(3)}, "/done", 10s);
+        REQUIRE(dsd);
+        CHECK(dsd->args[0].text == "/rain/dsd");
+        const auto hail = client.request("/rain/dsd", {s("hail")}, "/fail", 2s);
+        REQUIRE(hail);
+        client.send("/rain/wind", {f(6), f(90), f(0.3)});
+        client.send("/listener", {f(1), f(0.5), f(1.6), f(30)});
+        REQUIRE(client.request("/sync", {OscArgument::from_int(10)}, "/synced", 2s));
+        REQUIRE(client.request("/surface/remove", {s("roof")}, "/done", 10s));
+        const auto gone = client.request("/surface/remove", {s("roof")}, "/fail", 2s);
+        REQUIRE(gone);
+        REQUIRE(client.request("/scene/save", {s("edited")}, "/done", 5s));
+        std::ifstream edited(folder + "/edited.scene");
+        const std::string edited_text((std::istreambuf_iterator<char>(edited)), {});
+        CHECK(edited_text.find("dsd=gamma mu=2 lambda=3 wind=6 direction=90 gust=0.3") != std::string::npos);
+        CHECK(edited_text.find("listener x=1 y=0.5 z=1.6 facing=30") != std::string::npos);
+        CHECK(edited_text.find("roof") == std::string::npos);
         // Still serving, still the saved scene's rate.
         const auto status = client.request("/status", {}, "/status.reply", 2s);
         REQUIRE(status);

@@ -92,3 +92,21 @@ TEST_CASE("encoding refuses a type it does not know instead of sending something
     CHECK(p.messages[0].types == "S");
     CHECK(p.messages[0].args[0].text == "umbrella");
 }
+
+TEST_CASE("an OSC float reads as the decimal its sender typed") {
+    // 1.6f is 1.60000002384185791015625; the server takes it as 1.6 (the shortest text of that float),
+    // so a saved scene shows what the user sent. Distinct floats stay distinct.
+    const auto bytes = ameoto::protocol::encode_message("/x", {ameoto::protocol::OscArgument::from_float(1.6f),
+                                                              ameoto::protocol::OscArgument::from_float(0.1f),
+                                                              ameoto::protocol::OscArgument::from_float(16777217.0f),
+                                                              ameoto::protocol::OscArgument::from_float(std::nextafter(1.6f, 2.0f))});
+    const auto packet = ameoto::protocol::decode_packet(bytes.data(), bytes.size());
+    REQUIRE(packet.error.empty());
+    REQUIRE(packet.messages.size() == 1u);
+    const auto& args = packet.messages[0].args;
+    CHECK(args[0].number == 1.6);
+    CHECK(args[1].number == 0.1);
+    CHECK(static_cast<float>(args[2].number) == 16777217.0f);
+    CHECK(args[3].number != args[0].number);   // the next float up is another decimal
+    CHECK(static_cast<float>(args[3].number) == std::nextafter(1.6f, 2.0f));
+}
