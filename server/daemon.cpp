@@ -198,7 +198,7 @@ bool Daemon::State::build_scene() {
     base_config.seed = options.seed;
     // Shedding detail by measured load makes the output depend on the machine: live playback only. An
     // offline render (null backend, not paced) stays reproducible to the sample.
-    base_config.adaptive_lod = !null || null->realtime();
+    base_config.adaptive_lod = !options.fixed_detail && (!null || null->realtime());
     store = std::make_unique<SceneStore>(options.scene_folder ? std::filesystem::path(*options.scene_folder) : SceneStore::default_folder());
     RendererConfig config;
     try {

@@ -56,6 +56,10 @@ Options:
                       $XDG_DATA_HOME/ameoto/scenes, else ~/.local/share/ameoto/scenes)
   --rain MM/H         starting rain rate, 0..500 mm/h (default: the scene's; 0 for a
                       dry start where only /drop sounds)
+  --fixed-detail      never shed detail because of the measured load: the stream then
+                      depends only on the seed and the commands, sample for sample as
+                      an offline render (by default a live stream sheds detail before
+                      it would miss a deadline; /lod sets the budget)
   --help              this text
   --version           the version
 
@@ -86,6 +90,8 @@ ParsedOptions parse_options(int argc, const char* const* argv) {
             parsed.show_help = true;
         } else if (arg == "--version") {
             parsed.show_version = true;
+        } else if (arg == "--fixed-detail") {
+            o.fixed_detail = true;
         } else if (arg == "--autoconnect") {
             o.autoconnect = true;
         } else if (arg == "--realtime") {

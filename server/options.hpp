@@ -29,6 +29,7 @@ struct DaemonOptions {
     std::string scene = "umbrella";       // a built-in scene or a NAME.scene in scene_folder
     std::optional<std::string> scene_folder;   // default: SceneStore::default_folder()
     std::optional<double> rain_mm_per_h;   // starting rain rate; default: the scene's
+    bool fixed_detail = false;            // never shed detail by measured load (output as offline)
 };
 
 struct ParsedOptions {

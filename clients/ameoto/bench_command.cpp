@@ -3,6 +3,7 @@
 #include "clients/ameoto/bench_drop.hpp"
 #include "clients/ameoto/bench_engine.hpp"
 #include "clients/ameoto/bench_options.hpp"
+#include "clients/ameoto/bench_scene.hpp"
 #include "clients/ameoto/exit_status.hpp"
 
 namespace ameoto::client {
@@ -10,9 +11,13 @@ namespace ameoto::client {
 std::string bench_usage() {
     return "usage: ameoto bench engine [--json] [--seconds S] [--sizes N,N,...] [--runs R] [--no-faust]\n"
            "       ameoto bench drop [--json] [--runs R]\n"
+           "       ameoto bench scene [--json] [--seconds S]\n"
            "\n"
            "drop: the cost of the seed's full model, 5 mm water drops at terminal speed on the 8-panel\n"
            "nylon canopy at 48 kHz (impact and breakup), and how many at once one core can carry.\n"
+           "scene: the drops per second one core holds at each level of detail (full, template,\n"
+           "texture), and heavy rain (50 mm/h, umbrella and pond) in 64-frame blocks: mean and\n"
+           "99.9th percentile callback time (--seconds x 4 s of audio per measurement, 1..20).\n"
            "\n"
            "Measures the physics engine on this machine (no server needed): every method (the\n"
            "transverse network with each integrator, the grid membrane in float and double) on\n"
@@ -45,7 +50,9 @@ int run_bench(const CommandWords& words, const CommandIo& io) {
         case BenchParse::error: io.err << "ameoto bench: " << error << "\n(see ameoto bench --help)\n"; return exit_status::usage;
         case BenchParse::run: break;
     }
-    return options.suite == "drop" ? run_drop_bench(options, io) : run_engine_bench(options, io);
+    if (options.suite == "drop") return run_drop_bench(options, io);
+    if (options.suite == "scene") return run_scene_bench(options, io);
+    return run_engine_bench(options, io);
 }
 
 }  // namespace ameoto::client

@@ -87,11 +87,11 @@ BenchParse parse_bench_options(const CommandWords& words, BenchOptions& options,
         }
     }
     if (options.suite.empty()) {
-        error = "which suite? (ameoto bench engine | drop)";
+        error = "which suite? (ameoto bench engine | drop | scene)";
         return BenchParse::error;
     }
-    if (options.suite != "engine" && options.suite != "drop") {
-        error = "unknown suite '" + options.suite + "' (the suites: engine, drop)";
+    if (options.suite != "engine" && options.suite != "drop" && options.suite != "scene") {
+        error = "unknown suite '" + options.suite + "' (the suites: engine, drop, scene)";
         return BenchParse::error;
     }
     return BenchParse::run;

@@ -102,7 +102,10 @@ Renderer::Renderer(const RendererConfig& config)
       rng_(config.seed),
       scene_(make_scene(config_).release()),
       rain_(new RainSpawner(rain_config_for(scene_->drops.canopy(), config_.scene.rain))),
-      governor_(LodSettings{.budget = config_.lod_budget, .max_full = config_.full_drops}),
+      governor_(LodSettings{.budget = config_.lod_budget,
+                            .max_full = config_.full_drops,
+                            .full_level_db = config_.lod_full_level_db,
+                            .texture_margin_db = config_.lod_texture_margin_db}),
       grains_(std::make_unique<TextureGrains>(scene_->texture, config_.sample_rate)),
       grain_noise_(config.seed ^ 0x9E3779B97F4A7C15ull) {
     surface_rng_ = Random(config.seed ^ 0xD1B54A32D192ED03ull);

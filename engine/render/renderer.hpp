@@ -84,6 +84,8 @@ struct RendererConfig {
     int full_drops = 16;                  // lattice drops at once (/drop, rain), at most max_full_drops;
                                           // more play as templates (/lod changes it live)
     double lod_budget = 0.5;              // fraction of the block period the governor aims for (/lod)
+    double lod_full_level_db = 6.0;       // the governor's thresholds (lod_governor.hpp); benchmarks move
+    double lod_texture_margin_db = 20.0;  // them to put every drop in one tier
     bool adaptive_lod = false;            // shed detail by measured load (live only: not reproducible)
 };
 

@@ -60,9 +60,9 @@ TEST_CASE("bench options: errors say what is wrong") {
         CHECK(p.result == BenchParse::error);
         return p.error;
     };
-    CHECK(error_of({}) == "which suite? (ameoto bench engine | drop)");
-    CHECK(error_of({"--json"}) == "which suite? (ameoto bench engine | drop)");
-    CHECK(error_of({"server"}) == "unknown suite 'server' (the suites: engine, drop)");
+    CHECK(error_of({}) == "which suite? (ameoto bench engine | drop | scene)");
+    CHECK(error_of({"--json"}) == "which suite? (ameoto bench engine | drop | scene)");
+    CHECK(error_of({"server"}) == "unknown suite 'server' (the suites: engine, drop, scene)");
     CHECK(error_of({"engine", "extra"}) == "unexpected argument 'extra'");
     CHECK(error_of({"engine", "--fast"}) == "unknown option '--fast'");
     CHECK(error_of({"engine", "--json=1"}) == "--json takes no value");
@@ -82,7 +82,10 @@ TEST_CASE("bench options: the drop suite, and a suite that does not exist") {
     CHECK(drop.options.suite == "drop");
     CHECK(drop.options.json);
     CHECK(drop.options.runs == 3);
-    const Parsed bad = parse({"scene"});
+    const Parsed scene = parse({"scene", "--json", "--seconds", "0.5"});
+    REQUIRE(scene.result == BenchParse::run);
+    CHECK(scene.options.suite == "scene");
+    const Parsed bad = parse({"rain"});
     CHECK(bad.result == BenchParse::error);
-    CHECK(bad.error.find("engine, drop") != std::string::npos);
+    CHECK(bad.error.find("engine, drop, scene") != std::string::npos);
 }

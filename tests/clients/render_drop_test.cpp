@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "clients/ameoto/exit_status.hpp"
+#include "clients/ameoto/render_scene.hpp"
 #include "tests/support/child_process.hpp"
 #include "tests/support/temp_dir.hpp"
 #include "tests/support/wav_file.hpp"
@@ -90,7 +91,7 @@ TEST_CASE("render drop: the subcommand refuses what it cannot render") {
     const CommandIo io{{}, out, err};
     CHECK(run_render({}, io) == exit_status::usage);
     CHECK(run_render({"rain"}, io) == exit_status::usage);
-    CHECK(has(err.str(), "only 'drop'"));
+    CHECK(has(err.str(), "drop or scene"));
     CHECK(run_render({"drop", "--diameter", "3", "--x", "2", "--y", "0", "-o", "a.wav"}, io) == exit_status::usage);
     CHECK(has(err.str(), "is not on the canopy"));
     CHECK(run_render({"--help"}, io) == exit_status::ok);
@@ -136,4 +137,34 @@ TEST_CASE("render drop: the real binary renders a 3 mm drop to a WAV and an SVG"
     CHECK(has(doc, "<circle"));
     CHECK(has(doc, "<path d=\"M"));                 // series and waveform
     CHECK(has(doc, "fill=\"#"));                    // spectrogram cells
+}
+
+TEST_CASE("render scene: options are checked, and a built-in scene renders the same samples twice") {
+    using ameoto::client::parse_render_scene_options;
+    using ameoto::client::RenderSceneOptions;
+    RenderSceneOptions o;
+    std::string error;
+    CHECK(parse_render_scene_options({"--scene", "pond"}, o, error) == RenderParse::error);
+    CHECK(error == "-o FILE.wav is required");
+    CHECK(parse_render_scene_options({"--scene", "../x", "-o", "a.wav"}, o, error) == RenderParse::error);
+    CHECK(has(error, "neither a built-in scene"));
+    CHECK(parse_render_scene_options({"--rain", "600", "-o", "a.wav"}, o, error) == RenderParse::error);
+    CHECK(has(error, "600 mm/h is outside 0..500 mm/h"));
+    CHECK(parse_render_scene_options({"--channels", "17", "-o", "a.wav"}, o, error) == RenderParse::error);
+    const std::string a = ameoto::test::temp_path("scene-a.wav"), b = ameoto::test::temp_path("scene-b.wav");
+    for (const std::string& path : {a, b}) {
+        std::ostringstream out, err;
+        const CommandIo io{{}, out, err};
+        CHECK(run_render({"scene", "--scene", "pond", "--seconds", "0.2", "--quiet", "-o", path}, io) == exit_status::ok);
+        CHECK(has(out.str(), "of scene 'pond' at 1.5 mm/h"));
+    }
+    const auto wa = ameoto::test::read_wav(a), wb = ameoto::test::read_wav(b);
+    REQUIRE(wa.ok);
+    REQUIRE(wb.ok);
+    CHECK(wa.channels == 2);
+    CHECK(wa.frames == 9600);
+    CHECK(wa.samples == wb.samples);   // the header has a time stamp; the audio is the same
+    double peak = 0.0;
+    for (float v : wa.samples) peak = std::max(peak, static_cast<double>(std::abs(v)));
+    CHECK(peak > 0.0);
 }

@@ -20,13 +20,18 @@ TEST_CASE("defaults follow the issue and the protocol core") {
     CHECK(p.options.jack_name == "ameoto");
     CHECK(p.options.channels == 2);
     CHECK(p.options.scene == "umbrella");
+    CHECK_FALSE(p.options.fixed_detail);
 }
 
 TEST_CASE("every option parses its valid values") {
     const auto p = parse({"--port", "9000", "--bind", "::1", "--backend", "null", "--jack-name", "rain", "--autoconnect",
                           "--output", "x.wav", "--rate", "96000", "--block", "64", "--realtime", "--duration", "2.5",
-                          "--seed", "18446744073709551615", "--channels", "6", "--scene", "umbrella", "--rain", "0"});
+                          "--seed", "18446744073709551615", "--channels", "6", "--scene", "street", "--rain", "0",
+                          "--scene-dir", "/tmp/scenes", "--fixed-detail"});
     REQUIRE(p.error.empty());
+    CHECK(p.options.scene == "street");
+    CHECK(p.options.scene_folder == std::optional<std::string>("/tmp/scenes"));
+    CHECK(p.options.fixed_detail);
     CHECK(p.options.port == 9000);
     CHECK(p.options.bind == "::1");
     CHECK(p.options.backend == ameoto::BackendChoice::null);

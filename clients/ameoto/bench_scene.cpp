@@ -1,0 +1,140 @@
+#include "clients/ameoto/bench_scene.hpp"
+
+#include <algorithm>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "clients/ameoto/bench_timer.hpp"
+#include "clients/ameoto/exit_status.hpp"
+#include "clients/ameoto/json_text.hpp"
+#include "engine/render/renderer.hpp"
+
+namespace ameoto::client {
+namespace {
+
+constexpr double sample_rate = 48000.0;
+constexpr int block = 64;
+
+struct Run {
+    double cpu_s = 0.0;
+    double drops = 0.0;
+};
+
+// CPU seconds and drops over `seconds` of audio after `warm_s`, for the umbrella scene at `rate`.
+Run run_umbrella(double rate, double full_level_db, double texture_margin_db, int max_full, double warm_s, double seconds) {
+    RendererConfig c;
+    c.sample_rate = sample_rate;
+    c.channels = 2;
+    c.seed = 3;
+    c.rain_rate_mm_per_h = rate;
+    c.lod_full_level_db = full_level_db;
+    c.lod_texture_margin_db = texture_margin_db;
+    c.full_drops = max_full;
+    Renderer r(c);
+    std::vector<float> left(block), right(block);
+    float* out[2] = {left.data(), right.data()};
+    const long warm = static_cast<long>(warm_s * sample_rate / block), timed = static_cast<long>(seconds * sample_rate / block);
+    for (long b = 0; b < warm; ++b) r.process(block, out);
+    const double drops0 = static_cast<double>(r.stats().drops);
+    const double start = thread_cpu_seconds();
+    for (long b = 0; b < timed; ++b) r.process(block, out);
+    return {thread_cpu_seconds() - start, static_cast<double>(r.stats().drops) - drops0};
+}
+
+}  // namespace
+
+int run_scene_bench(const BenchOptions& options, const CommandIo& io) {
+    const double seconds = std::clamp(options.seconds * 4.0, 1.0, 20.0);   // audio seconds per measurement
+    io.err << "ameoto bench scene: the dry umbrella, then each tier forced, then heavy rain with a pond ("
+           << seconds << " s of audio each)...\n";
+    const Run dry = run_umbrella(0.0, 6.0, 20.0, 16, 0.2, seconds);
+    const double dry_share = dry.cpu_s / seconds;
+    struct Tier {
+        const char* name;
+        double rate, full_db, margin_db;
+        int max_full;
+        Run run;
+        double ns_per_drop = 0.0, drops_per_s_on_a_core = 0.0;
+    };
+    std::vector<Tier> tiers = {{"full", 0.3, -1000.0, 20.0, 64, {}},
+                               {"template", 20.0, 1000.0, 1000.0, 0, {}},
+                               {"texture", 20.0, 1000.0, -1000.0, 0, {}}};
+    for (Tier& t : tiers) {
+        t.run = run_umbrella(t.rate, t.full_db, t.margin_db, t.max_full, 1.0, seconds);
+        const double per_drop = std::max(t.run.cpu_s - dry.cpu_s, 1e-12) / std::max(t.run.drops, 1.0);
+        t.ns_per_drop = per_drop * 1e9;
+        t.drops_per_s_on_a_core = (1.0 - dry_share) / per_drop;
+    }
+
+    // Heavy rain: the umbrella and a pond at 50 mm/h, 64-frame blocks, the governor on measured load.
+    SceneDescription scene = *builtin_scene("umbrella");
+    scene.rain.rate_mm_per_h = 50.0;
+    SurfaceDescription pond;
+    pond.name = "pond";
+    pond.kind = SurfaceKind::water;
+    pond.material = "pond";
+    pond.size_x_m = 4.0;
+    pond.size_y_m = 3.0;
+    pond.x_m = 3.0;
+    scene.surfaces.push_back(pond);
+    RendererConfig base;
+    base.sample_rate = sample_rate;
+    base.channels = 2;
+    base.seed = 5;
+    base.adaptive_lod = true;
+    Renderer heavy(configure_for_scene(base, scene));
+    std::vector<float> left(block), right(block);
+    float* out[2] = {left.data(), right.data()};
+    const double period = block / sample_rate;
+    for (int b = 0; b < static_cast<int>(1.0 / period); ++b) heavy.process(block, out);   // the rain ramps in
+    std::vector<double> loads;
+    const std::uint64_t drops0 = heavy.stats().drops + heavy.stats().surface_drops;
+    const long blocks = static_cast<long>(seconds / period);
+    for (long b = 0; b < blocks; ++b) {
+        const double start = thread_cpu_seconds();
+        heavy.process(block, out);
+        const double load = (thread_cpu_seconds() - start) / period;
+        heavy.set_measured_load(load);
+        loads.push_back(load);
+    }
+    const double heavy_drops_per_s = static_cast<double>(heavy.stats().drops + heavy.stats().surface_drops - drops0) / seconds;
+    double mean = 0.0;
+    for (double l : loads) mean += l;
+    mean /= static_cast<double>(loads.size());
+    std::vector<double> sorted = loads;
+    std::sort(sorted.begin(), sorted.end());
+    const double p999 = sorted[std::min(sorted.size() - 1, static_cast<std::size_t>(0.999 * static_cast<double>(sorted.size())))];
+
+    if (options.json) {
+        io.out << "{\"suite\":\"scene\",\"measurement\":\"dry umbrella\",\"percent_core\":" << json_number(100.0 * dry_share) << "}\n";
+        for (const Tier& t : tiers)
+            io.out << "{\"suite\":\"scene\",\"measurement\":\"tier\",\"tier\":" << json_string(t.name) << ",\"rain_mm_per_h\":"
+                   << json_number(t.rate) << ",\"drops_per_s\":" << json_number(t.run.drops / seconds)
+                   << ",\"ns_per_drop\":" << json_number(t.ns_per_drop) << ",\"drops_per_s_on_a_core\":"
+                   << json_number(t.drops_per_s_on_a_core) << "}\n";
+        io.out << "{\"suite\":\"scene\",\"measurement\":\"heavy rain\",\"rain_mm_per_h\":50,\"drops_per_s\":"
+               << json_number(heavy_drops_per_s) << ",\"block_frames\":64,\"mean_percent\":" << json_number(100.0 * mean)
+               << ",\"p999_percent\":" << json_number(100.0 * p999) << ",\"target_mean_percent\":25,\"target_p999_percent\":60}\n";
+        return exit_status::ok;
+    }
+    char line[200];
+    std::snprintf(line, sizeof line, "umbrella scene, 48 kHz stereo; the dry scene (canopy, far field) takes %.1f %% of a core\n",
+                  100.0 * dry_share);
+    io.out << line;
+    std::snprintf(line, sizeof line, "%-10s %10s %12s %14s %22s\n", "tier", "mm/h", "drops/s", "CPU ns/drop", "drops/s on one core");
+    io.out << line;
+    for (const Tier& t : tiers) {
+        std::snprintf(line, sizeof line, "%-10s %10.1f %12.0f %14.0f %22.0f\n", t.name, t.rate, t.run.drops / seconds, t.ns_per_drop,
+                      t.drops_per_s_on_a_core);
+        io.out << line;
+    }
+    std::snprintf(line, sizeof line,
+                  "heavy rain: 50 mm/h on the umbrella and a 4 x 3 m pond, %.0f drops/s, 64-frame blocks:\n"
+                  "  mean callback %.1f %% of the block period (target 25 %%: %s), 99.9th percentile %.1f %% (target 60 %%: %s)\n",
+                  heavy_drops_per_s, 100.0 * mean, mean <= 0.25 ? "met" : "not met", 100.0 * p999, p999 <= 0.60 ? "met" : "not met");
+    io.out << line;
+    return exit_status::ok;
+}
+
+}  // namespace ameoto::client
