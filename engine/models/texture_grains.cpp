@@ -43,7 +43,6 @@ double interpolate(const std::vector<double>& d, const std::vector<double>& v, d
     return v[hi - 1] + t * (v[hi] - v[hi - 1]);
 }
 
-constexpr double band_q = 1.0;
 
 }  // namespace
 
@@ -107,59 +106,101 @@ TextureCalibration calibrate_texture(const DropOnCanopyConfig& scene, const Impa
 }
 
 TextureGrains::TextureGrains(const TextureCalibration& calibration, double sample_rate)
-    : calibration_(&calibration), sample_rate_(sample_rate), grains_(static_cast<std::size_t>(capacity)) {}
+    : calibration_(&calibration), sample_rate_(sample_rate) {
+    const double low = 150.0, high = std::min(16000.0, 0.4 * sample_rate);
+    const double ratio = std::pow(high / low, 1.0 / (bands - 1));
+    const double q = std::sqrt(ratio) / (ratio - 1.0);
+    for (int k = 0; k < bands; ++k) {
+        const double fc = low * std::pow(ratio, k);
+        centre_[static_cast<std::size_t>(k)] = fc;
+        const double w0 = 2.0 * constants::pi * fc / sample_rate;
+        const double alpha = std::sin(w0) / (2.0 * q);
+        const double a0 = 1.0 + alpha;
+        for (auto& channel : bed_) {
+            Band& b = channel[static_cast<std::size_t>(k)];
+            b.b0 = alpha / a0;
+            b.b2 = -alpha / a0;
+            b.a1 = -2.0 * std::cos(w0) / a0;
+            b.a2 = (1.0 - alpha) / a0;
+        }
+        unit_[static_cast<std::size_t>(k)] = 1.0 / std::sqrt(alpha / a0 / 3.0);   // uniform noise has variance 1/3
+    }
+    set_calibration(calibration);
+}
+
+void TextureGrains::set_calibration(const TextureCalibration& calibration) {
+    calibration_ = &calibration;
+    if (calibration.empty()) return;
+    // Each band decays as the calibrated sizes whose centroids are nearest it (interpolated in log f).
+    double longest = 0.0;
+    for (int k = 0; k < bands; ++k) {
+        const double f = centre_[static_cast<std::size_t>(k)];
+        std::size_t best = 0;
+        for (std::size_t i = 1; i < calibration.centre_hz.size(); ++i)
+            if (std::abs(std::log(calibration.centre_hz[i] / f)) < std::abs(std::log(calibration.centre_hz[best] / f))) best = i;
+        const double tau = calibration.decay_s[best];
+        longest = std::max(longest, tau);
+        const double d = std::exp(-1.0 / (tau * sample_rate_));
+        decay_[static_cast<std::size_t>(k)] = d * d;
+    }
+    // The ring of recent additions spans 5 of the longest decay: sized once, at construction (a later
+    // calibration, set on the audio thread, keeps it: no allocation there).
+    const auto slots = static_cast<std::size_t>(std::ceil(5.0 * longest * sample_rate_ / slot_samples)) + 1;
+    if (added_.empty()) added_.assign(std::max<std::size_t>(slots, 64), 0);
+}
 
 bool TextureGrains::add(double diameter_m, double speed_m_per_s, double density, double azimuth_rad, int channels, Random& rng) {
     (void)rng;
-    if (count_ == capacity || calibration_->empty()) return false;
     const TextureCalibration& cal = *calibration_;
+    if (cal.empty()) return false;
     const double speed = speed_m_per_s > 0.0 ? speed_m_per_s : arrival_speed(diameter_m, density);
     // The calibrated energy at this size (a drop of the recorded liquid at its arrival speed), times the
     // template's gain squared for another liquid or speed (force ~ rho V^2 D^2).
     const double vr = speed / arrival_speed(diameter_m, cal.density), rr = density / cal.density;
     const double energy = cal.energy(diameter_m) * rr * rr * vr * vr * vr * vr;
-    const double fc = std::min(cal.centre(diameter_m), 0.4 * sample_rate_);
-    const double tau = cal.decay(diameter_m);
-    Grain& g = grains_[static_cast<std::size_t>(count_++)];
-    // RBJ band-pass, constant 0 dB peak gain (Bristow-Johnson, "Audio EQ Cookbook").
-    const double w0 = 2.0 * constants::pi * fc / sample_rate_;
-    const double alpha = std::sin(w0) / (2.0 * band_q);
-    const double a0 = 1.0 + alpha;
-    g.b0 = alpha / a0;
-    g.b2 = -alpha / a0;
-    g.a1 = -2.0 * std::cos(w0) / a0;
-    g.a2 = (1.0 - alpha) / a0;
-    g.x1 = g.x2 = g.y1 = g.y2 = 0.0;
-    // Expected energy: A^2 (noise variance 1/3) (the band-pass's noise power gain: the energy of its
-    // impulse response, which for this constant-peak band-pass is exactly b0 = alpha / (1 + alpha))
-    // (the envelope's squares summed, 1 / (1 - decay^2): about tau fs / 2 for long grains, more for short).
-    const double power_gain = g.b0;
-    g.decay = std::exp(-1.0 / (tau * sample_rate_));
-    const double envelope_sum = 1.0 / (1.0 - g.decay * g.decay);
-    g.amplitude = std::sqrt(energy / ((1.0 / 3.0) * power_gain * envelope_sum));
-    g.left = static_cast<int>(5.0 * tau * sample_rate_) + 1;
+    const double fc = std::clamp(cal.centre(diameter_m), centre_.front(), centre_.back());
+    // The two bands around f_c, split linearly in log f.
+    const double position = std::log(fc / centre_.front()) / std::log(centre_[1] / centre_.front());
+    const int lo = std::min(bands - 2, static_cast<int>(position));
+    const double t = std::clamp(position - lo, 0.0, 1.0);
     const auto pan = pan_gains(azimuth_rad, channels);
-    for (int c = 0; c < channels; ++c) g.gain[static_cast<std::size_t>(c)] = static_cast<float>(pan[static_cast<std::size_t>(c)]);
+    for (int c = 0; c < channels; ++c) {
+        const double g2 = pan[static_cast<std::size_t>(c)] * pan[static_cast<std::size_t>(c)];
+        auto& channel = bed_[static_cast<std::size_t>(c)];
+        channel[static_cast<std::size_t>(lo)].power += (1.0 - t) * energy * g2 * (1.0 - decay_[static_cast<std::size_t>(lo)]);
+        channel[static_cast<std::size_t>(lo + 1)].power += t * energy * g2 * (1.0 - decay_[static_cast<std::size_t>(lo + 1)]);
+    }
+    ++added_[static_cast<std::size_t>(slot_)];
+    ++active_;
     return true;
 }
 
 void TextureGrains::render(float* frame, int channels, Random& rng) {
-    for (int i = 0; i < count_;) {
-        Grain& g = grains_[static_cast<std::size_t>(i)];
-        const double x = 2.0 * rng.uniform() - 1.0;
-        const double y = g.b0 * x + g.b2 * g.x2 - g.a1 * g.y1 - g.a2 * g.y2;
-        g.x2 = g.x1;
-        g.x1 = x;
-        g.y2 = g.y1;
-        g.y1 = y;
-        const auto s = static_cast<float>(g.amplitude * y);
-        g.amplitude *= g.decay;
-        for (int c = 0; c < channels; ++c) frame[c] += g.gain[static_cast<std::size_t>(c)] * s;
-        if (--g.left <= 0) {
-            grains_[static_cast<std::size_t>(i)] = grains_[static_cast<std::size_t>(--count_)];
-        } else {
-            ++i;
+    for (int c = 0; c < channels; ++c) {
+        auto& channel = bed_[static_cast<std::size_t>(c)];
+        double sum = 0.0;
+        for (int k = 0; k < bands; ++k) {
+            Band& b = channel[static_cast<std::size_t>(k)];
+            if (b.power < 1e-30) {
+                b.power = 0.0;   // silent: nothing to add (and no denormals); the filter keeps its state
+                continue;
+            }
+            const double x = 2.0 * rng.uniform() - 1.0;
+            const double y = b.b0 * x + b.b2 * b.x2 - b.a1 * b.y1 - b.a2 * b.y2;
+            b.x2 = b.x1;
+            b.x1 = x;
+            b.y2 = b.y1;
+            b.y1 = y;
+            sum += std::sqrt(b.power) * unit_[static_cast<std::size_t>(k)] * y;
+            b.power *= decay_[static_cast<std::size_t>(k)];
         }
+        frame[c] += static_cast<float>(sum);
+    }
+    if (++in_slot_ == slot_samples) {
+        in_slot_ = 0;
+        slot_ = (slot_ + 1) % static_cast<int>(added_.size());
+        active_ -= added_[static_cast<std::size_t>(slot_)];   // the oldest slot leaves the window
+        added_[static_cast<std::size_t>(slot_)] = 0;
     }
 }
 

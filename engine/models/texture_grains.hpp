@@ -7,23 +7,30 @@
 //   TextureCalibration cal = calibrate_texture(scene_config, templates);   // off the audio thread (~0.2 s)
 //   cal.energy(D), cal.centre_hz(D), cal.decay_s(D)                        // what a grain of size D carries
 //   ---- audio thread: no allocation ----
-//   TextureGrains grains(cal, sample_rate);              // fixed pool (construct off the audio thread)
-//   bool ok = grains.add(D, V, density, azimuth_rad, channels, rng);   // false: pool full (count it)
-//   grains.render(frame, channels, rng);                  // adds this sample of every grain to frame[ch]
+//   TextureGrains grains(cal, sample_rate);              // the noise bed (construct off the audio thread)
+//   bool ok = grains.add(D, V, density, azimuth_rad, channels, rng);   // false: no calibration
+//   grains.render(frame, channels, rng);                  // adds this sample of the bed to frame[ch]
 //
 // Calibration: for sizes on a coarse grid (every fifth template size), the template is replayed once
 // into a fresh scene of the same material and geometry, half way out along a panel, and its far-field
 // output at the listener (mono) is measured over 50 ms: its energy E (sum of squares, full-scale units),
 // its spectral centroid f_c (from the DFT of the output) and its decay time tau (the energy over the peak
-// of the 1 ms power envelope: the length of a rectangle holding the same energy). Between grid sizes the
-// three are interpolated in log D (the energy as log E: it grows about as D^8).
-// A grain: white noise through a resonant band-pass at f_c (RBJ biquad, Q = 1; its noise power gain,
-// the energy of its impulse response, is exactly b0 = alpha / (1 + alpha)) under an envelope
-// exp(-t / tau), scaled so its expected energy is E times the template's gain squared, (rho/rho_k)^2
-// (V/V_k)^4 (D/d_k)^4 (impact_templates.hpp: the force ~ rho V^2 D^2), panned by the drop's azimuth
-// (panning.hpp). It ends after 5 tau (energy below e^-10). Independent grains add in power, so a
-// texture of many carries the summed energy of their templates, with their colour, but none of their
-// phase: the statistics, not the events.
+// of the 1 ms power envelope: the length of a rectangle holding the same energy). Between grid sizes they
+// are interpolated in log D (the energy as log E: it grows about as D^8).
+// The bed: grains are not rendered one by one (that would cost more than replaying their templates).
+// Each channel has 12 noise bands, log-spaced from 150 Hz to 16 kHz (at most 0.4 fs), each white noise
+// through a constant-peak band-pass (RBJ biquad, Q = sqrt(r) / (r - 1) for the bands' ratio r, so
+// neighbours cross at -3 dB), normalised to unit variance (the noise power gain of that band-pass, the
+// energy of its impulse response, is exactly b0 = alpha / (1 + alpha)), scaled by the square root of the
+// band's power envelope P. P decays as exp(-2 t / tau_b), tau_b the calibrated decay at the band's
+// centre. A grain of energy E (its size's, times the template's gain squared, (rho/rho_k)^2 (V/V_k)^4:
+// impact_templates.hpp's force ~ rho V^2 D^2) at centre f_c adds to the two bands around f_c (split
+// linearly in log f) E (1 - d^2) g_c^2 to each channel's P, d = exp(-1 / (tau_b fs)) and g_c its pan
+// gain: the bed's expected energy then grows by exactly E. Independent grains add in power, so the bed
+// carries the summed energy of their templates with their colour and decay, but none of their phase:
+// the statistics, not the events. Cost: 12 band-passes and square roots per channel per sample, whatever
+// the number of grains; a grain costs a few multiplications when added.
+// active(): grains added within the last 5 tau (the longest band's), a measure for /status.
 
 #include <array>
 #include <cstdint>
@@ -51,28 +58,30 @@ TextureCalibration calibrate_texture(const DropOnCanopyConfig& scene, const Impa
 
 class TextureGrains {
 public:
-    static constexpr int capacity = 4096;
+    static constexpr int bands = 12;
 
     TextureGrains(const TextureCalibration& calibration, double sample_rate);
 
     bool add(double diameter_m, double speed_m_per_s, double density, double azimuth_rad, int channels, Random& rng);
     void render(float* frame, int channels, Random& rng);
-    int active() const { return count_; }
-    // A new scene's calibration for grains added from now on (grains already sounding keep theirs).
-    void set_calibration(const TextureCalibration& calibration) { calibration_ = &calibration; }
+    int active() const { return active_; }
+    // A new scene's calibration for grains added from now on (the bed keeps what it holds).
+    void set_calibration(const TextureCalibration& calibration);
+    double band_centre_hz(int band) const { return centre_[static_cast<std::size_t>(band)]; }
 
 private:
-    struct Grain {
+    struct Band {
         double b0 = 0, b2 = 0, a1 = 0, a2 = 0;   // band-pass (b1 = 0)
         double x1 = 0, x2 = 0, y1 = 0, y2 = 0;
-        double amplitude = 0, decay = 1;         // envelope: amplitude *= decay each sample
-        int left = 0;
-        std::array<float, max_pan_channels> gain{};
+        double power = 0.0;                       // the envelope P
     };
     const TextureCalibration* calibration_;
     double sample_rate_;
-    std::vector<Grain> grains_;   // sized at construction
-    int count_ = 0;
+    std::array<double, bands> centre_{}, decay_{}, unit_{};   // Hz; per-sample power decay d^2; 1/sqrt(b0/3)
+    std::array<std::array<Band, bands>, max_pan_channels> bed_{};
+    static constexpr int slot_samples = 64;
+    std::vector<int> added_;   // grains added per 64-sample slot, over the last 5 tau (a ring)
+    int slot_ = 0, in_slot_ = 0, active_ = 0;
 };
 
 }  // namespace ameoto

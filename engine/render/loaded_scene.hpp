@@ -23,8 +23,8 @@ struct LoadedScene {
     std::unique_ptr<RainSpawner> rain;   // the umbrella's, for the scene's drop size distribution
     bool has_umbrella = true;
     double rain_rate_mm_per_h = 2.0;
-    double lod_budget = 0.5;
-    int max_full = 16;
+    double lod_budget = 0.4;
+    int max_full = 4;
     double wind_m_per_s = 0.0, wind_direction_rad = 0.0, gustiness = 0.0;
 };
 

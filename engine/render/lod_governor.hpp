@@ -3,7 +3,7 @@
 // detail before it misses a deadline.
 //
 // Interface:
-//   LodGovernor g(LodSettings{.budget = 0.5, .max_full = 16});
+//   LodGovernor g(LodSettings{.budget = 0.4, .max_full = 4});
 //   g.set_settings(s);                                   // /lod: budget (fraction of the block period), max full
 //   ---- audio thread: no allocation ----
 //   LodTier t = g.choose(D_m, V_m_per_s, distance_m, full_active);   // per drop (V: impact speed)
@@ -42,8 +42,8 @@ namespace ameoto {
 enum class LodTier : std::uint8_t { full, template_, texture };
 
 struct LodSettings {
-    double budget = 0.5;               // fraction of the block period (/lod percent / 100), 0.01..0.95
-    int max_full = 16;                 // lattice drops at once, 0..256
+    double budget = 0.4;               // fraction of the block period (/lod percent / 100), 0.01..0.95
+    int max_full = 4;                  // lattice drops at once, 0..64
     double full_level_db = 6.0;        // relative to a 2 mm drop at 1 m
     double texture_margin_db = 20.0;   // below the masking level a drop becomes texture
 };

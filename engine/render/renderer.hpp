@@ -81,9 +81,9 @@ struct RendererConfig {
     ListenerStyle listener = ListenerStyle::panned;
     double listener_below_m = 0.3;        // listener on the shaft, this far below the canopy
     double full_scale_pa = 100.0;         // pressure at output 1.0 (134 dB SPL: heavy rain's peaks fit)
-    int full_drops = 16;                  // lattice drops at once (/drop, rain), at most max_full_drops;
+    int full_drops = 4;                   // lattice drops at once (/drop, rain), at most max_full_drops;
                                           // more play as templates (/lod changes it live)
-    double lod_budget = 0.5;              // fraction of the block period the governor aims for (/lod)
+    double lod_budget = 0.4;              // fraction of the block period the governor aims for (/lod)
     double lod_full_level_db = 6.0;       // the governor's thresholds (lod_governor.hpp); benchmarks move
     double lod_texture_margin_db = 20.0;  // them to put every drop in one tier
     bool adaptive_lod = false;            // shed detail by measured load (live only: not reproducible)

@@ -65,9 +65,9 @@ private:
     std::vector<Placed> placed_;
     Vec3 listener_{};
     double facing_rad_ = 0.0;
-    double inverse_full_scale_ = 0.01;
     int channels_ = 1;
     double dt_ = 0.0;
+    double inverse_full_scale_ = 0.01;
     double density_ = 998.0;
     std::uint64_t drops_ = 0;
 };

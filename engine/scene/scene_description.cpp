@@ -29,7 +29,7 @@ constexpr Range lambda_range{0.0, 50.0};         // 1/mm (0: from the rate)
 constexpr Range position_range{-1000.0, 1000.0}; // m
 constexpr Range size_range{0.05, 100.0};         // m
 constexpr Range budget_range{1.0, 95.0};         // % of the block period
-constexpr Range full_range{0.0, 256.0};
+constexpr Range full_range{0.0, 64.0};
 constexpr Range panels_range{3.0, 16.0};
 
 // The shortest text that reads back as the same double (so a saved scene reloads exactly).

@@ -20,7 +20,7 @@
 //   name umbrella                        the scene's name
 //   rain rate=2 dsd=marshall-palmer wind=0 direction=0 gust=0 [mu=2 lambda=3]
 //   listener x=0 y=0 z=1.6 facing=0
-//   lod budget=50 full=16
+//   lod budget=40 full=4
 //   surface NAME kind=umbrella|water|plate|ground material=M size=X[xY] x= y= z= [panels=N]
 // Keys after the first word are key=value pairs in any order; unknown keys, repeated keys, missing
 // required keys and values out of range are errors naming the line and the key. A later version
@@ -72,8 +72,8 @@ struct ListenerDescription {
 };
 
 struct LodDescription {
-    double budget_percent = 50.0;        // of the block period the engine may spend (the governor's aim)
-    int max_full = 16;                   // lattice drops at once
+    double budget_percent = 40.0;        // of the block period the engine may spend (the governor's aim)
+    int max_full = 4;                    // lattice drops at once (each awake costs about 2 us a sample)
     bool operator==(const LodDescription&) const = default;
 };
 
