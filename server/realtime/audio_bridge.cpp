@@ -98,7 +98,7 @@ void AudioBridge::process(int frames, float* const* outputs) {
         if (!events_.try_push(event)) events_lost_.fetch_add(1, std::memory_order_relaxed);
 
     const RendererStats& st = renderer_->stats();
-    drops_.store(st.drops, std::memory_order_relaxed);
+    drops_.store(st.drops + st.surface_drops, std::memory_order_relaxed);   // every surface's
     late_.store(st.late_commands, std::memory_order_relaxed);
     busy_.store(st.busy_commands, std::memory_order_relaxed);
     resets_.store(st.body_resets, std::memory_order_relaxed);
