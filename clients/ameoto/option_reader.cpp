@@ -1,5 +1,7 @@
 #include "clients/ameoto/option_reader.hpp"
 
+#include "clients/ameoto/number_text.hpp"
+
 namespace ameoto::client {
 
 OptionReader::OptionReader(std::vector<std::string> words) : words_(std::move(words)) {}
@@ -56,6 +58,21 @@ bool OptionReader::value_into(std::string& out, std::string& error) {
     }
     out = *v;
     return true;
+}
+
+std::optional<double> OptionReader::number_into(double low, double high, const std::string& unit, std::string& error) {
+    std::string text;
+    if (!value_into(text, error)) return std::nullopt;
+    const auto v = parse_number(text);
+    if (!v) {
+        error = name_ + ": '" + text + "' is not a number";
+        return std::nullopt;
+    }
+    if (*v < low || *v > high) {
+        error = name_ + ": " + text + " " + unit + " is outside " + short_number(low) + ".." + short_number(high) + " " + unit;
+        return std::nullopt;
+    }
+    return v;
 }
 
 bool OptionReader::flag_into(std::string& error) {

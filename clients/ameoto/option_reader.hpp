@@ -17,6 +17,7 @@
 // `render drop --diameter 3`), read word by word instead:
 //   for (auto w = r.next_word(); w != OptionReader::Word::end; w = r.next_word())
 //       if (w == OptionReader::Word::positional) use(r.positional()); else handle(r.name()) as above.
+//   auto seconds = r.number_into(0.01, 60.0, "s", error);   // a checked number, or the message
 
 #include <optional>
 #include <string>
@@ -42,6 +43,9 @@ public:
     // The same two checks for parsers that keep the value and the message in their own variables.
     bool value_into(std::string& out, std::string& error);
     bool flag_into(std::string& error);
+    // The option's value as a finite number within [low, high]; nullopt with the message (naming the
+    // option, the value, the range and `unit`) in error otherwise.
+    std::optional<double> number_into(double low, double high, const std::string& unit, std::string& error);
     const std::string& error() const { return error_; }
     std::vector<std::string> rest() const;
 

@@ -99,20 +99,7 @@ RenderParse parse_render_drop_options(const CommandWords& words, RenderDropOptio
         std::string value;
         auto take_value = [&] { return reader.value_into(value, error); };
         auto no_value = [&] { return reader.flag_into(error); };
-        // A number within [lo, hi]; `what` names it with its unit for the message.
-        auto number_in = [&](double lo, double hi, const std::string& unit) -> std::optional<double> {
-            if (!take_value()) return std::nullopt;
-            const auto v = parse_number(value);
-            if (!v) {
-                error = name + ": '" + value + "' is not a number";
-                return std::nullopt;
-            }
-            if (*v < lo || *v > hi) {
-                error = name + ": " + value + " " + unit + " is outside " + short_number(lo) + ".." + short_number(hi) + " " + unit;
-                return std::nullopt;
-            }
-            return v;
-        };
+        auto number_in = [&](double lo, double hi, const std::string& unit) { return reader.number_into(lo, hi, unit, error); };
         if (name == "--help" || name == "-h") return RenderParse::help;
         if (name == "--quiet") {
             if (!no_value()) return RenderParse::error;
@@ -126,7 +113,7 @@ RenderParse parse_render_drop_options(const CommandWords& words, RenderDropOptio
             const auto v = number_in(0.0, 30.0, "m/s");
             if (!v) return RenderParse::error;
             if (*v > 0.0 && *v < 0.1) {
-                error = "--speed: " + value + " m/s is too slow: 0 (terminal speed) or 0.1..30 m/s";
+                error = "--speed: " + short_number(*v) + " m/s is too slow: 0 (terminal speed) or 0.1..30 m/s";
                 return RenderParse::error;
             }
             o.speed_m_per_s = *v;

@@ -51,19 +51,7 @@ RenderParse parse_render_scene_options(const CommandWords& words, RenderSceneOpt
         const std::string& name = reader.name();
         std::string value;
         auto take_value = [&] { return reader.value_into(value, error); };
-        auto number_in = [&](double lo, double hi, const std::string& unit) -> std::optional<double> {
-            if (!take_value()) return std::nullopt;
-            const auto v = parse_number(value);
-            if (!v) {
-                error = name + ": '" + value + "' is not a number";
-                return std::nullopt;
-            }
-            if (*v < lo || *v > hi) {
-                error = name + ": " + value + " " + unit + " is outside " + short_number(lo) + ".." + short_number(hi) + " " + unit;
-                return std::nullopt;
-            }
-            return v;
-        };
+        auto number_in = [&](double lo, double hi, const std::string& unit) { return reader.number_into(lo, hi, unit, error); };
         if (name == "--help" || name == "-h") return RenderParse::help;
         if (name == "--quiet") {
             if (!reader.flag_into(error)) return RenderParse::error;
