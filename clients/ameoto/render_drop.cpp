@@ -3,6 +3,7 @@
 #include "clients/ameoto/render_scene.hpp"
 
 #include "clients/ameoto/option_reader.hpp"
+#include "clients/ameoto/progress_line.hpp"
 #include <sndfile.h>
 #include <unistd.h>
 
@@ -361,8 +362,7 @@ int run_render(const CommandWords& words, const CommandIo& io) {
     std::vector<Snapshot> snapshots;
     const double snapshot_times[] = {0.0, 1e-3, 3e-3, 10e-3, 30e-3};
     std::size_t next_snapshot = 0;
-    const bool progress = !o.quiet && isatty(STDERR_FILENO) && &io.err == &std::cerr;
-    int shown_percent = -1;
+    ProgressLine progress(io.err, !o.quiet && isatty(STDERR_FILENO) && &io.err == &std::cerr);
     constexpr long block = 64;
     std::vector<float*> out(static_cast<std::size_t>(channels));
     for (long done = 0; done < total;) {
@@ -379,15 +379,9 @@ int run_render(const CommandWords& words, const CommandIo& io) {
         for (int c = 0; c < channels; ++c) out[static_cast<std::size_t>(c)] = planar[static_cast<std::size_t>(c)].data() + done;
         scene->process(static_cast<int>(n), out.data());
         done += n;
-        if (progress) {
-            const int percent = static_cast<int>(100 * done / total);
-            if (percent != shown_percent) {
-                shown_percent = percent;
-                io.err << "\rrendering: " << percent << " %" << std::flush;
-            }
-        }
+        progress.show(done, total);
     }
-    if (progress) io.err << "\r                \r" << std::flush;
+    progress.clear();
     const DropOnCanopyStats stats = scene->stats();
     if (plotting) {
         times.push_back(static_cast<double>(total) / o.rate);

@@ -14,6 +14,7 @@
 #include "clients/ameoto/exit_status.hpp"
 #include "clients/ameoto/number_text.hpp"
 #include "clients/ameoto/option_reader.hpp"
+#include "clients/ameoto/progress_line.hpp"
 #include "engine/render/renderer.hpp"
 
 namespace ameoto::client {
@@ -164,8 +165,7 @@ int run_render_scene(const RenderSceneOptions& o, const CommandIo& io) {
     std::vector<float*> out(static_cast<std::size_t>(channels));
     for (int c = 0; c < channels; ++c) out[static_cast<std::size_t>(c)] = planar[static_cast<std::size_t>(c)].data();
     std::vector<float> interleaved(static_cast<std::size_t>(block * channels));
-    const bool progress = !o.quiet && isatty(STDERR_FILENO) && &io.err == &std::cerr;
-    int shown_percent = -1;
+    ProgressLine progress(io.err, !o.quiet && isatty(STDERR_FILENO) && &io.err == &std::cerr);
     double peak = 0.0;
     bool finite = true;
     for (long done = 0; done < total;) {
@@ -184,15 +184,9 @@ int run_render_scene(const RenderSceneOptions& o, const CommandIo& io) {
             return exit_status::refused;
         }
         done += n;
-        if (progress) {
-            const int percent = static_cast<int>(100 * done / total);
-            if (percent != shown_percent) {
-                shown_percent = percent;
-                io.err << "\rrendering: " << percent << " %" << std::flush;
-            }
-        }
+        progress.show(done, total);
     }
-    if (progress) io.err << "\r                \r" << std::flush;
+    progress.clear();
     if (sf_close(wav) != 0) {
         io.err << "ameoto render scene: cannot close " << o.wav_path << "\n";
         return exit_status::refused;

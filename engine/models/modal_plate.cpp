@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "engine/core/physical_constants.hpp"
+#include "engine/core/range_message.hpp"
 #include "engine/models/impact_force.hpp"
 
 namespace ameoto {
@@ -14,15 +15,6 @@ namespace {
 
 constexpr double kPi = constants::pi;
 constexpr double kReferenceDistanceM = 1.0;
-
-std::string out_of_range(const char* what, double value, double low, double high, const char* unit,
-                         const char* below, const char* above) {
-    if (std::isfinite(value) && value >= low && value <= high) return {};
-    std::ostringstream s;
-    s << what << " " << value << " " << unit << " is outside " << low << " .. " << high << " " << unit << ": "
-      << (std::isfinite(value) && value > high ? above : below);
-    return s.str();
-}
 
 // Radiation efficiency (per face) of odd-odd mode (m, n) at frequency f; see the header.
 double radiation_efficiency(const PlateSpec& s, int m, int n, double f) {

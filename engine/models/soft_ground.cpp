@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "engine/core/physical_constants.hpp"
+#include "engine/core/range_message.hpp"
 #include "engine/models/impact_force.hpp"
 
 namespace ameoto {
@@ -18,15 +19,6 @@ constexpr double kWaterSurfaceTension = 0.0728;   // N/m, 20 C (physics.md secti
 constexpr double kWaterViscosity = 1.0e-3;        // Pa s, 20 C
 constexpr double kMundoSplash = 57.7;             // K = We^1/2 Re^1/4 (Mundo et al. 1995)
 constexpr double kMaxLifetimeS = 2.0;
-
-std::string out_of_range(const char* what, double value, double low, double high, const char* unit,
-                         const char* below, const char* above) {
-    if (std::isfinite(value) && value >= low && value <= high) return {};
-    std::ostringstream s;
-    s << what << " " << value << " " << unit << " is outside " << low << " .. " << high << " " << unit << ": "
-      << (std::isfinite(value) && value > high ? above : below);
-    return s.str();
-}
 
 // Standard normal by Box-Muller from the engine's generator (one uniform pair per variate, so the number
 // of draws per hit is fixed and the stream stays reproducible).
