@@ -37,6 +37,7 @@ std::vector<AddressSpec> make_table() {
                      r.command.values[0] = a.numbers[0];
                      return std::nullopt;
                  }});
+    t.back().query = {true, {}, "/rain/rate.reply f rate (mm/h): the rate last applied (the sound ramps to it over 1 s)"};
     t.push_back({"/drop",
                  {{"diameter", ArgumentKind::number, "mm", 0.1, 8.0, false, "drop diameter"},
                   {"speed", ArgumentKind::number, "m/s", 0.0, 20.0, false, "impact speed; 0 = terminal speed (Gunn-Kinzer)"},
@@ -59,18 +60,27 @@ std::vector<AddressSpec> make_table() {
                      r.command.values[3] = a.numbers[3];
                      return std::nullopt;
                  }});
+    auto scene_load = [](const ValidatedArguments& a, const ProtocolContext&, Request& r) -> std::optional<std::string> {
+        if (!is_scene_name(a.texts[0]))
+            return "scene name '" + a.texts[0] + "' is not 1-32 of A-Z a-z 0-9 - _ (a name, not a path)";
+        r.action = Action::load_scene;
+        r.scene_name = a.texts[0];
+        return std::nullopt;
+    };
+    t.push_back({"/scene",
+                 {{"name", ArgumentKind::text, "", 0, 0, false,
+                   "a built-in scene (umbrella, pond, tin-roof, forest, street) or one saved in the scene folder", "pond"}},
+                 "Load a scene (the same as /scene/load, under the short name of the core contract).",
+                 "/done /scene (once it plays)",
+                 scene_load});
+    t.back().query = {true, {}, "/scene.reply s name: the scene playing (its name as loaded or saved)"};
     t.push_back({"/scene/load",
                  {{"name", ArgumentKind::text, "", 0, 0, false,
                    "a built-in scene (umbrella, pond, tin-roof, forest, street) or one saved in the scene folder", "pond"}},
                  "Load a scene: its surfaces, rain, listener and level of detail; the old scene rings out.",
                  "/done /scene/load (once it plays)",
-                 [](const ValidatedArguments& a, const ProtocolContext&, Request& r) -> std::optional<std::string> {
-                     if (!is_scene_name(a.texts[0]))
-                         return "scene name '" + a.texts[0] + "' is not 1-32 of A-Z a-z 0-9 - _ (a name, not a path)";
-                     r.action = Action::load_scene;
-                     r.scene_name = a.texts[0];
-                     return std::nullopt;
-                 }});
+                 scene_load});
+    t.back().query = {true, {}, "/scene/load.reply s name: the scene playing"};
     t.push_back({"/scene/save",
                  {{"name", ArgumentKind::text, "", 0, 0, false, "the name to save the current scene under", "my-rain"}},
                  "Save the current scene (as it plays now) into the scene folder as NAME.scene, atomically.",
@@ -98,6 +108,7 @@ std::vector<AddressSpec> make_table() {
                      r.command.values[2] = a.numbers.size() > 2 ? a.numbers[2] : 0.0;
                      return std::nullopt;
                  }});
+    t.back().query = {true, {}, "/rain/wind.reply f speed (m/s), f direction (deg), f gust (0..1)"};
     t.push_back({"/rain/dsd",
                  {{"name", ArgumentKind::text, "", 0, 0, false, "marshall-palmer, joss-drizzle, joss-thunderstorm or gamma",
                    "joss-drizzle"},
@@ -121,6 +132,7 @@ std::vector<AddressSpec> make_table() {
                      }
                      return std::nullopt;
                  }});
+    t.back().query = {true, {}, "/rain/dsd.reply s name, f mu, f lambda (1/mm; 0 = from the rate): mu and lambda matter for gamma only"};
     t.push_back({"/listener",
                  {{"x", ArgumentKind::number, "m", -1000.0, 1000.0, false, "ears, forward"},
                   {"y", ArgumentKind::number, "m", -1000.0, 1000.0, false, "ears, left"},
@@ -134,6 +146,7 @@ std::vector<AddressSpec> make_table() {
                      r.command.values[3] = a.numbers.size() > 3 ? units::deg_to_rad(a.numbers[3]) : 0.0;
                      return std::nullopt;
                  }});
+    t.back().query = {true, {}, "/listener.reply f x, f y, f z (m), f facing (deg)"};
     auto surface_arguments = std::vector<ArgumentSpec>{
         {"name", ArgumentKind::text, "", 0, 0, false, "the surface's name (1-32 of A-Z a-z 0-9 - _)", "roof"},
         {"kind", ArgumentKind::text, "", 0, 0, false, "water, plate or ground (the umbrella comes with scenes)", "plate"},
@@ -168,6 +181,16 @@ std::vector<AddressSpec> make_table() {
                  "/done /surface/add (once it sounds)", surface_build(SceneEdit::Op::surface_add)});
     t.push_back({"/surface/set", surface_arguments, "Change a surface of the scene: kind, material, size, position.",
                  "/done /surface/set (once it sounds)", surface_build(SceneEdit::Op::surface_set)});
+    t.back().query = {true,
+                      {{"name", ArgumentKind::text, "", 0, 0, false, "a surface of the scene", "umbrella"}},
+                      "/surface/set.reply s name, s kind, s material, f size_x, f size_y, f x, f y, f z (m)"};
+    t.push_back({"/surfaces", {}, "List the surfaces of the scene playing.",
+                 "/surfaces.reply s name ... (one string per surface, in the scene's order; none for an empty scene)",
+                 [](const ValidatedArguments&, const ProtocolContext&, Request& r) -> std::optional<std::string> {
+                     r.action = Action::query;
+                     r.query_address = "/surfaces";
+                     return std::nullopt;
+                 }});
     t.push_back({"/surface/remove",
                  {{"name", ArgumentKind::text, "", 0, 0, false, "the surface's name", "roof"}},
                  "Remove a surface from the scene.",
@@ -191,6 +214,7 @@ std::vector<AddressSpec> make_table() {
                      r.command.values[1] = a.numbers[1];
                      return std::nullopt;
                  }});
+    t.back().query = {true, {}, "/lod.reply f budget (%), i full (drops)"};
     t.push_back({"/material/liquid",
                  {{"name", ArgumentKind::text, "", 0, 0, false, "water, milk, heavy_oil, or a custom liquid's name", "water"},
                   {"density", ArgumentKind::number, "kg/m^3", LiquidLimits::density_min, LiquidLimits::density_max, true,
@@ -220,6 +244,7 @@ std::vector<AddressSpec> make_table() {
                      r.action = Action::set_liquid;
                      return std::nullopt;
                  }});
+    t.back().query = {true, {}, "/material/liquid.reply s name, f density (kg/m^3), f surface_tension (N/m), f viscosity (Pa s)"};
     t.push_back({"/material/surface",
                  {{"surface", ArgumentKind::text, "", 0, 0, false, "a surface of the scene (umbrella)", "umbrella"},
                   {"material", ArgumentKind::text, "", 0, 0, false, "nylon, seed-nylon, vinyl, or a custom material's name", "nylon"},
@@ -254,9 +279,30 @@ std::vector<AddressSpec> make_table() {
                      r.action = Action::set_surface_material;
                      return std::nullopt;
                  }});
+    t.back().query = {true,
+                      {{"surface", ArgumentKind::text, "", 0, 0, false, "a surface of the scene", "umbrella"}},
+                      "/material/surface.reply s surface, s material, f areal_density (kg/m^2), f tension (N/m), f mass_damping (1/s), "
+                      "f stiffness_damping (s)"};
     t.push_back({"/status", {}, "Ask for the server's state.", "/status.reply",
                  [](const ValidatedArguments&, const ProtocolContext&, Request& r) -> std::optional<std::string> {
                      r.action = Action::status;
+                     return std::nullopt;
+                 }});
+    t.push_back({"/notify",
+                 {{"on", ArgumentKind::integer, "", 0.0, 1.0, false, "1: subscribe the sender, 0: unsubscribe it"}},
+                 "Subscribe to (1) or leave (0) the server's notifications: /status.reply every second and /meter ten "
+                 "times a second, sent to the address (or TCP connection) the /notify came from. At most 16 subscribers.",
+                 "/done /notify (or /fail /notify when 16 already listen)",
+                 [](const ValidatedArguments& a, const ProtocolContext&, Request& r) -> std::optional<std::string> {
+                     r.action = Action::notify;
+                     r.notify_on = a.numbers[0] != 0.0;
+                     return std::nullopt;
+                 }});
+    t.back().query = {true, {}, "/notify.reply i 1|0: whether the sender is subscribed"};
+    t.push_back({"/version", {}, "Ask for the server's version.",
+                 "/version.reply s program, s version, i protocol version, i UDP port, i TCP port (0: off)",
+                 [](const ValidatedArguments&, const ProtocolContext&, Request& r) -> std::optional<std::string> {
+                     r.action = Action::version;
                      return std::nullopt;
                  }});
     t.push_back({"/sync",
@@ -302,6 +348,27 @@ Validation validate(const DecodedMessage& message, const ProtocolContext& contex
     const AddressSpec* spec = find_address(message.address);
     if (!spec) {
         v.reason = "unknown address";
+        return v;
+    }
+    if (spec->query.available && message.args.size() == spec->query.arguments.size() &&
+        message.args.size() < spec->arguments.size()) {
+        // The query form: no value, only what names the thing asked about (text, checked like a name).
+        for (std::size_t i = 0; i < message.args.size(); ++i) {
+            const OscArgument& arg = message.args[i];
+            if (arg.type != 's' && arg.type != 'S') {
+                v.reason = "argument " + std::to_string(i + 1) + " " + describe(spec->query.arguments[i]) +
+                           ": expected a string, got type '" + std::string(1, arg.type) + "'";
+                return v;
+            }
+            if (!is_scene_name(arg.text)) {
+                v.reason = "'" + arg.text.substr(0, 64) + "' is not a surface name (1-32 of A-Z a-z 0-9 - _)";
+                return v;
+            }
+            v.request.query_text = arg.text;
+        }
+        v.request.action = Action::query;
+        v.request.query_address = spec->address;
+        v.ok = true;
         return v;
     }
     const auto& specs = spec->arguments;

@@ -9,6 +9,7 @@
 //   if (!v.ok) reply /fail message.address v.reason;     // nothing changes
 //   else act on v.request (queue v.request.command, answer /status, quit, ...)
 //   for (const AddressSpec& a : address_table()) ...     // the whole space, for docs and tests
+//   a.query.available                                   // ADDRESS with no value is a query (Action::query)
 //
 // Conventions (scsynth's, where users expect them): numbers may be sent as i, h, f or d and are
 // coerced; NaN and Inf are refused; a value outside its range is refused, never clamped; missing
@@ -50,6 +51,22 @@ enum class Action {
     load_scene,             // resolve `scene_name` (built in, or a file in the scene folder), build, swap in
     save_scene,             // write the current scene as `scene_name` into the scene folder, atomically
     edit_scene,             // change the current scene (`edit`) and rebuild it off the audio thread
+    query,                  // reply ADDRESS.reply with the value now in effect (`query_address`, `query_text`)
+    notify,                 // subscribe (`notify_on`) or unsubscribe the sender: periodic /status.reply and /meter
+    version,                // reply /version.reply
+};
+
+// The protocol's own version, in /version.reply: raised when an address or a reply changes shape.
+// 1: the core (rate, drop, scenes, materials, status, sync, quit); 2: /scene, /notify + /meter,
+// /version, queries (ADDRESS with no value -> ADDRESS.reply), OSC over TCP.
+inline constexpr int protocol_version = 2;
+
+// The query form of a settable address: the address with no value (or, for addresses that set one of
+// several things, with only the argument that names it) replies ADDRESS.reply with what is in effect.
+struct QuerySpec {
+    bool available = false;
+    std::vector<ArgumentSpec> arguments;   // what names the thing asked about (e.g. a surface); usually none
+    const char* reply = "";                // the reply's type tags and fields, for docs
 };
 
 // A change to the current scene that needs a rebuild: the drop size distribution, or a surface.
@@ -68,6 +85,9 @@ struct Request {
     std::optional<MembraneMaterial> material;  // set_surface_material
     std::string scene_name;                    // load_scene, save_scene: a name, never a path
     SceneEdit edit;                            // edit_scene
+    std::string query_address;                 // query: the address asked about (its reply is ADDRESS.reply)
+    std::string query_text;                    // query: its text argument when it takes one (a surface's name)
+    bool notify_on = false;                    // notify
 };
 
 struct Validation {
@@ -98,6 +118,7 @@ struct AddressSpec {
     // Builds the request from arguments that already passed the table's checks; may still refuse
     // (returns a reason) for checks that need the context, such as a point off the surface.
     std::function<std::optional<std::string>(const ValidatedArguments&, const ProtocolContext&, Request&)> build;
+    QuerySpec query{};         // set after the row is made, so rows written without it stay valid
 };
 
 std::span<const AddressSpec> address_table();

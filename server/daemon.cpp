@@ -20,6 +20,8 @@
 #include "server/backends/jack_backend.hpp"
 #include "server/backends/null_backend.hpp"
 #include "server/osc/client_table.hpp"
+#include "server/osc/peer.hpp"
+#include "server/osc/tcp_endpoint.hpp"
 #include "server/osc/udp_endpoint.hpp"
 #include "server/realtime/audio_bridge.hpp"
 #include "server/realtime/rt_probe.hpp"
@@ -71,6 +73,8 @@ void check_live_cost(const Canopy& canopy, const MembraneMaterial& material, dou
     throw std::invalid_argument(text);
 }
 
+double degrees(double radians) { return radians * (180.0 / 3.14159265358979323846); }   // replies use the units of the requests
+
 // OSC's i is 32 bits; a counter past that reports the largest value instead of wrapping negative.
 std::int32_t saturate_int32(std::uint64_t v) { return v > 2147483647u ? 2147483647 : static_cast<std::int32_t>(v); }
 
@@ -93,7 +97,18 @@ struct Daemon::State {
     std::map<std::string, MembraneMaterial> custom_materials;
     std::unique_ptr<Worker> worker;
     std::unique_ptr<UdpEndpoint> udp;
-    ClientTable<UdpEndpoint::Endpoint> clients;
+    ClientTable<Peer> clients;
+    std::unique_ptr<TcpEndpoint> tcp;
+    // /notify subscribers: bounded, so no number of clients can make the server send without end.
+    static constexpr std::size_t max_subscribers = 16;
+    std::vector<Peer> subscribers;
+    asio::steady_timer notify_timer{io};
+    // Control-thread record of what the engine has applied, for the queries: timed commands change it
+    // when their frame has played (see apply_due_settings), liquids and materials once swapped in.
+    std::vector<Command> timed_settings;   // rain, wind, listener, lod changes waiting for their frame
+    static constexpr std::size_t max_timed_settings = 4096;
+    Liquid applied_liquid;
+    MembraneMaterial applied_material;     // the umbrella's, when the scene has one
     protocol::ProtocolContext context;
     SystemdNotifier systemd;
     bool ready = false;
@@ -120,17 +135,25 @@ struct Daemon::State {
 
     bool choose_backend();
     bool build_scene();
-    void load_scene(const UdpEndpoint::Endpoint& sender, const std::string& address, const std::string& name);
-    void build_and_load(const UdpEndpoint::Endpoint& sender, const std::string& address,
+    void load_scene(const Peer& sender, const std::string& address, const std::string& name);
+    void build_and_load(const Peer& sender, const std::string& address,
                         std::function<SceneDescription()> source);
-    void edit_scene(const UdpEndpoint::Endpoint& sender, const std::string& address, const protocol::SceneEdit& edit);
-    void save_scene(const UdpEndpoint::Endpoint& sender, const std::string& address, const std::string& name);
+    void edit_scene(const Peer& sender, const std::string& address, const protocol::SceneEdit& edit);
+    void save_scene(const Peer& sender, const std::string& address, const std::string& name);
     void use_geometry(const RendererConfig& config, bool has_umbrella);
-    void rebuild_scene(const UdpEndpoint::Endpoint& sender, const std::string& address,
+    void rebuild_scene(const Peer& sender, const std::string& address,
                        std::optional<MembraneMaterial> material, std::optional<Liquid> liquid);
-    void on_packet(const unsigned char* data, std::size_t size, const UdpEndpoint::Endpoint& sender);
-    void reply(const UdpEndpoint::Endpoint& to, const std::string& address, const std::vector<protocol::OscArgument>& args);
-    void reply_status(const UdpEndpoint::Endpoint& to);
+    void on_packet(const unsigned char* data, std::size_t size, const Peer& sender);
+    void reply(const Peer& to, const std::string& address, const std::vector<protocol::OscArgument>& args);
+    void reply_status(const Peer& to);
+    void answer_query(const Peer& to, const std::string& address, const std::string& name);
+    void reply_version(const Peer& to);
+    void set_notify(const Peer& to, bool on);
+    void notify_subscribers();
+    void send_meters();
+    void apply_setting(const Command& c);
+    void apply_due_settings(std::uint64_t frame);
+    void forget(const Peer& gone);
     void poll();
     void measure_rate();
     void feed_watchdog();
@@ -222,18 +245,20 @@ bool Daemon::State::build_scene() {
     };
     worker = std::make_unique<Worker>(io);
     worker_settings = std::make_shared<SceneSettings>(SceneSettings{config.material, config.liquid});
+    applied_liquid = config.liquid;
+    applied_material = config.material;
     say("scene " + current_scene.name);
     return true;
 }
 
 // /scene/load: read (built in or from the folder) and build everything on the worker; the audio thread
 // takes it by pointer and rings the old scene out. A file that does not parse changes nothing.
-void Daemon::State::load_scene(const UdpEndpoint::Endpoint& sender, const std::string& address, const std::string& name) {
+void Daemon::State::load_scene(const Peer& sender, const std::string& address, const std::string& name) {
     build_and_load(sender, address, [name, folder = store->folder()] { return SceneStore(folder).load(name); });
 }
 
 // /rain/dsd and /surface/...: the current scene changed, validated here, rebuilt like a loaded one.
-void Daemon::State::edit_scene(const UdpEndpoint::Endpoint& sender, const std::string& address, const protocol::SceneEdit& edit) {
+void Daemon::State::edit_scene(const Peer& sender, const std::string& address, const protocol::SceneEdit& edit) {
     using Op = protocol::SceneEdit::Op;
     SceneDescription scene = current_scene;
     auto found = std::find_if(scene.surfaces.begin(), scene.surfaces.end(),
@@ -274,7 +299,7 @@ void Daemon::State::edit_scene(const UdpEndpoint::Endpoint& sender, const std::s
     build_and_load(sender, address, [scene] { return scene; });
 }
 
-void Daemon::State::build_and_load(const UdpEndpoint::Endpoint& sender, const std::string& address,
+void Daemon::State::build_and_load(const Peer& sender, const std::string& address,
                                    std::function<SceneDescription()> source) {
     const std::uint16_t reply_to = clients.index_of(sender);
     struct Built {
@@ -308,6 +333,8 @@ void Daemon::State::build_and_load(const UdpEndpoint::Endpoint& sender, const st
             }
             built->loaded.release();   // the audio thread owns it now
             current_scene = built->scene;
+            applied_material = built->config.material;
+            timed_settings.clear();   // a new scene brings its own rain, listener and detail
             use_geometry(built->config, has_umbrella(current_scene));
             pending_done[reply_to].push_back(address);
             say("scene " + current_scene.name);
@@ -318,7 +345,7 @@ void Daemon::State::build_and_load(const UdpEndpoint::Endpoint& sender, const st
 }
 
 // /scene/save: the scene as it plays, written atomically on the worker (disk time stays off the loop).
-void Daemon::State::save_scene(const UdpEndpoint::Endpoint& sender, const std::string& address, const std::string& name) {
+void Daemon::State::save_scene(const Peer& sender, const std::string& address, const std::string& name) {
     const std::uint16_t reply_to = clients.index_of(sender);
     SceneDescription scene = current_scene;
     scene.name = name;
@@ -341,7 +368,7 @@ void Daemon::State::save_scene(const UdpEndpoint::Endpoint& sender, const std::s
 // worker (a stiff material's stability check and a liquid's calibration take time, and a refusal must not
 // disturb the sound), then handed to the audio thread by pointer; the old scene rings out and comes back
 // in a `retired` event to be freed here.
-void Daemon::State::rebuild_scene(const UdpEndpoint::Endpoint& sender, const std::string& address,
+void Daemon::State::rebuild_scene(const Peer& sender, const std::string& address,
                                   std::optional<MembraneMaterial> material, std::optional<Liquid> liquid) {
     const std::uint16_t reply_to = clients.index_of(sender);
     const CommandKind kind = material ? CommandKind::swap_surface : CommandKind::swap_liquid;
@@ -359,13 +386,19 @@ void Daemon::State::rebuild_scene(const UdpEndpoint::Endpoint& sender, const std
             settings->liquid = c.liquid;
             return scene;
         },
-        [this, reply_to, address, kind](std::unique_ptr<UmbrellaScene> scene) {
+        [this, reply_to, address, kind, material, liquid](std::unique_ptr<UmbrellaScene> scene) {
             Command c;
             c.kind = kind;
             c.object = scene.get();
             c.reply_to = reply_to;
             if (bridge->send(c)) {
                 scene.release();   // the audio thread owns it now
+                // Only now is it in effect (a refused material changed nothing).
+                if (material)
+                    for (SurfaceDescription& f : current_scene.surfaces)
+                        if (f.kind == SurfaceKind::umbrella) f.material = material->name;
+                if (material) applied_material = *material;
+                if (liquid) applied_liquid = *liquid;
             } else {
                 reply(clients.at(reply_to), "/fail", protocol::fail_arguments(address, "busy: command queue full"));
             }
@@ -375,11 +408,13 @@ void Daemon::State::rebuild_scene(const UdpEndpoint::Endpoint& sender, const std
         });
 }
 
-void Daemon::State::reply(const UdpEndpoint::Endpoint& to, const std::string& address, const std::vector<protocol::OscArgument>& args) {
-    udp->send(protocol::encode_message(address, args), to);
+void Daemon::State::reply(const Peer& to, const std::string& address, const std::vector<protocol::OscArgument>& args) {
+    const auto bytes = protocol::encode_message(address, args);
+    if (to.transport == Peer::Transport::udp) udp->send(bytes, to.udp);
+    else if (tcp) tcp->send(to.tcp, bytes);
 }
 
-void Daemon::State::reply_status(const UdpEndpoint::Endpoint& to) {
+void Daemon::State::reply_status(const Peer& to) {
     using protocol::OscArgument;
     const AudioSnapshot s = bridge->snapshot();
     const std::uint64_t late = s.late_commands;
@@ -399,12 +434,154 @@ void Daemon::State::reply_status(const UdpEndpoint::Endpoint& to) {
            OscArgument::from_string(backend->name())});
 }
 
-void Daemon::State::on_packet(const unsigned char* data, std::size_t size, const UdpEndpoint::Endpoint& sender) {
+// The scene record follows a rain, wind, listener or detail change the engine has (or is about to) apply.
+void Daemon::State::apply_setting(const Command& c) {
+    if (c.kind == CommandKind::rain_rate) current_scene.rain.rate_mm_per_h = c.values[0];
+    if (c.kind == CommandKind::wind) {
+        current_scene.rain.wind_m_per_s = c.values[0];
+        current_scene.rain.wind_direction_rad = c.values[1];
+        current_scene.rain.gustiness = c.values[2];
+    }
+    if (c.kind == CommandKind::listener) {
+        // An umbrella is carried: it keeps its place over the listener's head.
+        for (SurfaceDescription& f : current_scene.surfaces)
+            if (f.kind == SurfaceKind::umbrella) {
+                f.x_m += c.values[0] - current_scene.listener.x_m;
+                f.y_m += c.values[1] - current_scene.listener.y_m;
+                f.z_m += c.values[2] - current_scene.listener.z_m;
+            }
+        current_scene.listener = ListenerDescription{c.values[0], c.values[1], c.values[2], c.values[3]};
+    }
+    if (c.kind == CommandKind::lod) {
+        current_scene.lod.budget_percent = 100.0 * c.values[0];
+        current_scene.lod.max_full = static_cast<int>(c.values[1]);
+    }
+}
+
+// Timed changes whose frame has played, in the order of their frames (ties: as sent).
+void Daemon::State::apply_due_settings(std::uint64_t frame) {
+    if (timed_settings.empty()) return;
+    std::stable_sort(timed_settings.begin(), timed_settings.end(), [](const Command& a, const Command& b) { return a.frame < b.frame; });
+    auto due = timed_settings.begin();
+    while (due != timed_settings.end() && due->frame <= frame) apply_setting(*due++);
+    timed_settings.erase(timed_settings.begin(), due);
+}
+
+// ADDRESS with no value -> ADDRESS.reply with what is in effect (docs/PROTOCOL.md, "Queries").
+void Daemon::State::answer_query(const Peer& to, const std::string& address, const std::string& name) {
+    using protocol::OscArgument;
+    auto f = [](double v) { return OscArgument::from_float(static_cast<float>(v)); };
+    auto text = [](const std::string& v) { return OscArgument::from_string(v); };
+    const std::string reply_address = address + ".reply";
+    const SceneDescription& scene = current_scene;
+    auto surface = std::find_if(scene.surfaces.begin(), scene.surfaces.end(), [&](const SurfaceDescription& x) { return x.name == name; });
+    if (address == "/rain/rate") {
+        reply(to, reply_address, {f(scene.rain.rate_mm_per_h)});
+    } else if (address == "/rain/wind") {
+        reply(to, reply_address, {f(scene.rain.wind_m_per_s), f(degrees(scene.rain.wind_direction_rad)), f(scene.rain.gustiness)});
+    } else if (address == "/rain/dsd") {
+        reply(to, reply_address, {text(scene.rain.dsd), f(scene.rain.gamma_mu), f(scene.rain.gamma_lambda_per_mm)});
+    } else if (address == "/listener") {
+        const ListenerDescription& l = scene.listener;
+        reply(to, reply_address, {f(l.x_m), f(l.y_m), f(l.z_m), f(degrees(l.facing_rad))});
+    } else if (address == "/lod") {
+        reply(to, reply_address, {f(scene.lod.budget_percent), OscArgument::from_int(scene.lod.max_full)});
+    } else if (address == "/material/liquid") {
+        const Liquid& l = applied_liquid;
+        reply(to, reply_address, {text(l.name), f(l.density), f(l.surface_tension), f(l.viscosity)});
+    } else if (address == "/material/surface") {
+        if (surface == scene.surfaces.end() || surface->kind != SurfaceKind::umbrella) {
+            reply(to, "/fail", protocol::fail_arguments(address, "no surface named '" + name + "' with a membrane material "
+                                                                 "(/surface/set " + name + " tells any surface's material)"));
+            return;
+        }
+        const MembraneMaterial& m = applied_material;
+        reply(to, reply_address, {text(name), text(m.name), f(m.areal_density), f(m.tension), f(m.mass_damping), f(m.stiffness_damping)});
+    } else if (address == "/surface/set") {
+        if (surface == scene.surfaces.end()) {
+            reply(to, "/fail", protocol::fail_arguments(address, "no surface named '" + name + "'"));
+            return;
+        }
+        const SurfaceDescription& x = *surface;
+        reply(to, reply_address, {text(x.name), text(surface_kind_name(x.kind)), text(x.material), f(x.size_x_m), f(x.size_y_m), f(x.x_m),
+                                  f(x.y_m), f(x.z_m)});
+    } else if (address == "/surfaces") {
+        std::vector<OscArgument> names;
+        for (const SurfaceDescription& x : scene.surfaces) names.push_back(text(x.name));
+        reply(to, reply_address, names);
+    } else if (address == "/scene" || address == "/scene/load") {
+        reply(to, reply_address, {text(scene.name)});
+    } else if (address == "/notify") {
+        const bool on = std::find(subscribers.begin(), subscribers.end(), to) != subscribers.end();
+        reply(to, reply_address, {OscArgument::from_int(on ? 1 : 0)});
+    } else {
+        // A settable address whose query the table announces but the daemon does not answer yet (e.g.
+        // /accuracy when it arrives from its branch): add its branch above, from the applied state.
+        reply(to, "/fail", protocol::fail_arguments(address, "this server cannot answer the query of " + address + " yet"));
+    }
+}
+
+void Daemon::State::reply_version(const Peer& to) {
+    using protocol::OscArgument;
+    reply(to, "/version.reply",
+          {OscArgument::from_string("ameotod"), OscArgument::from_string(AMEOTO_VERSION),
+           OscArgument::from_int(protocol::protocol_version), OscArgument::from_int(udp->local_endpoint().port()),
+           OscArgument::from_int(tcp ? tcp->local_endpoint().port() : 0)});
+}
+
+// /notify 1|0: scsynth's convention. Subscribing twice is one subscription; leaving when not
+// subscribed is not an error (both answer /done, so a patch can send either at any time).
+void Daemon::State::set_notify(const Peer& to, bool on) {
+    const auto found = std::find(subscribers.begin(), subscribers.end(), to);
+    if (on && found == subscribers.end()) {
+        if (subscribers.size() >= max_subscribers) {
+            reply(to, "/fail", protocol::fail_arguments("/notify", "too many subscribers: at most " + std::to_string(max_subscribers)));
+            return;
+        }
+        subscribers.push_back(to);
+    }
+    if (!on && found != subscribers.end()) subscribers.erase(found);
+    reply(to, "/done", {protocol::OscArgument::from_string("/notify")});
+}
+
+// A TCP connection that closed: it is no one's subscriber any more.
+void Daemon::State::forget(const Peer& gone) { std::erase(subscribers, gone); }
+
+void Daemon::State::notify_subscribers() {
+    for (const Peer& p : std::vector<Peer>(subscribers)) reply_status(p);
+    notify_timer.expires_after(1s);
+    notify_timer.async_wait([this](const boost::system::error_code& ec) {
+        if (!ec) notify_subscribers();
+    });
+}
+
+// /meter i frames, i channels, then f peak and f RMS per channel, in dBFS. The newest window only:
+// a subscriber wants the level now, and an offline render makes windows faster than anyone reads them.
+void Daemon::State::send_meters() {
+    MeterWindow newest, w;
+    bool any = false;
+    while (bridge->take_meter(w)) {
+        newest = w;
+        any = true;
+    }
+    if (!any || subscribers.empty()) return;
+    std::vector<protocol::OscArgument> args{protocol::OscArgument::from_int(saturate_int32(newest.frame)),
+                                            protocol::OscArgument::from_int(newest.channels)};
+    for (int c = 0; c < newest.channels; ++c) {
+        args.push_back(protocol::OscArgument::from_float(to_dbfs(newest.peak[c])));
+        args.push_back(protocol::OscArgument::from_float(to_dbfs(newest.rms[c])));
+    }
+    for (const Peer& p : subscribers) reply(p, "/meter", args);
+}
+
+void Daemon::State::on_packet(const unsigned char* data, std::size_t size, const Peer& sender) {
     const protocol::DecodedPacket packet = protocol::decode_packet(data, size);
     if (!packet.error.empty()) {
         reply(sender, "/fail", protocol::fail_arguments(packet_address(data, size), packet.error));
         return;
     }
+    // One clock reading for the whole packet: the messages of a bundle keep their distances to the sample.
+    const AudioClock clock = bridge->clock();
     for (const auto& message : packet.messages) {
         const protocol::Validation v = protocol::validate(message, context);
         if (!v.ok) {
@@ -427,8 +604,6 @@ void Daemon::State::on_packet(const unsigned char* data, std::size_t size, const
                 const MembraneMaterial material = *v.request.material;
                 if (!membrane_material(material.name)) custom_materials[material.name] = material;
                 rebuild_scene(sender, message.address, material, std::nullopt);
-                for (SurfaceDescription& f : current_scene.surfaces)
-                    if (f.kind == SurfaceKind::umbrella) f.material = material.name;
                 break;
             }
             case protocol::Action::load_scene: load_scene(sender, message.address, v.request.scene_name); break;
@@ -436,34 +611,24 @@ void Daemon::State::on_packet(const unsigned char* data, std::size_t size, const
             case protocol::Action::edit_scene: edit_scene(sender, message.address, v.request.edit); break;
             case protocol::Action::enqueue: {
                 Command c = v.request.command;
-                if (c.kind == CommandKind::rain_rate) current_scene.rain.rate_mm_per_h = c.values[0];
-                if (c.kind == CommandKind::wind) {
-                    current_scene.rain.wind_m_per_s = c.values[0];
-                    current_scene.rain.wind_direction_rad = c.values[1];
-                    current_scene.rain.gustiness = c.values[2];
-                }
-                if (c.kind == CommandKind::listener) {
-                    // An umbrella is carried: it keeps its place over the listener's head.
-                    for (SurfaceDescription& f : current_scene.surfaces)
-                        if (f.kind == SurfaceKind::umbrella) {
-                            f.x_m += c.values[0] - current_scene.listener.x_m;
-                            f.y_m += c.values[1] - current_scene.listener.y_m;
-                            f.z_m += c.values[2] - current_scene.listener.z_m;
-                        }
-                    current_scene.listener = ListenerDescription{c.values[0], c.values[1], c.values[2], c.values[3]};
-                }
-                if (c.kind == CommandKind::lod) {
-                    current_scene.lod.budget_percent = 100.0 * c.values[0];
-                    current_scene.lod.max_full = static_cast<int>(c.values[1]);
-                }
                 c.reply_to = clients.index_of(sender);
                 if (message.bundled && !message.timetag.immediate()) {
                     c.timed = true;
-                    c.frame = bridge->frame_for(message.timetag.to_unix_seconds());
+                    c.frame = frame_at(clock, message.timetag.to_unix_seconds());
                 }
-                if (!bridge->send(c)) reply(sender, "/fail", protocol::fail_arguments(message.address, "busy: command queue full"));
+                if (!bridge->send(c)) {
+                    reply(sender, "/fail", protocol::fail_arguments(message.address, "busy: command queue full"));
+                    break;
+                }
+                // What the queries answer: an untimed change from now on (the audio thread applies it at
+                // its next block); a timed one once its frame has played.
+                if (!c.timed || c.frame <= bridge->snapshot().frames) apply_setting(c);
+                else if (timed_settings.size() < max_timed_settings) timed_settings.push_back(c);
                 break;
             }
+            case protocol::Action::query: answer_query(sender, v.request.query_address, v.request.query_text); break;
+            case protocol::Action::notify: set_notify(sender, v.request.notify_on); break;
+            case protocol::Action::version: reply_version(sender); break;
         }
     }
 }
@@ -501,6 +666,8 @@ void Daemon::State::poll() {
         }
     }
     const AudioSnapshot s = bridge->snapshot();
+    apply_due_settings(s.frames);
+    send_meters();
     if (!ready && s.callbacks > 0) {
         ready = true;
         say("running");
@@ -570,7 +737,9 @@ void Daemon::State::shutdown() {
     poll_timer.cancel();
     rate_timer.cancel();
     watchdog_timer.cancel();
+    notify_timer.cancel();
     if (udp) udp->close();
+    if (tcp) tcp->close();
     io.stop();
 }
 
@@ -582,16 +751,28 @@ int Daemon::run() {
     try {
         s.udp = std::make_unique<UdpEndpoint>(s.io, s.options.bind, s.options.port,
                                               [&s](const unsigned char* d, std::size_t n, const UdpEndpoint::Endpoint& from) {
-                                                  s.on_packet(d, n, from);
+                                                  s.on_packet(d, n, Peer::over_udp(from));
                                               });
     } catch (const std::exception& e) {
         warn("cannot listen on " + s.options.bind + ":" + std::to_string(s.options.port) + ": " + e.what());
         return 1;
     }
+    if (s.options.tcp_port) {
+        try {
+            s.tcp = std::make_unique<TcpEndpoint>(
+                s.io, s.options.bind, *s.options.tcp_port, TcpLimits{},
+                [&s](const unsigned char* d, std::size_t n, std::uint64_t connection) { s.on_packet(d, n, Peer::over_tcp(connection)); },
+                [&s](std::uint64_t connection) { s.forget(Peer::over_tcp(connection)); });
+        } catch (const std::exception& e) {
+            warn("cannot listen on TCP " + s.options.bind + ":" + std::to_string(*s.options.tcp_port) + ": " + e.what());
+            return 1;
+        }
+    }
     const auto local = s.udp->local_endpoint();
     if (!local.address().is_loopback())
         warn("listening on " + local.address().to_string() + ", reachable from other machines (--bind)");
     say("listening on osc.udp://" + local.address().to_string() + ":" + std::to_string(local.port()) + "/");
+    if (s.tcp) say("listening on osc.tcp://" + local.address().to_string() + ":" + std::to_string(s.tcp->local_endpoint().port()) + "/");
     if (s.jack) say("backend jack, client " + s.jack->client_name());
     if (s.null) say(s.null->wav() ? "backend null, writing " + s.null->wav()->path() : "backend null, discarding audio");
 
@@ -613,6 +794,7 @@ int Daemon::run() {
     s.backend->start(*s.bridge);
     s.poll();
     s.measure_rate();
+    s.notify_subscribers();
     if (s.systemd.watchdog_interval().count() > 0) s.feed_watchdog();
     s.io.run();
 

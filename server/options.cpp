@@ -33,8 +33,12 @@ runs, to a WAV file (null backend). It is controlled over OSC (see docs/PROTOCOL
 
 Options:
   --port N            UDP port for OSC, 0..65535 (default 7770; 0 picks a free port)
-  --bind ADDRESS      IP address to listen on (default 127.0.0.1; anything else is
-                      reachable from other machines and is logged as such)
+  --tcp-port N        also serve OSC over TCP on port N, 0..65535 (default: off; 0
+                      picks a free port). OSC 1.0 stream framing: each packet is
+                      preceded by its size as a big-endian int32; replies come back
+                      on the same connection. At most 16 connections, 64 KiB a packet
+  --bind ADDRESS      IP address to listen on, UDP and TCP (default 127.0.0.1;
+                      anything else is reachable from other machines and is logged)
   --backend KIND      auto | jack | null (default auto: JACK when a server runs,
                       otherwise null)
   --jack-name NAME    JACK client name (default ameoto); ports NAME:out_1..N
@@ -101,6 +105,9 @@ ParsedOptions parse_options(int argc, const char* const* argv) {
         } else if (arg == "--port") {
             if (!value(v) || !parse_int(v, 0, 65535, n)) return fail("--port needs a port number 0..65535");
             o.port = static_cast<int>(n);
+        } else if (arg == "--tcp-port") {
+            if (!value(v) || !parse_int(v, 0, 65535, n)) return fail("--tcp-port needs a port number 0..65535");
+            o.tcp_port = static_cast<int>(n);
         } else if (arg == "--bind") {
             boost::system::error_code ec;
             if (!value(v)) return fail("--bind needs an IP address");

@@ -15,7 +15,8 @@ enum class BackendChoice { automatic, jack, null };
 
 struct DaemonOptions {
     int port = 7770;                      // UDP; 0 = any free port (printed at start)
-    std::string bind = "127.0.0.1";
+    std::optional<int> tcp_port;          // OSC over TCP; none = off (default); 0 = any free port (printed)
+    std::string bind = "127.0.0.1";       // UDP and TCP
     BackendChoice backend = BackendChoice::automatic;
     std::string jack_name = "ameoto";
     bool autoconnect = false;

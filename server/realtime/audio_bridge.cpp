@@ -21,7 +21,8 @@ AudioBridge::AudioBridge(std::unique_ptr<Renderer> renderer, std::size_t queue_c
       sample_rate_(renderer_->config().sample_rate),
       channels_(renderer_->config().channels),
       commands_(queue_capacity),
-      events_(queue_capacity) {}
+      events_(queue_capacity),
+      meter_(sample_rate_, channels_) {}
 
 double AudioBridge::take_cpu_peak_percent() { return 100.0 * load_peak_.exchange(0.0, std::memory_order_relaxed); }
 
@@ -62,7 +63,7 @@ AudioSnapshot AudioBridge::snapshot() const {
     return s;
 }
 
-std::uint64_t AudioBridge::frame_for(double unix_seconds) const {
+AudioClock AudioBridge::clock() const {
     std::uint64_t seq, frame;
     std::int64_t unix_ns;
     do {   // sequence lock: retry while the audio thread is mid-update (odd) or updated meanwhile
@@ -71,9 +72,13 @@ std::uint64_t AudioBridge::frame_for(double unix_seconds) const {
         unix_ns = clock_unix_ns_.load(std::memory_order_relaxed);
         std::atomic_thread_fence(std::memory_order_acquire);
     } while ((seq & 1) || seq != clock_sequence_.load(std::memory_order_relaxed));
-    if (seq == 0) return 0;
-    const double offset = std::round((unix_seconds - static_cast<double>(unix_ns) * 1e-9) * sample_rate_);
-    const double target = static_cast<double>(frame) + offset;
+    return AudioClock{seq != 0, frame, unix_ns, sample_rate_};
+}
+
+std::uint64_t frame_at(const AudioClock& clock, double unix_seconds) {
+    if (!clock.valid) return 0;
+    const double offset = std::round((unix_seconds - static_cast<double>(clock.unix_ns) * 1e-9) * clock.sample_rate);
+    const double target = static_cast<double>(clock.frame) + offset;
     return target <= 0.0 ? 0 : static_cast<std::uint64_t>(target);
 }
 
@@ -91,6 +96,7 @@ void AudioBridge::process(int frames, float* const* outputs) {
     Command command;
     while (commands_.try_pop(command)) renderer_->schedule(command);
     renderer_->process(frames, outputs);
+    meter_.measure(frames, outputs, renderer_->frame());
     // Take an event from the renderer only when the queue has room for it: events that hand back an
     // object (a retired canopy) must never be dropped; the rest wait in the renderer's own list.
     RendererEvent event;

@@ -10,6 +10,8 @@
 //                    bridge.snapshot()     -> counters and load for /status (reads only)
 //                    bridge.take_cpu_peak_percent() -> peak load since the last call (one reader: /status)
 //                    bridge.frame_for(unix_seconds) -> the sample a timetag falls on
+//                    bridge.clock() + frame_at(clock, unix_seconds) -> the same, one clock reading for a whole packet
+//                    bridge.take_meter(w)  -> the next finished level-meter window (/meter)
 //   audio thread:    bridge.process(frames, outputs)   // never allocates, frees, locks, blocks or logs
 //
 // Load: each process() measures its own duration with the monotonic clock (a vDSO read, no system
@@ -23,6 +25,7 @@
 #include <memory>
 
 #include "engine/render/renderer.hpp"
+#include "server/realtime/level_meter.hpp"
 #include "server/realtime/spsc_queue.hpp"
 
 namespace ameoto {
@@ -43,6 +46,16 @@ struct AudioSnapshot {
     double rain_rate_mm_per_h = 0.0;
 };
 
+// One published (frame, wall time) pair of the audio clock: every message of a packet is timed
+// against the same pair, so the messages of one bundle keep their exact distances in samples.
+struct AudioClock {
+    bool valid = false;               // false before the first block
+    std::uint64_t frame = 0;
+    std::int64_t unix_ns = 0;
+    double sample_rate = 48000.0;
+};
+std::uint64_t frame_at(const AudioClock& clock, double unix_seconds);
+
 class AudioBridge {
 public:
     AudioBridge(std::unique_ptr<Renderer> renderer, std::size_t queue_capacity);
@@ -55,7 +68,9 @@ public:
     double take_cpu_peak_percent();   // the peak since the previous call, then starts a new one
     // The sample at which a wall-clock time (s since 1970) falls, from the last published block.
     // Before the first block: 0 (timed commands are then applied at once and counted late).
-    std::uint64_t frame_for(double unix_seconds) const;
+    std::uint64_t frame_for(double unix_seconds) const { return frame_at(clock(), unix_seconds); }
+    AudioClock clock() const;
+    bool take_meter(MeterWindow& window) { return meter_.take(window); }
     double sample_rate() const { return sample_rate_; }
     int channels() const { return channels_; }
     const RendererConfig& config() const { return renderer_->config(); }   // fixed at construction
@@ -69,6 +84,7 @@ private:
     const int channels_;
     SpscQueue<Command> commands_;
     SpscQueue<RendererEvent> events_;
+    LevelMeter meter_;
 
     // published by the audio thread
     std::atomic<std::uint64_t> clock_sequence_{0};

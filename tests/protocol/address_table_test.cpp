@@ -66,7 +66,7 @@ TEST_CASE("bad input is refused with a reason that names what is wrong") {
     const double inf = std::numeric_limits<double>::infinity();
     const std::vector<Case> cases = {
         {message("/rain/ratex", {f(1)}), "unknown address"},
-        {message("/rain/rate", {}), "expected 1 arguments, got 0"},
+        {message("/sync", {}), "expected 1 arguments, got 0"},
         {message("/rain/rate", {f(1), f(2)}), "too many arguments"},
         {message("/rain/rate", {s("30")}), "expected a number"},
         {message("/rain/rate", {d(nan)}), "not a finite number"},

@@ -21,6 +21,17 @@ TEST_CASE("defaults follow the issue and the protocol core") {
     CHECK(p.options.channels == 2);
     CHECK(p.options.scene == "umbrella");
     CHECK_FALSE(p.options.fixed_detail);
+    CHECK_FALSE(p.options.tcp_port.has_value());   // OSC over TCP is off unless asked for
+}
+
+TEST_CASE("--tcp-port turns OSC over TCP on; 0 picks a free port") {
+    CHECK(parse({"--tcp-port", "9001"}).options.tcp_port == std::optional<int>(9001));
+    CHECK(parse({"--tcp-port", "0"}).options.tcp_port == std::optional<int>(0));
+    for (const auto& args : std::vector<std::vector<const char*>>{{"--tcp-port"}, {"--tcp-port", "65536"}, {"--tcp-port", "-1"}, {"--tcp-port", "x"}}) {
+        const auto p = parse(args);
+        CHECK(p.error.find("--tcp-port") != std::string::npos);
+    }
+    CHECK(ameoto::usage().find("--tcp-port") != std::string::npos);
 }
 
 TEST_CASE("every option parses its valid values") {

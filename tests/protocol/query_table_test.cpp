@@ -1,0 +1,104 @@
+// The addresses of the full protocol (issue 7): queries, /scene, /notify, /version, /surfaces.
+#include <doctest/doctest.h>
+
+#include <string>
+
+#include "protocol/address_table.hpp"
+
+using namespace ameoto;
+using namespace ameoto::protocol;
+
+namespace {
+
+DecodedMessage message(const std::string& address, std::vector<OscArgument> args = {}) {
+    DecodedMessage m;
+    m.address = address;
+    m.args = std::move(args);
+    for (const auto& a : m.args) m.types += a.type;
+    return m;
+}
+OscArgument f(double v) { return OscArgument::from_float(static_cast<float>(v)); }
+OscArgument i(int v) { return OscArgument::from_int(v); }
+OscArgument s(const std::string& v) { return OscArgument::from_string(v); }
+
+}  // namespace
+
+TEST_CASE("every settable value has a query: the address with no value asks for what is in effect") {
+    const ProtocolContext c;
+    for (const char* address : {"/rain/rate", "/rain/wind", "/rain/dsd", "/listener", "/lod", "/material/liquid", "/scene",
+                                "/scene/load", "/notify"}) {
+        INFO(address);
+        const AddressSpec* spec = find_address(address);
+        REQUIRE(spec);
+        CHECK(spec->query.available);
+        CHECK(std::string(spec->query.reply).starts_with(std::string(address) + ".reply "));
+        const Validation v = validate(message(address), c);
+        REQUIRE(v.ok);
+        CHECK(v.request.action == Action::query);
+        CHECK(v.request.query_address == address);
+        CHECK(v.request.query_text.empty());
+    }
+    // Addresses that set one of several things are asked with the name of that thing.
+    for (const char* address : {"/material/surface", "/surface/set"}) {
+        INFO(address);
+        const Validation v = validate(message(address, {s("umbrella")}), c);
+        REQUIRE(v.ok);
+        CHECK(v.request.action == Action::query);
+        CHECK(v.request.query_text == "umbrella");
+        CHECK_FALSE(validate(message(address, {f(1)}), c).ok);                // a name is text
+        CHECK_FALSE(validate(message(address, {s("../etc")}), c).ok);         // and a name, never a path
+        CHECK_FALSE(validate(message(address), c).ok);                        // without it, nothing to ask about
+    }
+}
+
+TEST_CASE("the table's queries are exactly the settable addresses; actions that are not settings have none") {
+    for (const AddressSpec& spec : address_table()) {
+        INFO(spec.address);
+        const std::string a = spec.address;
+        const bool settable_value = a == "/rain/rate" || a == "/rain/wind" || a == "/rain/dsd" || a == "/listener" || a == "/lod" ||
+                                    a == "/material/liquid" || a == "/material/surface" || a == "/scene" || a == "/scene/load" ||
+                                    a == "/surface/set" || a == "/notify" || a == "/accuracy";
+        if (!settable_value) {
+            CHECK_FALSE(spec.query.available);
+            continue;
+        }
+        // /accuracy comes from another branch; once it is in the table it needs its query too.
+        CHECK(spec.query.available);
+        // A query form never collides with the setting form: it has fewer arguments than the required ones.
+        std::size_t required = 0;
+        for (const auto& arg : spec.arguments) required += arg.optional ? 0 : 1;
+        CHECK(spec.query.arguments.size() < required);
+    }
+}
+
+TEST_CASE("/scene loads like /scene/load and refuses paths the same way") {
+    const ProtocolContext c;
+    const Validation v = validate(message("/scene", {s("pond")}), c);
+    REQUIRE(v.ok);
+    CHECK(v.request.action == Action::load_scene);
+    CHECK(v.request.scene_name == "pond");
+    CHECK(validate(message("/scene", {s("../x")}), c).reason.find("not a path") != std::string::npos);
+    CHECK_FALSE(validate(message("/scene", {f(1)}), c).ok);
+    CHECK_FALSE(validate(message("/scene", {s("pond"), s("forest")}), c).ok);
+}
+
+TEST_CASE("/notify takes 1 or 0 only; /version and /surfaces take nothing") {
+    const ProtocolContext c;
+    auto v = validate(message("/notify", {i(1)}), c);
+    REQUIRE(v.ok);
+    CHECK(v.request.action == Action::notify);
+    CHECK(v.request.notify_on);
+    v = validate(message("/notify", {f(0)}), c);
+    REQUIRE(v.ok);
+    CHECK_FALSE(v.request.notify_on);
+    CHECK(validate(message("/notify", {i(2)}), c).reason.find("outside 0..1") != std::string::npos);
+    CHECK(validate(message("/notify", {f(0.5)}), c).reason.find("integer") != std::string::npos);
+    CHECK(validate(message("/notify", {s("on")}), c).reason.find("expected a number") != std::string::npos);
+    CHECK(validate(message("/version"), c).request.action == Action::version);
+    CHECK(validate(message("/version", {i(1)}), c).reason.find("too many") != std::string::npos);
+    v = validate(message("/surfaces"), c);
+    REQUIRE(v.ok);
+    CHECK(v.request.action == Action::query);
+    CHECK(v.request.query_address == "/surfaces");
+    CHECK_FALSE(validate(message("/surfaces", {s("x")}), c).ok);
+}
