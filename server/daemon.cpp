@@ -555,7 +555,7 @@ void Daemon::State::notify_subscribers() {
     });
 }
 
-// /meter i frames, i channels, then f peak and f RMS per channel, in dBFS. The newest window only:
+// /meter h frame, i channels, then f peak and f RMS per channel, in dBFS. The newest window only:
 // a subscriber wants the level now, and an offline render makes windows faster than anyone reads them.
 void Daemon::State::send_meters() {
     MeterWindow newest, w;
@@ -565,7 +565,7 @@ void Daemon::State::send_meters() {
         any = true;
     }
     if (!any || subscribers.empty()) return;
-    std::vector<protocol::OscArgument> args{protocol::OscArgument::from_int(saturate_int32(newest.frame)),
+    std::vector<protocol::OscArgument> args{protocol::OscArgument::from_int64(static_cast<std::int64_t>(newest.frame)),
                                             protocol::OscArgument::from_int(newest.channels)};
     for (int c = 0; c < newest.channels; ++c) {
         args.push_back(protocol::OscArgument::from_float(to_dbfs(newest.peak[c])));

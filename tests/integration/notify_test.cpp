@@ -1,0 +1,148 @@
+// /notify against the real daemon over UDP: periodic /status.reply, /meter levels that match the
+// samples written, unsubscribing, the bound on subscribers, and clients that vanish.
+
+#include <doctest/doctest.h>
+#include <signal.h>
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "tests/support/daemon_process.hpp"
+#include "tests/support/osc_test_client.hpp"
+#include "tests/support/temp_dir.hpp"
+#include "tests/support/wav_file.hpp"
+
+using namespace std::chrono_literals;
+using ameoto::protocol::DecodedMessage;
+using ameoto::protocol::OscArgument;
+using ameoto::test::OscTestClient;
+using Daemon = ameoto::test::DaemonProcess;
+
+namespace {
+
+OscArgument i(int v) { return OscArgument::from_int(v); }
+
+// Everything that arrives within `span`.
+std::vector<DecodedMessage> collect(OscTestClient& c, std::chrono::milliseconds span) {
+    std::vector<DecodedMessage> got;
+    const auto end = std::chrono::steady_clock::now() + span;
+    for (;;) {
+        const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(end - std::chrono::steady_clock::now());
+        if (left.count() <= 0) break;
+        if (auto m = c.receive(left)) got.push_back(std::move(*m));
+    }
+    return got;
+}
+
+long count(const std::vector<DecodedMessage>& ms, const std::string& address) {
+    return std::count_if(ms.begin(), ms.end(), [&](const DecodedMessage& m) { return m.address == address; });
+}
+
+double dbfs(double linear) { return linear > 1e-6 ? 20.0 * std::log10(linear) : -120.0; }
+
+}  // namespace
+
+TEST_CASE("a subscriber gets /status.reply every second and /meter ten times a second, levels as written") {
+    const std::string wav = ameoto::test::temp_path("notify.wav");
+    std::vector<DecodedMessage> got;
+    {
+        Daemon d({"--backend", "null", "--output", wav, "--rain", "40", "--fixed-detail"});
+        OscTestClient c(d.port());
+        const auto done = c.request("/notify", {i(1)}, "/done", 2s);
+        REQUIRE(done);
+        CHECK(done->args[0].text == "/notify");
+        got = collect(c, 2100ms);
+        CHECK(c.request("/notify", {}, "/notify.reply", 2s)->args[0].integer == 1);
+        CHECK(d.process().stop(SIGTERM, 5s) == 0);
+    }
+    // Rates on a shared machine: 2.1 s of wall time holds 2 status replies (one a second) and about 21
+    // meter readings; the bounds allow for a late start and a busy scheduler, not for a wrong rate.
+    CHECK(count(got, "/status.reply") >= 2);
+    CHECK(count(got, "/status.reply") <= 3);
+    CHECK(count(got, "/meter") >= 12);
+    CHECK(count(got, "/meter") <= 23);
+    for (const auto& m : got)
+        if (m.address == "/status.reply") CHECK(m.types == "fffiiiiifihfs");
+
+    // Each /meter is the peak and RMS of the 100 ms (4800 frames) of the stream that end at its frame:
+    // recomputed here from the WAV (32-bit float, the same samples), they agree to 0.01 dB (float
+    // rounding of the server's running sums; relative 1e-4 of a level near -40 dB is 0.004 dB).
+    const auto w = ameoto::test::read_wav(wav);
+    REQUIRE(w.ok);
+    REQUIRE(w.channels == 2);
+    int checked = 0;
+    for (const auto& m : got) {
+        if (m.address != "/meter") continue;
+        REQUIRE(m.types == "hiffff");
+        const long long end = m.args[0].integer;
+        CHECK(m.args[1].integer == 2);
+        if (end > w.frames || end < 4800) continue;
+        for (int ch = 0; ch < 2; ++ch) {
+            double peak = 0.0, sum = 0.0;
+            for (long long k = end - 4800; k < end; ++k) {
+                const double x = w.samples[static_cast<std::size_t>(k * 2 + ch)];
+                peak = std::max(peak, std::fabs(x));
+                sum += x * x;
+            }
+            INFO("frame " << end << " channel " << ch);
+            CHECK(m.args[2 + 2 * ch].number == doctest::Approx(dbfs(peak)).epsilon(1e-4));
+            CHECK(m.args[3 + 2 * ch].number == doctest::Approx(dbfs(std::sqrt(sum / 4800))).epsilon(1e-4));
+            CHECK(m.args[3 + 2 * ch].number <= m.args[2 + 2 * ch].number);
+            CHECK(m.args[2 + 2 * ch].number > -120.0);   // 40 mm/h of rain is not silence
+        }
+        ++checked;
+    }
+    CHECK(checked >= 10);
+}
+
+TEST_CASE("/notify 0 stops the notifications; a silent stream meters -120 dBFS") {
+    Daemon d({"--backend", "null", "--output", "-", "--rain", "0"});
+    OscTestClient c(d.port());
+    REQUIRE(c.request("/notify", {i(1)}, "/done", 2s));
+    const auto before = collect(c, 600ms);
+    REQUIRE(count(before, "/meter") >= 1);
+    for (const auto& m : before)
+        if (m.address == "/meter") {
+            CHECK(m.args[2].number == -120.0f);
+            CHECK(m.args[3].number == -120.0f);
+        }
+    REQUIRE(c.request("/notify", {i(0)}, "/done", 2s));
+    collect(c, 100ms);   // what was already on its way
+    const auto after = collect(c, 1300ms);
+    CHECK(count(after, "/meter") == 0);
+    CHECK(count(after, "/status.reply") == 0);
+    CHECK(c.request("/notify", {}, "/notify.reply", 2s)->args[0].integer == 0);
+    // Leaving twice, or subscribing twice, is harmless and answered the same way.
+    CHECK(c.request("/notify", {i(0)}, "/done", 2s));
+    CHECK(c.request("/notify", {i(1)}, "/done", 2s));
+    CHECK(c.request("/notify", {i(1)}, "/done", 2s));
+}
+
+TEST_CASE("at most 16 subscribers: the 17th gets /fail; a vanished subscriber harms no one") {
+    Daemon d({"--backend", "null", "--output", "-", "--rain", "5"});
+    std::vector<std::unique_ptr<OscTestClient>> clients;
+    for (int k = 0; k < 16; ++k) {
+        clients.push_back(std::make_unique<OscTestClient>(d.port()));
+        REQUIRE(clients.back()->request("/notify", {i(1)}, "/done", 2s));
+    }
+    OscTestClient late(d.port());
+    const auto fail = late.request("/notify", {i(1)}, "/fail", 2s);
+    REQUIRE(fail);
+    CHECK(fail->args[0].text == "/notify");
+    CHECK(fail->args[1].text.find("at most 16") != std::string::npos);
+    // Half the subscribers vanish without a word (their ports now refuse): the server keeps sending to
+    // them and keeps serving everyone else.
+    clients.resize(8);
+    std::this_thread::sleep_for(1500ms);
+    CHECK(d.process().running());
+    CHECK(late.request("/status", {}, "/status.reply", 2s));
+    const auto still = collect(*clients.front(), 500ms);
+    CHECK(count(still, "/meter") >= 2);
+    // One leaves properly: its place is free.
+    REQUIRE(clients.back()->request("/notify", {i(0)}, "/done", 2s));
+    CHECK(late.request("/notify", {i(1)}, "/done", 2s));
+}
