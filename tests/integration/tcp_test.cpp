@@ -1,0 +1,223 @@
+// OSC over TCP against the real daemon (--tcp-port): OSC 1.0 stream framing, replies on the same
+// connection, the same validation as UDP, and bounds that keep one bad connection from harming others.
+
+#include <doctest/doctest.h>
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <poll.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <memory>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "protocol/osc_codec.hpp"
+#include "tests/support/child_process.hpp"
+#include "tests/support/daemon_process.hpp"
+#include "tests/support/osc_test_client.hpp"
+
+using namespace std::chrono_literals;
+using ameoto::protocol::DecodedMessage;
+using ameoto::protocol::OscArgument;
+using Daemon = ameoto::test::DaemonProcess;
+
+namespace {
+
+OscArgument i(int v) { return OscArgument::from_int(v); }
+OscArgument f(double v) { return OscArgument::from_float(static_cast<float>(v)); }
+
+// The TCP port from "ameotod: listening on osc.tcp://127.0.0.1:PORT/".
+int tcp_port(Daemon& d) {
+    // Printed right after the UDP line, before "running": already read when the daemon is up.
+    const std::string& out = d.process().output();
+    const std::string needle = "listening on osc.tcp://127.0.0.1:";
+    const auto at = out.find(needle);
+    REQUIRE(at != std::string::npos);
+    return std::stoi(out.substr(at + needle.size()));
+}
+
+// A TCP OSC client: size-prefixed packets, every wait bounded.
+class TcpClient {
+public:
+    explicit TcpClient(int port) {
+        fd_ = socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
+        sockaddr_in to{};
+        to.sin_family = AF_INET;
+        to.sin_port = htons(static_cast<std::uint16_t>(port));
+        to.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+        if (fd_ < 0 || connect(fd_, reinterpret_cast<sockaddr*>(&to), sizeof to) != 0) throw std::runtime_error("connect");
+    }
+    ~TcpClient() { close(fd_); }
+    void send_bytes(const std::vector<unsigned char>& bytes) { ::send(fd_, bytes.data(), bytes.size(), MSG_NOSIGNAL); }
+    static std::vector<unsigned char> framed(const std::vector<unsigned char>& packet) {
+        const auto n = static_cast<std::uint32_t>(packet.size());
+        std::vector<unsigned char> out{static_cast<unsigned char>(n >> 24), static_cast<unsigned char>(n >> 16),
+                                       static_cast<unsigned char>(n >> 8), static_cast<unsigned char>(n)};
+        out.insert(out.end(), packet.begin(), packet.end());
+        return out;
+    }
+    void send(const std::string& address, const std::vector<OscArgument>& args = {}) {
+        send_bytes(framed(ameoto::protocol::encode_message(address, args)));
+    }
+    // The next packet's first message; nullopt on timeout or when the server closed the connection.
+    std::optional<DecodedMessage> receive(std::chrono::milliseconds timeout) {
+        unsigned char size[4];
+        if (!read_exactly(size, 4, timeout)) return std::nullopt;
+        const std::uint32_t n = (std::uint32_t{size[0]} << 24) | (std::uint32_t{size[1]} << 16) | (std::uint32_t{size[2]} << 8) | size[3];
+        std::vector<unsigned char> body(n);
+        if (!read_exactly(body.data(), n, timeout)) return std::nullopt;
+        auto p = ameoto::protocol::decode_packet(body.data(), body.size());
+        if (!p.error.empty() || p.messages.empty()) return std::nullopt;
+        return p.messages.front();
+    }
+    std::optional<DecodedMessage> request(const std::string& address, const std::vector<OscArgument>& args, const std::string& reply,
+                                          std::chrono::milliseconds timeout = 2s) {
+        send(address, args);
+        const auto end = std::chrono::steady_clock::now() + timeout;
+        while (std::chrono::steady_clock::now() < end) {
+            auto m = receive(std::chrono::duration_cast<std::chrono::milliseconds>(end - std::chrono::steady_clock::now()));
+            if (!m) return std::nullopt;
+            if (m->address == reply) return m;
+        }
+        return std::nullopt;
+    }
+    // True when the server has closed this connection (end of stream) within the timeout.
+    bool closed_by_server(std::chrono::milliseconds timeout) {
+        const auto end = std::chrono::steady_clock::now() + timeout;
+        unsigned char sink[4096];
+        for (;;) {
+            const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(end - std::chrono::steady_clock::now());
+            if (left.count() <= 0) return false;
+            pollfd p{fd_, POLLIN, 0};
+            if (poll(&p, 1, static_cast<int>(left.count())) <= 0) return false;
+            const ssize_t n = recv(fd_, sink, sizeof sink, 0);
+            if (n <= 0) return true;
+        }
+    }
+
+private:
+    bool read_exactly(unsigned char* out, std::size_t n, std::chrono::milliseconds timeout) {
+        const auto end = std::chrono::steady_clock::now() + timeout;
+        std::size_t got = 0;
+        while (got < n) {
+            const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(end - std::chrono::steady_clock::now());
+            pollfd p{fd_, POLLIN, 0};
+            if (left.count() <= 0 || poll(&p, 1, static_cast<int>(left.count())) <= 0) return false;
+            const ssize_t r = recv(fd_, out + got, n - got, 0);
+            if (r <= 0) return false;
+            got += static_cast<std::size_t>(r);
+        }
+        return true;
+    }
+    int fd_ = -1;
+};
+
+}  // namespace
+
+TEST_CASE("OSC over TCP: replies on the same connection, the same validation as UDP, bound to --bind") {
+    Daemon d({"--backend", "null", "--output", "-", "--tcp-port", "0"});
+    const int port = tcp_port(d);
+    CHECK(d.process().output().find("listening on osc.tcp://127.0.0.1:") != std::string::npos);
+    TcpClient c(port);
+    const auto status = c.request("/status", {}, "/status.reply");
+    REQUIRE(status);
+    CHECK(status->types == "fffiiiiifihfs");
+    const auto synced = c.request("/sync", {i(42)}, "/synced");
+    REQUIRE(synced);
+    CHECK(synced->args[0].integer == 42);
+    const auto fail = c.request("/rain/rate", {f(900)}, "/fail");
+    REQUIRE(fail);
+    CHECK(fail->args[0].text == "/rain/rate");
+    CHECK(fail->args[1].text.find("outside 0..500") != std::string::npos);
+    c.send("/rain/rate", {f(25)});
+    const auto rate = c.request("/rain/rate", {}, "/rain/rate.reply");
+    REQUIRE(rate);
+    CHECK(rate->args[0].number == doctest::Approx(25));
+    const auto version = c.request("/version", {}, "/version.reply");
+    REQUIRE(version);
+    CHECK(version->args[4].integer == port);
+
+    // A packet split across writes, and two packets in one write: the stream is framed, not read in chunks.
+    const auto a = TcpClient::framed(ameoto::protocol::encode_message("/sync", {i(1)}));
+    const auto b = TcpClient::framed(ameoto::protocol::encode_message("/sync", {i(2)}));
+    c.send_bytes({a.begin(), a.begin() + 3});
+    std::this_thread::sleep_for(50ms);
+    std::vector<unsigned char> rest(a.begin() + 3, a.end());
+    rest.insert(rest.end(), b.begin(), b.end());
+    c.send_bytes(rest);
+    const auto one = c.receive(2s);
+    const auto two = c.receive(2s);
+    REQUIRE(one);
+    REQUIRE(two);
+    CHECK(one->args[0].integer == 1);
+    CHECK(two->args[0].integer == 2);
+    // UDP still serves alongside.
+    ameoto::test::OscTestClient udp(d.port());
+    CHECK(udp.request("/status", {}, "/status.reply", 2s));
+}
+
+TEST_CASE("a bad or lost TCP connection goes alone; at most 16 at once") {
+    Daemon d({"--backend", "null", "--output", "-", "--tcp-port", "0"});
+    const int port = tcp_port(d);
+    TcpClient good(port);
+    REQUIRE(good.request("/status", {}, "/status.reply"));
+
+    SUBCASE("a packet over 64 KiB closes its connection") {
+        TcpClient bad(port);
+        bad.send_bytes({0x7f, 0xff, 0xff, 0xff});
+        CHECK(bad.closed_by_server(2s));
+    }
+    SUBCASE("garbage inside a well-framed packet is a /fail, and the connection stays") {
+        TcpClient bad(port);
+        bad.send_bytes(TcpClient::framed({'/', 'x', 0, 0, 'n', 'o', 't', 0}));
+        CHECK(bad.receive(2s)->address == "/fail");
+        CHECK(bad.request("/status", {}, "/status.reply"));
+    }
+    SUBCASE("a client that vanishes mid-packet") {
+        auto lost = std::make_unique<TcpClient>(port);
+        lost->send_bytes({0, 0, 0, 64, '/', 's'});
+        lost.reset();
+    }
+    SUBCASE("a subscriber that vanishes frees its place") {
+        auto sub = std::make_unique<TcpClient>(port);
+        REQUIRE(sub->request("/notify", {i(1)}, "/done"));
+        REQUIRE(sub->receive(2s));   // a /meter or /status.reply: it is subscribed
+        sub.reset();
+        std::this_thread::sleep_for(200ms);
+        // 16 others can now subscribe, so the lost one no longer counts.
+        std::vector<std::unique_ptr<ameoto::test::OscTestClient>> others;
+        for (int k = 0; k < 16; ++k) {
+            others.push_back(std::make_unique<ameoto::test::OscTestClient>(d.port()));
+            CHECK(others.back()->request("/notify", {i(1)}, "/done", 2s));
+        }
+    }
+    SUBCASE("the 17th connection is closed at once; one more fits when one leaves") {
+        std::vector<std::unique_ptr<TcpClient>> many;
+        for (int k = 0; k < 15; ++k) many.push_back(std::make_unique<TcpClient>(port));   // with `good`: 16
+        for (auto& m : many) REQUIRE(m->request("/sync", {i(3)}, "/synced"));
+        TcpClient extra(port);
+        CHECK(extra.closed_by_server(2s));
+        many.pop_back();
+        std::this_thread::sleep_for(200ms);
+        TcpClient again(port);
+        CHECK(again.request("/sync", {i(4)}, "/synced"));
+    }
+    // Whatever happened to the others, this connection and UDP still work.
+    CHECK(good.request("/sync", {i(9)}, "/synced"));
+    ameoto::test::OscTestClient udp(d.port());
+    CHECK(udp.request("/status", {}, "/status.reply", 2s));
+    CHECK(d.process().running());
+}
+
+TEST_CASE("--tcp-port on a port already in use fails at start with the reason") {
+    Daemon first({"--backend", "null", "--output", "-", "--tcp-port", "0"});
+    const int taken = tcp_port(first);
+    ameoto::test::ChildProcess second({AMEOTO_BIN_DIR "/ameotod", "--backend", "null", "--output", "-", "--port", "0", "--tcp-port",
+                                       std::to_string(taken)});
+    CHECK(second.wait(10s) == 1);
+    CHECK(second.output().find("cannot listen on TCP 127.0.0.1:" + std::to_string(taken)) != std::string::npos);
+}
