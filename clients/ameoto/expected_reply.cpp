@@ -17,6 +17,8 @@ bool ends_wait(const std::string& sent_address, const std::vector<protocol::OscA
     const auto& args = reply.args;
     const bool first_is_text = !args.empty() && (args[0].type == 's' || args[0].type == 'S');
     if (reply.address == "/fail") return first_is_text && args[0].text == sent_address;
+    // A query (ADDRESS with no value, or only a name) is answered ADDRESS.reply; so are /status and /version.
+    if (reply.address == sent_address + ".reply") return true;
     const auto expected = expected_reply(sent_address);
     if (!expected || reply.address != *expected) return false;
     if (sent_address == "/sync") {

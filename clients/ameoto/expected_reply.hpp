@@ -5,7 +5,7 @@
 //   expected_reply("/status");                       // "/status.reply"; nullopt when none is known
 //   if (ends_wait(sent_address, sent_args, reply)) stop waiting
 //
-// The server answers /status with /status.reply, /sync id with /synced id, and /quit with
+// The server answers /status with /status.reply, a query (ADDRESS without its value) with ADDRESS.reply, /sync id with /synced id, and /quit with
 // /done "/quit" (protocol-core.md). Everything else is answered only when refused, with
 // /fail address reason, and a refused message gets that one /fail and nothing else. So the wait
 // ends at the known reply (matching the /sync id and the /done address), or at a /fail naming

@@ -1,6 +1,6 @@
 // ameoto: the command-line client of ameotod. This file only dispatches: `ameoto COMMAND ...`
 // runs the subcommand of that name with the words after it; each subcommand lives in its own
-// files (send_command, status_command, bench_command, render_drop) and parses its own options. A new
+// files (send_command, status_command, watch_command, bench_command, render_drop) and parses its own options. A new
 // subcommand is one row in `commands` plus its line in general_usage() (usage.cpp).
 #include <iostream>
 #include <string>
@@ -14,6 +14,7 @@
 #include "clients/ameoto/send_command.hpp"
 #include "clients/ameoto/status_command.hpp"
 #include "clients/ameoto/usage.hpp"
+#include "clients/ameoto/watch_command.hpp"
 
 namespace {
 
@@ -28,6 +29,7 @@ struct Subcommand {
 constexpr Subcommand commands[] = {
     {"send", run_send, send_usage},
     {"status", run_status, status_usage},
+    {"watch", run_watch, watch_usage},
     {"bench", run_bench, bench_usage},
     {"render", run_render, render_usage},
 };

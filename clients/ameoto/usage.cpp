@@ -69,11 +69,12 @@ std::string general_usage() {
                "Commands:\n"
                "  send      send one OSC message and print the server's replies\n"
                "  status    print the server's state: CPU load, drops, xruns, rain rate, ...\n"
+               "  watch     live level meters and load in the terminal (Ctrl-C quits)\n"
                "  bench     measure the physics engine on this machine (no server needed)\n"
                "  render    render one drop on the umbrella to a WAV file, offline (no server needed)\n"
                "  help      this text, or a command's: ameoto help send\n"
                "\n"
-               "Options (--host and --port: send and status):\n") +
+               "Options (--host and --port: send, status and watch):\n") +
            target_help +
            "  --help              the command's help\n"
            "\n"
@@ -81,6 +82,7 @@ std::string general_usage() {
            "  ameoto send /rain/rate 30           rain at 30 mm/h (ramps over 1 s)\n"
            "  ameoto send /drop 3 0 0.2 0.1       one 3 mm drop at terminal speed, at (0.2, 0.1) m\n"
            "  ameoto status                       the server's state, one field per line\n"
+           "  ameoto watch                        live meters and load until Ctrl-C\n"
            "  ameoto render drop --diameter 5 -o drop.wav   a 5 mm drop on the canopy, offline\n"
            "\n" +
            units +

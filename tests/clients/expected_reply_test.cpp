@@ -45,4 +45,9 @@ TEST_CASE("the wait ends at the settling reply and only there") {
     // Accepted messages without a reply never end the wait early.
     CHECK_FALSE(ends_wait("/rain/rate", {OscArgument::from_int(30)}, message("/status.reply", {})));
     CHECK_FALSE(ends_wait("/status", none, message("/synced", {OscArgument::from_int(1)})));
+    // A query is settled by ADDRESS.reply, and only its own.
+    CHECK(ends_wait("/rain/rate", none, message("/rain/rate.reply", {OscArgument::from_float(2)})));
+    CHECK(ends_wait("/material/surface", {OscArgument::from_string("umbrella")}, message("/material/surface.reply", {})));
+    CHECK(ends_wait("/version", none, message("/version.reply", {})));
+    CHECK_FALSE(ends_wait("/rain/rate", none, message("/rain/wind.reply", {})));
 }
