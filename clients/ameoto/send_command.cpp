@@ -52,6 +52,11 @@ ParsedSend parse_send(const CommandWords& words, const Environment& environment)
             if (!error.empty()) return fail(error);
             continue;
         }
+        if (r.is("--tcp")) {
+            if (!r.flag()) return fail(r.error());
+            p.options.tcp = true;
+            continue;
+        }
         if (!r.is("--types") && !r.is("--wait")) return fail(r.unknown());
         const auto value = r.value();
         if (!value) return fail(r.error());
@@ -92,7 +97,7 @@ int run_send(const CommandWords& words, const CommandIo& io) {
     }
 
     std::string error;
-    auto client = UdpClient::open(o.target, error);
+    auto client = UdpClient::open(o.target, error, o.tcp ? Transport::tcp : Transport::udp);
     if (!client) {
         io.err << prefix << error << "\n";
         return exit_status::not_sent;
@@ -121,6 +126,10 @@ int run_send(const CommandWords& words, const CommandIo& io) {
 
     switch (w.ending) {
         case WaitResult::Ending::refused:
+            if (o.tcp) {
+                io.err << prefix << "the server closed the connection (" << o.target.describe() << ")\n";
+                return got_fail ? exit_status::refused : exit_status::not_sent;
+            }
             io.err << prefix << "nothing is listening on " << o.target.describe()
                    << " (connection refused): is ameotod running?\n";
             return exit_status::not_sent;

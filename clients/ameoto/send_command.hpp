@@ -31,6 +31,7 @@ struct SendOptions {
     Target target;
     std::optional<std::string> types;   // --types; nullopt: infer each argument's type
     double wait_s = default_send_wait_s;
+    bool tcp = false;                   // --tcp: over TCP to the server's --tcp-port (given with --port)
     std::string address;
     std::vector<std::string> words;     // the message's arguments as typed
 };

@@ -13,6 +13,11 @@
 // host answers with ICMP at all).
 // Why IPv4 first: ameotod binds 127.0.0.1 by default, and "localhost" often resolves to ::1 first.
 // Every receive has a deadline: the CLI must never hang.
+//
+// Over TCP (`UdpClient::open(target, error, Transport::tcp)`, for `ameoto send --tcp`): the same
+// interface on a connected stream, OSC 1.0 framing (each packet preceded by its size as a big-endian
+// int32): send() frames, receive() returns one whole packet; a server that closes the connection is
+// reported as refused.
 
 #include <chrono>
 #include <memory>
@@ -32,9 +37,11 @@ struct Received {
     std::string error;                  // for error
 };
 
+enum class Transport { udp, tcp };
+
 class UdpClient {
 public:
-    static std::unique_ptr<UdpClient> open(const Target& target, std::string& error);
+    static std::unique_ptr<UdpClient> open(const Target& target, std::string& error, Transport transport = Transport::udp);
     ~UdpClient();
     UdpClient(const UdpClient&) = delete;
     UdpClient& operator=(const UdpClient&) = delete;
@@ -43,8 +50,11 @@ public:
     Received receive(Deadline deadline);
 
 private:
-    explicit UdpClient(int fd) : fd_(fd) {}
+    UdpClient(int fd, bool stream) : fd_(fd), stream_(stream) {}
+    Received receive_packet(Deadline deadline);   // TCP: the next whole packet from the stream
     int fd_;
+    bool stream_;
+    std::vector<unsigned char> stream_bytes_;   // TCP: received, not yet a whole packet
 };
 
 }  // namespace ameoto::client

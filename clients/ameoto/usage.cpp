@@ -92,7 +92,7 @@ std::string general_usage() {
 
 std::string send_usage() {
     return std::string(
-               "usage: ameoto send [--host H] [--port P] [--types TAGS] [--wait SECONDS] ADDRESS [ARGS...]\n"
+               "usage: ameoto send [--host H] [--port P] [--tcp] [--types TAGS] [--wait SECONDS] ADDRESS [ARGS...]\n"
                "\n"
                "Sends one OSC message to ameotod and prints each reply, one per line, e.g.\n"
                "  /fail \"/rain/rate\" \"argument 1 rate (mm/h): 900 is outside 0..500\"\n"
@@ -100,6 +100,8 @@ std::string send_usage() {
                "\n"
                "Options:\n") +
            target_help +
+           "  --tcp               send over TCP instead of UDP, to the server's --tcp-port (give it\n"
+           "                      with --port); replies come back on the connection\n"
            "  --types TAGS        OSC type tags for all arguments, one letter each: i h (integer),\n"
            "                      f d (float), s (string), T (true), F (false); e.g. --types ffffs.\n"
            "                      Without it each argument's type is inferred: 30 -> i, 0.2 or 1e3\n"
