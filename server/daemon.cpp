@@ -334,7 +334,7 @@ void Daemon::State::build_and_load(const Peer& sender, const std::string& addres
             built->loaded.release();   // the audio thread owns it now
             current_scene = built->scene;
             applied_material = built->config.material;
-            timed_settings.clear();   // a new scene brings its own rain, listener and detail
+            // Timed changes still waiting stay: the renderer keeps its scheduled commands across a load.
             use_geometry(built->config, has_umbrella(current_scene));
             pending_done[reply_to].push_back(address);
             say("scene " + current_scene.name);
@@ -622,6 +622,9 @@ void Daemon::State::on_packet(const unsigned char* data, std::size_t size, const
                 }
                 // What the queries answer: an untimed change from now on (the audio thread applies it at
                 // its next block); a timed one once its frame has played.
+                const bool setting = c.kind == CommandKind::rain_rate || c.kind == CommandKind::wind ||
+                                     c.kind == CommandKind::listener || c.kind == CommandKind::lod;   // not /drop, /sync
+                if (!setting) break;
                 if (!c.timed || c.frame <= bridge->snapshot().frames) apply_setting(c);
                 else if (timed_settings.size() < max_timed_settings) timed_settings.push_back(c);
                 break;
