@@ -41,6 +41,11 @@ std::string address_list() {
         out += line + "\n      " + a.summary;
         if (*a.reply) out += std::string(" Reply: ") + a.reply + ".";
         out += "\n";
+        if (a.query.available) {
+            out += std::string("      Query: ") + a.address;
+            for (const auto& arg : a.query.arguments) out += std::string(" ") + arg.name;
+            out += std::string(" -> ") + a.query.reply + "\n";
+        }
         for (const auto& arg : a.arguments) {
             out += std::string("      ") + arg.name + ": ";
             if (arg.kind == protocol::ArgumentKind::text) {
