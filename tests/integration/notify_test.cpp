@@ -20,7 +20,17 @@ using namespace std::chrono_literals;
 using ameoto::protocol::DecodedMessage;
 using ameoto::protocol::OscArgument;
 using ameoto::test::OscTestClient;
-using Daemon = ameoto::test::DaemonProcess;
+// ameotod ARGS --port 0; building the scene takes seconds of CPU, more on a loaded machine.
+namespace {
+struct Daemon : ameoto::test::DaemonProcess {
+    explicit Daemon(std::vector<std::string> args)
+        : ameoto::test::DaemonProcess(std::move(args), {}, [] {
+              ameoto::test::DaemonOptions o;
+              o.listen_timeout = std::chrono::seconds(30);
+              return o;
+          }()) {}
+};
+}  // namespace
 
 namespace {
 
@@ -55,16 +65,17 @@ TEST_CASE("a subscriber gets /status.reply every second and /meter ten times a s
         const auto done = c.request("/notify", {i(1)}, "/done", 2s);
         REQUIRE(done);
         CHECK(done->args[0].text == "/notify");
-        got = collect(c, 2100ms);
+        got = collect(c, 2500ms);
         CHECK(c.request("/notify", {}, "/notify.reply", 2s)->args[0].integer == 1);
         CHECK(d.process().stop(SIGTERM, 5s) == 0);
     }
-    // Rates on a shared machine: 2.1 s of wall time holds 2 status replies (one a second) and about 21
-    // meter readings; the bounds allow for a late start and a busy scheduler, not for a wrong rate.
+    // Rates on a shared machine: 2.5 s of wall time holds 2 or 3 status replies (one a second) and about
+    // 25 meter readings; the bounds allow for a late start and a busy scheduler (readings that wait are
+    // merged into the newest), not for a wrong rate (one a block would be 470, one a second 2).
     CHECK(count(got, "/status.reply") >= 2);
     CHECK(count(got, "/status.reply") <= 3);
-    CHECK(count(got, "/meter") >= 12);
-    CHECK(count(got, "/meter") <= 23);
+    CHECK(count(got, "/meter") >= 10);
+    CHECK(count(got, "/meter") <= 27);
     for (const auto& m : got)
         if (m.address == "/status.reply") CHECK(m.types == "fffiiiiifihfs");
 
