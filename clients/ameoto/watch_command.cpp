@@ -136,11 +136,13 @@ int run_watch(const CommandWords& words, const CommandIo& io) {
         if (silent_said) {
             io.err << prefix << "the server is back\n";
             silent_said = false;
+            shown_lines = 0;
         }
         if (m.address == "/done" && !m.args.empty() && m.args[0].text == "/notify") {
             subscribed = true;
         } else if (m.address == "/fail") {
             io.err << prefix << "the server refused: " << format_message(m) << "\n";
+            shown_lines = 0;
             if (!m.args.empty() && m.args[0].text == "/notify") refused = true;
             return refused;
         } else if (m.address == "/meter") {
@@ -148,6 +150,7 @@ int run_watch(const CommandWords& words, const CommandIo& io) {
             MeterReading meter = parse_meter(m);
             if (!meter.error.empty()) {
                 io.err << prefix << meter.error << "\n";
+                shown_lines = 0;
                 return false;
             }
             if (!screen) io.out << format_meter_line(meter) << std::flush;
@@ -158,6 +161,7 @@ int run_watch(const CommandWords& words, const CommandIo& io) {
             StatusReport report = parse_status_reply(m);
             if (!report.error.empty()) {
                 io.err << prefix << report.error << "\n";
+                shown_lines = 0;
                 return false;
             }
             if (!screen) io.out << format_status_line(report) << std::flush;
@@ -190,7 +194,10 @@ int run_watch(const CommandWords& words, const CommandIo& io) {
             return exit_status::refused;
         }
         if (subscribed && Clock::now() - last_heard > 3s) {
-            if (!silent_said) io.err << prefix << "no notifications from " << target.describe() << " for 3 s; subscribing again\n";
+            if (!silent_said) {
+                io.err << prefix << "no notifications from " << target.describe() << " for 3 s; subscribing again\n";
+                shown_lines = 0;   // a terminal's screen moved down by that line: draw the next one below it
+            }
             silent_said = true;
             last_heard = Clock::now();
             client->send(subscribe, error);   // a refused port (server down) is seen as silence here
