@@ -99,10 +99,12 @@ def main():
     # Timed drops: liblo.time() is the wall clock as an OSC (NTP) time; each bundle's drop is
     # played at the sample its timetag falls on, however late the datagram travels (if it is
     # not later than the time itself).
+    # The bundles go out back to back, the printing after.
     start = liblo.time() + a.bundle_in
-    for i in range(a.bundle_drops):
-        when = start + i * a.bundle_spacing
+    times = [start + i * a.bundle_spacing for i in range(a.bundle_drops)]
+    for when in times:
         c.send_bundle(when, drop_message(a.diameter, 0.2, 0.0))
+    for i, when in enumerate(times):
         print("bundle %d: /drop %g mm at NTP %.6f" % (i + 1, a.diameter, when))
     sys.stdout.flush()
     remaining = start + (a.bundle_drops - 1) * a.bundle_spacing - liblo.time()
