@@ -124,3 +124,17 @@ TEST_CASE("Pd: every [ameoto] command sends its documented address and arguments
     }
     CHECK(messages == static_cast<int>(std::size(expected)));
 }
+
+TEST_CASE("Pd: the help patch opens with [ameoto] and every object created, without an error") {
+    const auto pd = find_program("pd");
+    if (!pd) return skip_because_absent("pd", "puredata-core");
+    // -send "pd quit" runs once the patch is loaded (its [loadbang]s included).
+    const ProgramRun run = run_program({*pd, "-nogui", "-nosound", "-nomidi", "-noprefs", "-stderr", "-path", client_path("pd"),
+                                        "-open", client_path("pd/ameoto-help.pd"), "-send", "pd quit"},
+                                       15s);
+    INFO("pd printed:\n" << run.out);
+    CHECK(run.exit_code == 0);
+    // Pd reports an object it cannot create ("... couldn't create") and a stray message ("error: ...").
+    CHECK(run.out.find("couldn't create") == std::string::npos);
+    CHECK(run.out.find("error") == std::string::npos);
+}
