@@ -54,4 +54,11 @@ std::map<std::string, std::string> name_value_lines(const std::string& output, c
     return fields;
 }
 
+DaemonOptions patient_daemon() {
+    DaemonOptions o;
+    o.listen_timeout = std::chrono::seconds(20);
+    o.running_timeout = std::chrono::seconds(20);
+    return o;
+}
+
 }  // namespace ameoto::test

@@ -9,11 +9,13 @@
 //   test_file("pd/ameoto_client_test.pd")                  // AMEOTO_SOURCE_DIR "/tests/real_clients/..."
 //   double rate = settled_rain_rate(client);               // mm/h, once a ramp (1 s) has finished
 //   std::map<std::string, std::string> fields = name_value_lines(output, "status: ");
+//   DaemonOptions o = patient_daemon();   // 20 s to start: the clients' tests run beside others
 
 #include <map>
 #include <optional>
 #include <string>
 
+#include "tests/support/daemon_process.hpp"
 #include "tests/support/osc_test_client.hpp"
 
 namespace ameoto::test {
@@ -28,5 +30,9 @@ double settled_rain_rate(OscTestClient& client);
 
 // Lines "PREFIX NAME VALUE..." of a program's output, as NAME -> "VALUE...".
 std::map<std::string, std::string> name_value_lines(const std::string& output, const std::string& prefix);
+
+// ameotod builds its scene before it says "running"; on a machine busy with builds that has taken
+// over 10 s (the default), so these tests, which run beside the other suites, wait up to 20 s.
+DaemonOptions patient_daemon();
 
 }  // namespace ameoto::test

@@ -5,37 +5,57 @@
 #include <doctest/doctest.h>
 #include <unistd.h>
 
+#include <signal.h>
+
+#include <cstdlib>
 #include <filesystem>
 #include <string>
 
+#include "tests/real_clients/drop_onsets.hpp"
 #include "tests/real_clients/real_programs.hpp"
 #include "tests/support/child_process.hpp"
 #include "tests/support/daemon_process.hpp"
 #include "tests/support/temp_dir.hpp"
+#include "tests/support/wav_file.hpp"
 
 using namespace std::chrono_literals;
 using namespace ameoto::test;
+
+namespace {
+
+// sclang headless: no display (offscreen Qt), no scsynth, HOME where the class was installed.
+ProgramRun run_sclang(const std::string& sclang, const TempDir& home, int port, const std::string& script,
+                      const ChildOptions& options) {
+    std::vector<std::string> env = {"HOME=" + home.path().string(), "QT_QPA_PLATFORM=offscreen",
+                                    "AMEOTO_TEST_PORT=" + std::to_string(port)};
+    // QtWebEngine (linked into sclang) refuses to start its sandbox as root unless told.
+    if (geteuid() == 0) env.push_back("QTWEBENGINE_DISABLE_SANDBOX=1");
+    return run_program({sclang, test_file(script)}, 20s, env, options);
+}
+
+ChildOptions without_xdg() {
+    ChildOptions o;
+    o.unset_env = {"XDG_*"};   // Platform.userExtensionDir then lies under $HOME
+    return o;
+}
+
+void install_class(const TempDir& home) {
+    const ProgramRun install =
+        run_program({"sh", client_path("supercollider/install")}, 10s, {"HOME=" + home.path().string()}, without_xdg());
+    INFO("install printed: " << install.out);
+    REQUIRE(install.exit_code == 0);
+    REQUIRE(std::filesystem::exists(home.path() / ".local/share/SuperCollider/Extensions/ameoto/Ameoto.sc"));
+}
+
+}  // namespace
 
 TEST_CASE("SuperCollider: the install script puts Ameoto in the Extensions folder; sclang drives the server with it") {
     const auto sclang = find_program("sclang");
     if (!sclang) return skip_because_absent("sclang", "supercollider-language");
     TempDir home("ameoto-sclang-home");
-    ChildOptions without_xdg;
-    without_xdg.unset_env = {"XDG_*"};   // Platform.userExtensionDir then lies under $HOME
-
-    const ProgramRun install =
-        run_program({"sh", client_path("supercollider/install")}, 10s, {"HOME=" + home.path().string()}, without_xdg);
-    INFO("install printed: " << install.out);
-    REQUIRE(install.exit_code == 0);
-    const auto installed = home.path() / ".local/share/SuperCollider/Extensions/ameoto/Ameoto.sc";
-    REQUIRE(std::filesystem::exists(installed));
-
-    DaemonProcess d({"--backend", "null", "--output", "-", "--realtime", "--rain", "0"});
-    std::vector<std::string> env = {"HOME=" + home.path().string(), "QT_QPA_PLATFORM=offscreen",
-                                    "AMEOTO_TEST_PORT=" + std::to_string(d.port())};
-    // QtWebEngine (linked into sclang) refuses to start its sandbox as root unless told.
-    if (geteuid() == 0) env.push_back("QTWEBENGINE_DISABLE_SANDBOX=1");
-    const ProgramRun run = run_program({*sclang, test_file("supercollider/status_test.scd")}, 20s, env, without_xdg);
+    install_class(home);
+    DaemonProcess d({"--backend", "null", "--output", "-", "--realtime", "--rain", "0"}, {}, patient_daemon());
+    const ProgramRun run = run_sclang(*sclang, home, d.port(), "supercollider/status_test.scd", without_xdg());
     INFO("sclang printed:\n" << run.out);
     CHECK_FALSE(run.timed_out);
     CHECK(run.out.find("sclang test: ok") != std::string::npos);
@@ -53,4 +73,32 @@ TEST_CASE("SuperCollider: the install script puts Ameoto in the Extensions folde
 
     OscTestClient client(d.port());
     CHECK(settled_rain_rate(client) == doctest::Approx(12.0).epsilon(1e-6));
+}
+
+TEST_CASE("SuperCollider: Ameoto.dropAt's bundles sound 0.25 s apart to +/- 1 sample, none late") {
+    const auto sclang = find_program("sclang");
+    if (!sclang) return skip_because_absent("sclang", "supercollider-language");
+    TempDir home("ameoto-sclang-home");
+    install_class(home);
+    const std::string wav = temp_path("sclang-bundles.wav");
+    ProgramRun run;
+    {
+        DaemonProcess d({"--backend", "null", "--output", wav, "--realtime", "--rain", "0"}, {}, patient_daemon());
+        run = run_sclang(*sclang, home, d.port(), "supercollider/timing_test.scd", without_xdg());
+        OscTestClient client(d.port());
+        const auto status = client.request("/status", {}, "/status.reply", 2s);
+        REQUIRE(status);
+        CHECK(status->args[7].integer == 0);   // late bundles: none, the timetags were ahead
+        CHECK(d.process().stop(SIGTERM, 5s) == 0);
+    }
+    INFO("sclang printed:\n" << run.out);
+    REQUIRE(run.exit_code == 0);
+    const WavData w = read_wav(wav);
+    REQUIRE_MESSAGE(w.ok, w.error);
+    const std::vector<long long> onsets = drop_onsets(w, 0.02f, 2000);
+    REQUIRE(onsets.size() == 3);
+    // The three timetags are one logical time plus 0.5, 0.75 and 1 s: 12000 frames apart at 48 kHz,
+    // +/- 1 for the server's rounding of each (AudioBridge::frame_for).
+    CHECK(std::llabs(onsets[1] - onsets[0] - 12000) <= 1);
+    CHECK(std::llabs(onsets[2] - onsets[1] - 12000) <= 1);
 }
