@@ -70,7 +70,7 @@ Ameoto {
 	wind_ { |speed = 0, deg = 0, gust = 0|
 		addr.sendMsg('/rain/wind', speed.asFloat, deg.asFloat, gust.asFloat)
 	}
-	dsd_ { |name = \marshall_palmer, mu, lambda|
+	dsd_ { |name = "marshall-palmer", mu, lambda|
 		var args = [name.asString];
 		if(mu.notNil) { args = args ++ [mu.asFloat, (lambda ? 0).asFloat] };
 		addr.sendMsg('/rain/dsd', *args)

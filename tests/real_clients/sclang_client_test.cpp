@@ -9,9 +9,14 @@
 
 #include <cstdlib>
 #include <filesystem>
+#include <iterator>
+#include <sstream>
 #include <string>
+#include <thread>
 
+#include "protocol/address_table.hpp"
 #include "tests/real_clients/drop_onsets.hpp"
+#include "tests/real_clients/free_udp_port.hpp"
 #include "tests/real_clients/real_programs.hpp"
 #include "tests/support/child_process.hpp"
 #include "tests/support/daemon_process.hpp"
@@ -101,4 +106,62 @@ TEST_CASE("SuperCollider: Ameoto.dropAt's bundles sound 0.25 s apart to +/- 1 sa
     // +/- 1 for the server's rounding of each (AudioBridge::frame_for).
     CHECK(std::llabs(onsets[1] - onsets[0] - 12000) <= 1);
     CHECK(std::llabs(onsets[2] - onsets[1] - 12000) <= 1);
+}
+
+TEST_CASE("SuperCollider: every Ameoto method sends its documented address and arguments (oscdump)") {
+    const auto sclang = find_program("sclang");
+    const auto oscdump = find_program("oscdump");
+    if (!sclang) return skip_because_absent("sclang", "supercollider-language");
+    if (!oscdump) return skip_because_absent("oscdump", "liblo-tools");
+    TempDir home("ameoto-sclang-home");
+    install_class(home);
+    const int port = free_udp_port();
+    ChildProcess dump({*oscdump, "-L", std::to_string(port)});
+    std::this_thread::sleep_for(300ms);   // oscdump binds its port before sclang (slower to start) sends
+    const ProgramRun run = run_sclang(*sclang, home, port, "supercollider/commands_test.scd", without_xdg());
+    REQUIRE(run.exit_code == 0);
+    std::this_thread::sleep_for(200ms);
+    dump.stop(SIGTERM, 2s);
+    const std::string& seen = dump.output();
+    INFO("sclang printed:\n" << run.out << "\noscdump printed:\n" << seen);
+    const char* expected[] = {
+        "/rain/rate f 10.000000",
+        "/rain/wind fff 6.000000 90.000000 0.300000",
+        "/rain/dsd sff \"gamma\" 2.000000 3.000000",
+        "/drop ffff 3.000000 0.000000 0.200000 0.000000",
+        "/drop ffffs 3.000000 0.000000 0.200000 0.000000 \"umbrella\"",
+        "/material/liquid s \"milk\"",
+        "/material/liquid sfff \"syrup\" 1300.000000 0.070000 5.000000",
+        "/material/surface ss \"umbrella\" \"vinyl\"",
+        "/scene/load s \"street\"",
+        "/scene/save s \"mine\"",
+        "/listener ffff 1.000000 0.500000 1.600000 30.000000",
+        "/lod fi 50.000000 16",
+        "/surface/add sssfffff \"roof\" \"plate\" \"tin\" 1.000000 0.600000 0.000000 1.000000 3.000000",
+        "/surface/set sssfffff \"roof\" \"plate\" \"glass\" 1.000000 0.600000 0.000000 1.000000 3.000000",
+        "/surface/remove s \"roof\"",
+        "/sync i 1",
+        "/status ",
+        "/notify i 1",
+        "/version ",
+        "/rain/rate ",
+        "/quit ",
+    };
+    for (const char* line : expected) {
+        CAPTURE(line);
+        CHECK(seen.find(std::string(" ") + line + "\n") != std::string::npos);
+    }
+    std::istringstream lines(seen);
+    int messages = 0;
+    for (std::string line; std::getline(lines, line);) {
+        std::istringstream words(line);
+        std::string timetag, address;
+        words >> timetag >> address;
+        if (address.empty()) continue;
+        ++messages;
+        CAPTURE(address);
+        if (address == "/notify" || address == "/version") continue;   // a later ameotod (docs/PROTOCOL.md)
+        CHECK(ameoto::protocol::find_address(address) != nullptr);
+    }
+    CHECK(messages == static_cast<int>(std::size(expected)));
 }
