@@ -1,0 +1,21 @@
+#pragma once
+// The frames at which separate drops start in a rendered stream, for timing tests.
+//
+// Interface:
+//   std::vector<long long> onsets = drop_onsets(wav, 0.02, 2000);
+//
+// An onset is the first frame whose largest absolute sample over the channels exceeds `threshold`
+// after at least `gap` frames that did not. A drop on the umbrella rises from below 1e-3 to about
+// 0.12 in one frame (a 3 mm drop at terminal speed, 0.2 m from the shaft; the ringing of one 0.25 s
+// earlier is below 2e-3 by then), so with the threshold between the two the onset of identical
+// drops falls on the same frame of each: their spacing is exact.
+
+#include <vector>
+
+#include "tests/support/wav_file.hpp"
+
+namespace ameoto::test {
+
+std::vector<long long> drop_onsets(const WavData& wav, float threshold, long long gap);
+
+}  // namespace ameoto::test

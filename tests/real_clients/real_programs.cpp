@@ -1,0 +1,64 @@
+#include "tests/real_clients/real_programs.hpp"
+
+#include <doctest/doctest.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdlib>
+#include <sstream>
+#include <thread>
+
+namespace ameoto::test {
+
+std::optional<std::string> find_program(const std::string& name) {
+    const char* path = std::getenv("PATH");
+    std::stringstream folders(path ? path : "/usr/bin:/bin");
+    for (std::string folder; std::getline(folders, folder, ':');) {
+        const std::string candidate = (folder.empty() ? "." : folder) + "/" + name;
+        if (access(candidate.c_str(), X_OK) == 0) return candidate;
+    }
+    return std::nullopt;
+}
+
+void skip_because_absent(const std::string& program, const std::string& debian_package) {
+    // Not a pass: a test that did not run says so (CI installs the package, so there it runs).
+    MESSAGE("SKIPPED: " << program << " is not installed (Debian package " << debian_package
+                        << ", installed by scripts/install-deps)");
+}
+
+std::string client_path(const std::string& relative) { return std::string(AMEOTO_SOURCE_DIR) + "/clients/" + relative; }
+
+std::string test_file(const std::string& relative) {
+    return std::string(AMEOTO_SOURCE_DIR) + "/tests/real_clients/" + relative;
+}
+
+double settled_rain_rate(OscTestClient& client) {
+    // /rain/rate ramps linearly over 1 s (docs/PROTOCOL.md); 1.2 s leaves a margin of a few blocks.
+    std::this_thread::sleep_for(std::chrono::milliseconds(1200));
+    const auto status = client.request("/status", {}, "/status.reply", std::chrono::seconds(2));
+    REQUIRE(status);
+    REQUIRE(status->types == "fffiiiiifihfs");
+    return status->args[11].number;
+}
+
+std::map<std::string, std::string> name_value_lines(const std::string& output, const std::string& prefix) {
+    std::map<std::string, std::string> fields;
+    std::istringstream lines(output);
+    for (std::string line; std::getline(lines, line);) {
+        if (line.rfind(prefix, 0) != 0) continue;
+        const std::string rest = line.substr(prefix.size());
+        const auto space = rest.find(' ');
+        if (space == std::string::npos) fields[rest] = "";
+        else fields[rest.substr(0, space)] = rest.substr(space + 1);
+    }
+    return fields;
+}
+
+DaemonOptions patient_daemon() {
+    DaemonOptions o;
+    o.listen_timeout = std::chrono::seconds(20);
+    o.running_timeout = std::chrono::seconds(20);
+    return o;
+}
+
+}  // namespace ameoto::test
