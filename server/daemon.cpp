@@ -429,7 +429,8 @@ void Daemon::State::reply_status(const Peer& to) {
            OscArgument::from_int(saturate_int32(late)),
            OscArgument::from_float(static_cast<float>(backend->sample_rate())),
            OscArgument::from_int(backend->block_size()),
-           OscArgument::from_int64(static_cast<std::int64_t>(s.frames)),
+           // Seconds, as a float every OSC client reads (Pd 0.53 and sclang 3.13 cannot read int64).
+           OscArgument::from_float(static_cast<float>(static_cast<double>(s.frames) / backend->sample_rate())),
            OscArgument::from_float(static_cast<float>(s.rain_rate_mm_per_h)),
            OscArgument::from_string(backend->name())});
 }
@@ -555,7 +556,7 @@ void Daemon::State::notify_subscribers() {
     });
 }
 
-// /meter h frame, i channels, then f peak and f RMS per channel, in dBFS. The newest window only:
+// /meter f seconds (audio time at the window's end), i channels, then f peak and f RMS per channel, in dBFS. The newest window only:
 // a subscriber wants the level now, and an offline render makes windows faster than anyone reads them.
 void Daemon::State::send_meters() {
     MeterWindow newest, w;
@@ -565,7 +566,7 @@ void Daemon::State::send_meters() {
         any = true;
     }
     if (!any || subscribers.empty()) return;
-    std::vector<protocol::OscArgument> args{protocol::OscArgument::from_int64(static_cast<std::int64_t>(newest.frame)),
+    std::vector<protocol::OscArgument> args{protocol::OscArgument::from_float(static_cast<float>(static_cast<double>(newest.frame) / backend->sample_rate())),
                                             protocol::OscArgument::from_int(newest.channels)};
     for (int c = 0; c < newest.channels; ++c) {
         args.push_back(protocol::OscArgument::from_float(to_dbfs(newest.peak[c])));

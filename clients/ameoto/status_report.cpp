@@ -20,7 +20,7 @@ constexpr StatusField fields[] = {
     {"late bundles", "late_bundles", "", StatusKind::integer, 0},
     {"sample rate", "sample_rate_hz", "Hz", StatusKind::real, 1},
     {"block size", "block_size_frames", "frames", StatusKind::integer, 0},
-    {"frames rendered", "frames_rendered", "", StatusKind::integer, 0},
+    {"audio rendered", "seconds_rendered", "s", StatusKind::real, 2},
     {"rain rate", "rain_rate_mm_per_h", "mm/h", StatusKind::real, 2},
     {"backend", "backend", "", StatusKind::text, 0},
 };

@@ -62,7 +62,7 @@ std::string watch_usage() {
            "and the server's load, drops and rain rate (every second, from /status.reply).\n"
            "On a terminal the screen is redrawn in place; otherwise (a pipe, a file) each update is\n"
            "one line:\n"
-           "  meter frame=48000 1:-23.4/-31.0 2:-22.9/-30.7 dBFS peak/rms\n"
+           "  meter t=1.000 1:-23.4/-31.0 2:-22.9/-30.7 dBFS peak/rms\n"
            "  status cpu=3.1% peak=4.0% drops/s=120.0 full=0 template=3 texture=40 rain=2.00mm/h xruns=0 late=0 backend=null\n"
            "Ctrl-C (SIGINT) or SIGTERM unsubscribes (/notify 0) and quits with status 0.\n"
            "\n"

@@ -9,7 +9,7 @@ namespace ameoto::client {
 namespace {
 
 // Indices into StatusReport::values (status_fields(), the order the server sends them).
-enum StatusIndex { cpu_average = 0, cpu_peak, drops_per_second, full, templ, texture, xruns, late, sample_rate, block, frames, rain, backend };
+enum StatusIndex { cpu_average = 0, cpu_peak, drops_per_second, full, templ, texture, xruns, late, sample_rate, block, seconds, rain, backend };
 
 double level(double dbfs) { return std::isfinite(dbfs) ? dbfs : -120.0; }
 
@@ -18,7 +18,7 @@ double level(double dbfs) { return std::isfinite(dbfs) ? dbfs : -120.0; }
 MeterReading parse_meter(const protocol::DecodedMessage& m) {
     MeterReading r;
     if (m.args.size() < 2 || !m.args[0].is_number() || !m.args[1].is_number()) {
-        r.error = "the server's /meter (," + m.types + ") does not start with a frame and a channel count";
+        r.error = "the server's /meter (," + m.types + ") does not start with a time and a channel count";
         return r;
     }
     const long long channels = m.args[1].integer;
@@ -27,7 +27,7 @@ MeterReading parse_meter(const protocol::DecodedMessage& m) {
                   " channels";
         return r;
     }
-    r.frame = m.args[0].integer;
+    r.seconds = m.args[0].number;
     for (long long c = 0; c < channels; ++c) {
         const auto& peak = m.args[2 + 2 * static_cast<std::size_t>(c)];
         const auto& rms = m.args[3 + 2 * static_cast<std::size_t>(c)];
@@ -52,8 +52,8 @@ std::string meter_bar(double dbfs, int width) {
 }
 
 std::string format_meter_line(const MeterReading& meter) {
-    std::string line = "meter frame=";
-    line += std::to_string(meter.frame);
+    std::string line = "meter t=";
+    line += fixed(meter.seconds, 3);
     for (std::size_t c = 0; c < meter.peak_dbfs.size(); ++c) {
         line += ' ';
         line += std::to_string(c + 1);
@@ -85,7 +85,7 @@ std::string format_watch_screen(const WatchState& state) {
                std::to_string(v[full].integer) + " full, " + std::to_string(v[templ].integer) + " template, " +
                std::to_string(v[texture].integer) + " texture\n";
         out += "audio " + v[backend].text + ", " + fixed(v[sample_rate].number, 0) + " Hz, " + std::to_string(v[block].integer) +
-               " frames a block, " + fixed(static_cast<double>(v[frames].integer) / std::max(1.0, v[sample_rate].number), 1) +
+               " frames a block, " + fixed(v[seconds].number, 1) +
                " s played\n";
     } else {
         out += "load  (waiting for the first /status.reply)\n\n\n";

@@ -6,11 +6,11 @@
 //   MeterReading m = parse_meter(message);            // m.error empty when the shape is right
 //   WatchState s;  s.meter = m;  s.status = parse_status_reply(reply);
 //   out << format_watch_screen(s);                    // lines for a terminal, redrawn in place
-//   out << format_meter_line(m);                      // "meter frame=48000 1:-12.3/-20.1 2:..." + '\n'
+//   out << format_meter_line(m);                      // "meter t=1.000 1:-12.3/-20.1 2:..." + '\n'
 //   out << format_status_line(report);                // "status cpu=3.1% peak=4.0% drops/s=..." + '\n'
 //   meter_bar(-12.0, 30);                             // "[########################......]"
 //
-// /meter (docs/PROTOCOL.md): h frame, i channels, then f peak and f RMS in dBFS per channel.
+// /meter (docs/PROTOCOL.md): f seconds, i channels, then f peak and f RMS in dBFS per channel.
 // Bars span -60..0 dBFS (below -60 is empty: rain at a distance sits near -40, silence at -120).
 
 #include <optional>
@@ -23,7 +23,7 @@
 namespace ameoto::client {
 
 struct MeterReading {
-    long long frame = 0;
+    double seconds = 0.0;   // audio time at the window's end
     std::vector<double> peak_dbfs, rms_dbfs;   // one per channel
     std::string error;
 };

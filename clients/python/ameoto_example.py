@@ -19,14 +19,14 @@ import time
 
 import liblo
 
-# /status.reply ,fffiiiiifihfs: the field names ameoto status --json uses (docs/PROTOCOL.md).
+# /status.reply ,fffiiiiififfs: the field names ameoto status --json uses (docs/PROTOCOL.md).
 STATUS_FIELDS = (
     "cpu_average_percent", "cpu_peak_percent", "drops_per_second",
     "active_drops_full", "active_drops_template", "active_drops_texture",
     "xruns", "late_bundles", "sample_rate_hz", "block_size_frames",
-    "frames_rendered", "rain_rate_mm_per_h", "backend",
+    "seconds_rendered", "rain_rate_mm_per_h", "backend",
 )
-STATUS_TYPES = "fffiiiiifihfs"
+STATUS_TYPES = "fffiiiiififfs"
 
 
 class AmeotoClient:

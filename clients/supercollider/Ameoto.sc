@@ -10,8 +10,6 @@
 //   a.lod(50, 16); a.dsd_(\gamma, 2, 3); a.surfaceAdd(\roof, \plate, \tin, 1, 0.6, 0, 1, 3);
 //   a.sync({ "applied".postln });        // /sync -> /synced; a.syncWait inside a Routine
 //   a.status({ |s| s.active_drops_full.postln });    // an Event of the named /status.reply fields
-//                                       // (frames_rendered, rain_rate_mm_per_h, backend: nil where
-//                                       // sclang cannot read field 11's int64, e.g. 3.13)
 //   a.notify_(true); a.onStatus = { |s| ... }; a.onMeter = { |msg| ... };   // subscriptions
 //   a.version({ |msg| msg.postln }); a.query('/rain/rate', { |msg| msg.postln });
 //   a.onFail = { |address, reason| ... };   // default: a warning in the post window
@@ -22,16 +20,16 @@
 
 Ameoto {
 	classvar <statusFields;
-	var <addr, <responders, pendingStatus, pendingSync, nextSyncId = 1, int64Warned = false;
+	var <addr, <responders, pendingStatus, pendingSync, nextSyncId = 1;
 	var <>onFail, <>onDone, <>onStatus, <>onMeter;
 
 	*initClass {
-		// /status.reply ,fffiiiiifihfs: the names `ameoto status --json` uses.
+		// /status.reply ,fffiiiiififfs: the names `ameoto status --json` uses.
 		statusFields = #[
 			\cpu_average_percent, \cpu_peak_percent, \drops_per_second,
 			\active_drops_full, \active_drops_template, \active_drops_texture,
 			\xruns, \late_bundles, \sample_rate_hz, \block_size_frames,
-			\frames_rendered, \rain_rate_mm_per_h, \backend
+			\seconds_rendered, \rain_rate_mm_per_h, \backend
 		];
 	}
 
@@ -177,16 +175,6 @@ Ameoto {
 	prStatusReply { |msg|
 		var event = ();
 		statusFields.do { |name, i| event[name] = msg[i + 1] };
-		// sclang 3.13 does not read OSC's 'h' (int64): it gives the tag as a Char and reads the
-		// fields after it from the wrong bytes. Those three are then unknown (nil), never wrong.
-		if(msg[11].isKindOf(Char)) {
-			#[\frames_rendered, \rain_rate_mm_per_h, \backend].do { |name| event[name] = nil };
-			if(int64Warned.not) {
-				"Ameoto: this sclang cannot read /status.reply's int64 field 11 (frames): "
-				"frames_rendered, rain_rate_mm_per_h and backend are nil".warn;
-				int64Warned = true;
-			}
-		};
 		pendingStatus.copy.do { |entry| pendingStatus.remove(entry); entry[0].value(event) };
 		onStatus.value(event);
 	}

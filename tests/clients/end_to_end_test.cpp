@@ -123,7 +123,7 @@ TEST_CASE("ameoto drives a real ameotod: send, /fail, status, sync, quit") {
     CHECK(later.out.ends_with("}\n"));
     CHECK(later.out.find("\"backend\": \"null\"") != std::string::npos);
     CHECK(json_number(later.out, "sample_rate_hz") == 48000.0);
-    CHECK(json_number(later.out, "frames_rendered") > 0.0);
+    CHECK(json_number(later.out, "seconds_rendered") > 0.0);
     const double rate_later = json_number(later.out, "rain_rate_mm_per_h");
     CHECK(std::abs(rate_later - 30.0) <= std::abs(rate_early - 30.0));
     CHECK(rate_later == doctest::Approx(30.0).epsilon(0.01));

@@ -56,7 +56,7 @@ TEST_CASE("ameoto watch on a pipe: one line per update, --count ends it") {
                                              child_options());
     INFO("stdout:\n" << r.out << "stderr:\n" << r.err);
     CHECK(r.exit_code == 0);
-    const long meters = count_lines_starting(r.out, "meter frame=");
+    const long meters = count_lines_starting(r.out, "meter t=");
     const long statuses = count_lines_starting(r.out, "status cpu=");
     CHECK(meters + statuses == 15);
     CHECK(meters >= 10);   // ten a second against one status a second
@@ -75,7 +75,7 @@ TEST_CASE("Ctrl-C quits ameoto watch cleanly and frees its subscription") {
         REQUIRE(others.back()->request("/notify", {ameoto::protocol::OscArgument::from_int(1)}, "/done", 2s));
     }
     ChildProcess watch({ameoto_bin, "watch", "--port", std::to_string(server.port())}, {}, child_options());
-    REQUIRE(watch.wait_for_line("meter frame=", 5s));
+    REQUIRE(watch.wait_for_line("meter t=", 5s));
     ameoto::test::OscTestClient probe(server.port());
     CHECK(probe.request("/notify", {ameoto::protocol::OscArgument::from_int(1)}, "/fail", 2s));   // full while watch runs
     watch.signal(SIGINT);

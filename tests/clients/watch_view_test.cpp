@@ -25,15 +25,15 @@ OscArgument f(double v) { return OscArgument::from_float(static_cast<float>(v));
 DecodedMessage status_reply() {
     return message("/status.reply", {f(3.14), f(4.0), f(120), OscArgument::from_int(1), OscArgument::from_int(3),
                                      OscArgument::from_int(40), OscArgument::from_int(0), OscArgument::from_int(2), f(48000),
-                                     OscArgument::from_int(256), OscArgument::from_int64(96000), f(2), OscArgument::from_string("null")});
+                                     OscArgument::from_int(256), f(2.0), f(2), OscArgument::from_string("null")});
 }
 
 }  // namespace
 
 TEST_CASE("/meter parses into per-channel peak and RMS; a wrong shape is refused with the reason") {
-    const auto m = parse_meter(message("/meter", {OscArgument::from_int64(48000), OscArgument::from_int(2), f(-12.5), f(-20), f(-120), f(-120)}));
+    const auto m = parse_meter(message("/meter", {f(1.0), OscArgument::from_int(2), f(-12.5), f(-20), f(-120), f(-120)}));
     REQUIRE(m.error.empty());
-    CHECK(m.frame == 48000);
+    CHECK(m.seconds == 1.0);
     REQUIRE(m.peak_dbfs.size() == 2);
     CHECK(m.peak_dbfs[0] == doctest::Approx(-12.5));
     CHECK(m.rms_dbfs[0] == doctest::Approx(-20));
@@ -56,8 +56,8 @@ TEST_CASE("a bar spans -60..0 dBFS and never overflows its width") {
 }
 
 TEST_CASE("line format: one line per update, fields named, for pipes and logs") {
-    const auto m = parse_meter(message("/meter", {OscArgument::from_int64(4800), OscArgument::from_int(2), f(-12.54), f(-20), f(-3), f(-9.96)}));
-    CHECK(format_meter_line(m) == "meter frame=4800 1:-12.5/-20.0 2:-3.0/-10.0 dBFS peak/rms\n");
+    const auto m = parse_meter(message("/meter", {f(0.1), OscArgument::from_int(2), f(-12.54), f(-20), f(-3), f(-9.96)}));
+    CHECK(format_meter_line(m) == "meter t=0.100 1:-12.5/-20.0 2:-3.0/-10.0 dBFS peak/rms\n");
     const auto s = parse_status_reply(status_reply());
     REQUIRE(s.error.empty());
     CHECK(format_status_line(s) ==
@@ -71,7 +71,7 @@ TEST_CASE("the terminal screen: load, rain and one bar per channel, a fixed numb
     CHECK(empty.find("waiting for the first /status.reply") != std::string::npos);
     CHECK(empty.find("waiting for the first /meter") != std::string::npos);
     state.status = parse_status_reply(status_reply());
-    state.meter = parse_meter(message("/meter", {OscArgument::from_int64(4800), OscArgument::from_int(2), f(-12), f(-30), f(-6), f(-60)}));
+    state.meter = parse_meter(message("/meter", {f(0.1), OscArgument::from_int(2), f(-12), f(-30), f(-6), f(-60)}));
     const std::string screen = format_watch_screen(state);
     CHECK(screen.starts_with("ameoto watch 127.0.0.1:7770  (Ctrl-C to quit)\n"));
     CHECK(screen.find("load  3.1 % average, 4.0 % peak   xruns 0   late bundles 2\n") != std::string::npos);

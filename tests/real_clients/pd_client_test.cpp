@@ -53,16 +53,16 @@ TEST_CASE("Pd: [ameoto] sets the rain rate, sends drops, gets /fail, /synced and
     const double reported_rate = std::stod(status.at("rain_rate_mm_per_h"));
     CHECK(reported_rate >= 0.0);
     CHECK(reported_rate <= 12.0);
-    // frames_rendered: an int64 that Pd reads as two words (the abstraction rewrites the type tag).
-    const double pd_frames = std::stod(status.at("frames_rendered"));
-    CHECK(pd_frames > 0.0);
+    // seconds_rendered: the audio clock in seconds, a float Pd reads as it is.
+    const double pd_seconds = std::stod(status.at("seconds_rendered"));
+    CHECK(pd_seconds > 0.0);
 
     // The server's own view: the rate Pd set (and not the refused 900), once ramped.
     OscTestClient client(d.port());
     CHECK(settled_rain_rate(client) == doctest::Approx(12.0).epsilon(1e-6));
     const auto now = client.request("/status", {}, "/status.reply", 2s);
     REQUIRE(now);
-    CHECK(pd_frames < static_cast<double>(now->args[10].integer));
+    CHECK(pd_seconds < now->args[10].number);
 }
 
 TEST_CASE("Pd: every [ameoto] command sends its documented address and arguments (oscdump)") {

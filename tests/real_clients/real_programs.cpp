@@ -37,7 +37,7 @@ double settled_rain_rate(OscTestClient& client) {
     std::this_thread::sleep_for(std::chrono::milliseconds(1200));
     const auto status = client.request("/status", {}, "/status.reply", std::chrono::seconds(2));
     REQUIRE(status);
-    REQUIRE(status->types == "fffiiiiifihfs");
+    REQUIRE(status->types == "fffiiiiififfs");
     return status->args[11].number;
 }
 
