@@ -398,6 +398,7 @@ struct StepView {
     const double *ex, *ey, *ez, *m, *inv_m, *lin, *quad;
     double gx, gy, gz, dt, inv_dt;
     bool cordis;
+    bool energy;                    // sum the energies (only for a finite energy limit: the guard)
     // The uniform cohesive pass (null otherwise).
     double* mirror;                 // per mass x y z 0 vx vy vz 0, written by forces()
     double* contribution;           // entry e at 4 e: [2 l] = +t, [2 l + 1] = -t of link l, [2 links] = -0.0
@@ -445,8 +446,10 @@ AMEOTO_INLINE void forces_group(const StepView& s, std::size_t i, double& kineti
     storen(s.fx + i, loadn(s.ex + i, Count) + m * splat(s.gx) - drag * vx, Count);
     storen(s.fy + i, loadn(s.ey + i, Count) + m * splat(s.gy) - drag * vy, Count);
     storen(s.fz + i, loadn(s.ez + i, Count) + m * splat(s.gz) - drag * vz, Count);
-    const v4d mv2 = m * v2;
-    for (int k = 0; k < Count; ++k) kinetic2 += mv2[k];
+    if (s.energy) {
+        const v4d mv2 = m * v2;
+        for (int k = 0; k < Count; ++k) kinetic2 += mv2[k];
+    }
     if (s.mirror) {
         v4d p0, p1, p2, p3, v0, v1, v2, v3;
         columns_to_rows(loadn(s.x + i, Count), loadn(s.y + i, Count), loadn(s.z + i, Count), p0, p1, p2, p3);
@@ -589,7 +592,8 @@ AMEOTO_INLINE void link_group(const StepView& s, const LaneLinks& g, bool consec
     const v4d e_spring = splat(s.k) * stretch * stretch;
     // The common case: bonded, no core, not breaking, and s = 0.0 + bond != 0 (so s = bond).
     if (gone_lanes == 0 && lane_bits((gap > zero) | (-spring > splat(s.threshold)) | (bond == zero)) == 0) [[likely]] {
-        for (int k = 0; k < Count; ++k) elastic2 += e_spring[k];
+        if (s.energy)
+            for (int k = 0; k < Count; ++k) elastic2 += e_spring[k];
         add_link_forces<Dense, Count>(s, g, all, bond * ux, bond * uy, bond * uz);
         return;
     }
@@ -600,10 +604,11 @@ AMEOTO_INLINE void link_group(const StepView& s, const LaneLinks& g, bool consec
     const v4d force = acting ? s_core + bond : s_core;
     const v4d e_core = core_on ? splat(s.core_k) * gap * gap : minus_zero;
     const v4d e_bond = acting ? e_spring : minus_zero;
-    for (int k = 0; k < Count; ++k) {
-        elastic2 += e_core[k];
-        elastic2 += e_bond[k];
-    }
+    if (s.energy)
+        for (int k = 0; k < Count; ++k) {
+            elastic2 += e_core[k];
+            elastic2 += e_bond[k];
+        }
     const int breaks = lane_bits(breaking) & all;
     for (int k = 0; k < Count; ++k) {
         if (!(breaks & (1 << k))) continue;
@@ -736,7 +741,7 @@ AMEOTO_INLINE double approach_bound2(const StepView& view) {
 // order. Adds the new coordinates to sum in mass order. Fixed points have 1/m = 0 and zero velocity,
 // so both schemes leave them in place.
 template <int Count>
-AMEOTO_INLINE void update_group(const StepView& s, std::size_t i, double& sum) {
+AMEOTO_INLINE void update_group(const StepView& s, std::size_t i, v4d& sum) {
     v4d fx = loadn(s.fx + i, Count), fy = loadn(s.fy + i, Count), fz = loadn(s.fz + i, Count);
     if (s.slots) {
         v4d f0, f1, f2, f3;
@@ -779,13 +784,14 @@ AMEOTO_INLINE void update_group(const StepView& s, std::size_t i, double& sum) {
     storen(s.x + i, nx, Count);
     storen(s.y + i, ny, Count);
     storen(s.z + i, nz, Count);
-    const v4d row_sum = nx + ny + nz;
-    for (int k = 0; k < Count; ++k) sum += row_sum[k];
+    // Lane k sums the masses i = k mod 4 (the scalar step's sum[i % 4]); the lanes past Count add
+    // 0 + 0 + 0 = +0, which leaves a lane unchanged (a lane starts at +0 and never becomes -0).
+    sum += nx + ny + nz;
 }
 
 AMEOTO_INLINE double update(const StepView& view) {
     const StepView s = view;
-    double sum = 0.0;
+    v4d sum = splat(0.0);
     std::size_t i = 0;
     for (; i + 4 <= s.n; i += 4) update_group<4>(s, i, sum);
     switch (s.n - i) {
@@ -794,7 +800,7 @@ AMEOTO_INLINE double update(const StepView& view) {
         case 1: update_group<1>(s, i, sum); break;
         default: break;
     }
-    return sum;
+    return ((sum[0] + sum[1]) + sum[2]) + sum[3];
 }
 
 #undef AMEOTO_INLINE
@@ -857,6 +863,7 @@ void Body3D::sub_step_avx2(int index) {
     s.dt = sub_dt_;
     s.inv_dt = 1.0 / sub_dt_;
     s.cordis = integrator_ == Integrator::explicit_verlet;
+    s.energy = energy_limit_ < std::numeric_limits<double>::infinity();
     s.mirror = nullptr;
     s.contribution = nullptr;
     s.slots = nullptr;
@@ -914,7 +921,7 @@ void Body3D::sub_step_avx2(int index) {
         s.candidate_count = candidate_count_;
         elastic2 = sparse_links_avx2(s);
     }
-    last_energy_ = 0.5 * (kinetic2 + elastic2);
+    last_energy_ = s.energy ? 0.5 * (kinetic2 + elastic2) : 0.0;
     last_position_sum_ = update_avx2(s);
 }
 
@@ -955,6 +962,7 @@ void Body3D::sub_step_baseline(int index) {
         }
     }
     const double gx = gravity_.x, gy = gravity_.y, gz = gravity_.z;
+    const bool energy = energy_limit_ < std::numeric_limits<double>::infinity();
     double kinetic2 = 0.0;   // twice the kinetic energy
     for (std::size_t i = 0; i < n; ++i) {
         const double v2 = vx[i] * vx[i] + vy[i] * vy[i] + vz[i] * vz[i];
@@ -962,15 +970,17 @@ void Body3D::sub_step_baseline(int index) {
         fx[i] = ex[i] + m[i] * gx - drag * vx[i];
         fy[i] = ey[i] + m[i] * gy - drag * vy[i];
         fz[i] = ez[i] + m[i] * gz - drag * vz[i];
-        kinetic2 += m[i] * v2;
+        if (energy) kinetic2 += m[i] * v2;
     }
 
-    // 2. Links: the uniform cohesive pass (a drop) or any links.
+    // 2. Links: the uniform cohesive pass (a drop) or any links. (Their elastic energy is summed
+    // whatever the limit: the scalar step is the reference, and its cost matters less.)
     const double elastic2 = uniform_cohesive_ ? uniform_cohesive_links(index) : generic_links(index);
-    last_energy_ = 0.5 * (kinetic2 + elastic2);
+    last_energy_ = energy ? 0.5 * (kinetic2 + elastic2) : 0.0;
 
     // 3. Update. Fixed points have 1/m = 0 and zero velocity, so both schemes leave them in place.
-    double sum = 0.0;
+    // The coordinates' sum for the guard in four partial sums, sum[i % 4] (the AVX2 step's lanes).
+    double sum[4] = {0.0, 0.0, 0.0, 0.0};
     if (cordis) {
         // Position Verlet: x[n+1] = 2 x[n] - x[n-1] + T^2 F / m.
         const double dt2 = dt * dt;
@@ -984,7 +994,7 @@ void Body3D::sub_step_baseline(int index) {
             x[i] = nx;
             y[i] = ny;
             z[i] = nz;
-            sum += nx + ny + nz;
+            sum[i % 4] += nx + ny + nz;
         }
     } else {
         // Symplectic Euler: v += T F / m, then x += T v with the new v.
@@ -998,10 +1008,10 @@ void Body3D::sub_step_baseline(int index) {
             x[i] += dt * vx[i];
             y[i] += dt * vy[i];
             z[i] += dt * vz[i];
-            sum += x[i] + y[i] + z[i];
+            sum[i % 4] += x[i] + y[i] + z[i];
         }
     }
-    last_position_sum_ = sum;
+    last_position_sum_ = ((sum[0] + sum[1]) + sum[2]) + sum[3];
 }
 
 double Body3D::uniform_cohesive_links(int index) {

@@ -26,6 +26,7 @@
 //   for (const LinkBreak& e : body.breaks()) ...              // links that broke during that step
 //   body.set_position(m, p); body.set_velocity(m, v); body.reset();
 //   body.position(m), velocity(m), momentum(), energy(), resets(), link_broken(l), stability(),
+//   body.positions()                                          // .x .y .z: every mass's coordinates
 //   linear_drag(m), quadratic_drag(m) ...
 //   body.set_portable_kernels(true);                          // the scalar step even on AVX2 (tests)
 //   body.avx2_kernels();                                      // which code finalize() picked
@@ -205,6 +206,13 @@ public:
     Integrator integrator() const { return integrator_; }
     Vec3 position(int m) const;
     Vec3 velocity(int m) const;                   // CORDIS: backward difference over the last sub-step
+    // Every mass's coordinates as arrays (mass_count() each): position(m) is {x[m], y[m], z[m]}. For a
+    // caller that scans every mass each step (the collision broad phase, drop_on_canopy.cpp) without a
+    // call per mass. Valid until the body is cleared or built again.
+    struct Coordinates {
+        const double *x, *y, *z;
+    };
+    Coordinates positions() const { return {x_.data(), y_.data(), z_.data()}; }
     double mass(int m) const { return mass_[idx(m)]; }   // 0 for a fixed point
     double linear_drag(int m) const { return linear_drag_[idx(m)]; }
     double quadratic_drag(int m) const { return quadratic_drag_[idx(m)]; }
