@@ -117,6 +117,8 @@ void Body3D::clear() {
     kind_.clear();
     broken_.clear();
     broken_count_ = 0;
+    candidates_valid_ = false;
+    next_bound_fresh_ = false;
     event_count_ = 0;
     last_energy_ = 0.0;
     last_position_sum_ = 0.0;
@@ -251,6 +253,7 @@ void Body3D::build_link_scratch() {
     candidates_.assign(links, 0);
     for (auto* a : {&listed_x_, &listed_y_, &listed_z_}) a->assign(n, 0.0);
     candidates_valid_ = false;
+    next_bound_fresh_ = false;
     mirror_.assign(8 * n + 8, 0.0);
     contribution_.assign(4 * (2 * links + 1) + 8, -0.0);
 }
@@ -291,6 +294,7 @@ void Body3D::set_position(int mass, Vec3 p) {
     px_[i] = p.x - sub_dt_ * v.x;
     py_[i] = p.y - sub_dt_ * v.y;
     pz_[i] = p.z - sub_dt_ * v.z;
+    next_bound_fresh_ = false;   // the sparse pass measures its bound again (sub_step_avx2())
 }
 
 void Body3D::set_velocity(int mass, Vec3 v) {
@@ -315,6 +319,7 @@ void Body3D::reset() {
     std::fill(broken_.begin(), broken_.end(), std::uint8_t{0});
     broken_count_ = 0;
     candidates_valid_ = false;
+    next_bound_fresh_ = false;
     event_count_ = 0;
     last_energy_ = 0.0;
     last_position_sum_ = 0.0;
@@ -704,17 +709,18 @@ AMEOTO_INLINE std::size_t list_candidates(const StepView& view) {
     return count;
 }
 
-// How far any two masses can have moved towards each other since they were listed: the relative
-// displacement of a and b is at most the range (max - min over the masses) of the displacements, per
-// axis. Returns the squared bound (NaN if a position is not finite).
-AMEOTO_INLINE double approach_bound2(const StepView& view) {
-    const StepView s = view;
-    v4d lo_x = splat(0.0), lo_y = lo_x, lo_z = lo_x, hi_x = lo_x, hi_y = lo_x, hi_z = lo_x;
-    v4m bad = {0, 0, 0, 0};
-    auto take = [&](std::size_t i, int count) {
-        const v4d dx = loadn(s.x + i, count) - loadn(s.listed_x + i, count);
-        const v4d dy = loadn(s.y + i, count) - loadn(s.listed_y + i, count);
-        const v4d dz = loadn(s.z + i, count) - loadn(s.listed_z + i, count);
+// The displacements' range, gathered four masses at a time (lanes), by approach_bound2() or, fused
+// into the update, by update() for the next sub-step. (Members set by clear(), not by initialisers: an
+// implicit constructor would be compiled outside this AVX2 region.)
+struct DisplacementRange4 {
+    v4d lo_x, lo_y, lo_z, hi_x, hi_y, hi_z;
+    v4m bad;
+    AMEOTO_INLINE void clear() {
+        lo_x = lo_y = lo_z = hi_x = hi_y = hi_z = v4d{0.0, 0.0, 0.0, 0.0};
+        bad = v4m{0, 0, 0, 0};
+    }
+    // dx, dy, dz: displacements since listing (lanes past an array's tail: 0, a displacement of 0).
+    AMEOTO_INLINE void take(const v4d& dx, const v4d& dy, const v4d& dz) {
         bad |= (dx != dx) | (dy != dy) | (dz != dz);
         lo_x = _mm256_min_pd(lo_x, dx);
         lo_y = _mm256_min_pd(lo_y, dy);
@@ -722,26 +728,42 @@ AMEOTO_INLINE double approach_bound2(const StepView& view) {
         hi_x = _mm256_max_pd(hi_x, dx);
         hi_y = _mm256_max_pd(hi_y, dy);
         hi_z = _mm256_max_pd(hi_z, dz);
+    }
+    AMEOTO_INLINE double bound2() const {
+        if (lane_bits(bad) != 0) return std::numeric_limits<double>::quiet_NaN();
+        const v4d rx = hi_x - lo_x, ry = hi_y - lo_y, rz = hi_z - lo_z;
+        double range_x = 0.0, range_y = 0.0, range_z = 0.0;
+        for (int k = 0; k < 4; ++k) {
+            range_x = std::max(range_x, rx[k]);
+            range_y = std::max(range_y, ry[k]);
+            range_z = std::max(range_z, rz[k]);
+        }
+        return range_x * range_x + range_y * range_y + range_z * range_z;
+    }
+};
+
+// How far any two masses can have moved towards each other since they were listed: the relative
+// displacement of a and b is at most the range (max - min over the masses) of the displacements, per
+// axis. Returns the squared bound (NaN if a position is not finite).
+AMEOTO_INLINE double approach_bound2(const StepView& view) {
+    const StepView s = view;
+    DisplacementRange4 range;
+    range.clear();
+    auto take = [&](std::size_t i, int count) {
+        range.take(loadn(s.x + i, count) - loadn(s.listed_x + i, count), loadn(s.y + i, count) - loadn(s.listed_y + i, count),
+                   loadn(s.z + i, count) - loadn(s.listed_z + i, count));
     };
     std::size_t i = 0;
     for (; i + 4 <= s.n; i += 4) take(i, 4);
     if (i < s.n) take(i, static_cast<int>(s.n - i));   // the tail's empty lanes read 0: a displacement of 0
-    if (lane_bits(bad) != 0) return std::numeric_limits<double>::quiet_NaN();
-    const v4d rx = hi_x - lo_x, ry = hi_y - lo_y, rz = hi_z - lo_z;
-    double range_x = 0.0, range_y = 0.0, range_z = 0.0;
-    for (int k = 0; k < 4; ++k) {
-        range_x = std::max(range_x, rx[k]);
-        range_y = std::max(range_y, ry[k]);
-        range_z = std::max(range_z, rz[k]);
-    }
-    return range_x * range_x + range_y * range_y + range_z * range_z;
+    return range.bound2();
 }
 
 // 3. Update, four masses per group; for the uniform pass first the link forces, added per mass in link
 // order. Adds the new coordinates to sum in mass order. Fixed points have 1/m = 0 and zero velocity,
 // so both schemes leave them in place.
-template <int Count>
-AMEOTO_INLINE void update_group(const StepView& s, std::size_t i, v4d& sum) {
+template <int Count, bool Track>
+AMEOTO_INLINE void update_group(const StepView& s, std::size_t i, v4d& sum, DisplacementRange4& range) {
     v4d fx = loadn(s.fx + i, Count), fy = loadn(s.fy + i, Count), fz = loadn(s.fz + i, Count);
     if (s.slots) {
         v4d f0, f1, f2, f3;
@@ -787,19 +809,28 @@ AMEOTO_INLINE void update_group(const StepView& s, std::size_t i, v4d& sum) {
     // Lane k sums the masses i = k mod 4 (the scalar step's sum[i % 4]); the lanes past Count add
     // 0 + 0 + 0 = +0, which leaves a lane unchanged (a lane starts at +0 and never becomes -0).
     sum += nx + ny + nz;
+    // The sparse pass's next approach bound (approach_bound2() on the positions just written; the
+    // tail's empty lanes are 0 - 0).
+    if constexpr (Track)
+        range.take(nx - loadn(s.listed_x + i, Count), ny - loadn(s.listed_y + i, Count), nz - loadn(s.listed_z + i, Count));
 }
 
-AMEOTO_INLINE double update(const StepView& view) {
+// Returns the coordinates' sum; with Track, also the approach bound of the positions written (bound2).
+template <bool Track>
+AMEOTO_INLINE double update(const StepView& view, double& bound2) {
     const StepView s = view;
     v4d sum = splat(0.0);
+    DisplacementRange4 range;
+    if constexpr (Track) range.clear();
     std::size_t i = 0;
-    for (; i + 4 <= s.n; i += 4) update_group<4>(s, i, sum);
+    for (; i + 4 <= s.n; i += 4) update_group<4, Track>(s, i, sum, range);
     switch (s.n - i) {
-        case 3: update_group<3>(s, i, sum); break;
-        case 2: update_group<2>(s, i, sum); break;
-        case 1: update_group<1>(s, i, sum); break;
+        case 3: update_group<3, Track>(s, i, sum, range); break;
+        case 2: update_group<2, Track>(s, i, sum, range); break;
+        case 1: update_group<1, Track>(s, i, sum, range); break;
         default: break;
     }
+    if constexpr (Track) bound2 = range.bound2();
     return ((sum[0] + sum[1]) + sum[2]) + sum[3];
 }
 
@@ -811,7 +842,11 @@ double dense_links_avx2(const StepView& s) { return dense_links(s); }
 double sparse_links_avx2(const StepView& s) { return sparse_links(s); }
 std::size_t list_candidates_avx2(const StepView& s) { return list_candidates(s); }
 double approach_bound2_avx2(const StepView& s) { return approach_bound2(s); }
-double update_avx2(const StepView& s) { return update(s); }
+double update_avx2(const StepView& s) {
+    double unused = 0.0;
+    return update<false>(s, unused);
+}
+double update_tracking_avx2(const StepView& s, double& bound2) { return update<true>(s, bound2); }
 
 }  // namespace
 
@@ -913,7 +948,12 @@ void Body3D::sub_step_avx2(int index) {
         // holds whatever moved them (set_position() too). A position not finite: listed again, NaN
         // links kept.
         // (Margin and bound measured on a shattered 5 mm drop: lists again about every 9 steps.)
-        if (candidates_valid_ && !(approach_bound2_avx2(s) < 16.0 * rest_[0] * rest_[0])) candidates_valid_ = false;
+        // The bound of the positions now: the last sparse sub-step's update measured it (fused, no pass
+        // of its own), unless something has moved a mass since (set_position, reset, finalize).
+        if (candidates_valid_) {
+            const double bound2 = next_bound_fresh_ ? next_bound2_ : approach_bound2_avx2(s);
+            if (!(bound2 < 16.0 * rest_[0] * rest_[0])) candidates_valid_ = false;
+        }
         if (!candidates_valid_) {
             candidate_count_ = list_candidates_avx2(s);
             candidates_valid_ = true;
@@ -922,7 +962,9 @@ void Body3D::sub_step_avx2(int index) {
         elastic2 = sparse_links_avx2(s);
     }
     last_energy_ = s.energy ? 0.5 * (kinetic2 + elastic2) : 0.0;
-    last_position_sum_ = update_avx2(s);
+    const bool sparse = uniform_cohesive_ && !s.slots;
+    last_position_sum_ = sparse ? update_tracking_avx2(s, next_bound2_) : update_avx2(s);
+    next_bound_fresh_ = sparse;
 }
 
 // The scalar step: the reference, and the code on a CPU without AVX2.

@@ -286,6 +286,8 @@ private:
     std::vector<double> listed_x_, listed_y_, listed_z_;   // the positions they were listed at
     std::size_t candidate_count_ = 0;
     bool candidates_valid_ = false;
+    double next_bound2_ = 0.0;         // the approach bound of the positions the last update wrote
+    bool next_bound_fresh_ = false;    // ... and no mass has been moved since (sub_step_avx2())
     // events
     std::vector<LinkBreak> events_;
     std::size_t event_count_ = 0;
