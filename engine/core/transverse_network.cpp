@@ -1,7 +1,6 @@
 #include "engine/core/transverse_network.hpp"
 
 #include <cmath>
-#include <set>
 #include <stdexcept>
 
 namespace ameoto {
@@ -16,82 +15,6 @@ double take_forces(std::size_t n, double* __restrict f, const double* __restrict
         f[i] = 0.0;
     }
     return s2;
-}
-
-// The links in an order that keeps a gap between links sharing a mass, and keeps, for every mass, the
-// order of the links that touch it. The explicit schemes add each link's force into f[a] and f[b] in
-// link order; a link that reads f[a] right after the previous link stored it waits for that store
-// (store-to-load forwarding, then the add: about 9 cycles) instead of overlapping with it, and a
-// membrane's lattice is built node by node, so consecutive links mostly share a node (measured on the
-// canopy's panels: the link loop was most of the canopy's step). Each mass still receives the same
-// forces in the same order, so its sum, and every state bit, is unchanged (tested). Greedy list
-// scheduling: a link is ready once every earlier link sharing a mass with it is placed; the earliest
-// ready link whose masses no link among the last `gap` placed touches goes next, or, if the first
-// `scan` ready links all share one, the earliest ready link.
-std::vector<std::int32_t> interleaved_link_order(const NetworkArrays& a, int gap = 3, int scan = 32) {
-    const std::size_t links = a.link_count(), masses = a.mass_count();
-    std::vector<std::int32_t> start(masses + 1, 0), list(2 * links), head(masses, 0);
-    for (std::size_t l = 0; l < links; ++l) {
-        ++start[static_cast<std::size_t>(a.link_a[l]) + 1];
-        ++start[static_cast<std::size_t>(a.link_b[l]) + 1];
-    }
-    for (std::size_t i = 0; i < masses; ++i) start[i + 1] += start[i];
-    std::vector<std::int32_t> fill(start.begin(), start.end() - 1);
-    for (std::size_t l = 0; l < links; ++l) {
-        list[static_cast<std::size_t>(fill[static_cast<std::size_t>(a.link_a[l])]++)] = static_cast<std::int32_t>(l);
-        list[static_cast<std::size_t>(fill[static_cast<std::size_t>(a.link_b[l])]++)] = static_cast<std::int32_t>(l);
-    }
-    auto at_head = [&](std::int32_t mass, std::int32_t l) {
-        const auto m = static_cast<std::size_t>(mass);
-        return start[m] + head[m] < start[m + 1] && list[static_cast<std::size_t>(start[m] + head[m])] == l;
-    };
-    auto ready = [&](std::int32_t l) {
-        const auto i = static_cast<std::size_t>(l);
-        return at_head(a.link_a[i], l) && at_head(a.link_b[i], l);
-    };
-    std::set<std::int32_t> waiting;
-    for (std::size_t l = 0; l < links; ++l)
-        if (ready(static_cast<std::int32_t>(l))) waiting.insert(static_cast<std::int32_t>(l));
-    std::vector<long> last(masses, -1000000);
-    std::vector<std::int32_t> order;
-    order.reserve(links);
-    for (long t = 0; t < static_cast<long>(links); ++t) {
-        std::int32_t pick = *waiting.begin();
-        int looked = 0;
-        for (const std::int32_t l : waiting) {
-            if (++looked > scan) break;
-            const auto i = static_cast<std::size_t>(l);
-            if (t - last[static_cast<std::size_t>(a.link_a[i])] > gap && t - last[static_cast<std::size_t>(a.link_b[i])] > gap) {
-                pick = l;
-                break;
-            }
-        }
-        waiting.erase(pick);
-        order.push_back(pick);
-        const auto i = static_cast<std::size_t>(pick);
-        for (const std::int32_t mass : {a.link_a[i], a.link_b[i]}) {
-            const auto m = static_cast<std::size_t>(mass);
-            last[m] = t;
-            ++head[m];
-            if (start[m] + head[m] < start[m + 1]) {
-                const std::int32_t next = list[static_cast<std::size_t>(start[m] + head[m])];
-                if (ready(next)) waiting.insert(next);
-            }
-        }
-    }
-    return order;
-}
-
-NetworkArrays with_link_order(const NetworkArrays& a, const std::vector<std::int32_t>& order) {
-    NetworkArrays r = a;
-    for (std::size_t j = 0; j < order.size(); ++j) {
-        const auto l = static_cast<std::size_t>(order[j]);
-        r.link_a[j] = a.link_a[l];
-        r.link_b[j] = a.link_b[l];
-        r.link_stiffness[j] = a.link_stiffness[l];
-        r.link_damping[j] = a.link_damping[l];
-    }
-    return r;
 }
 
 }  // namespace
@@ -125,11 +48,6 @@ void TransverseNetwork::finalize(double time_step_s, const NetworkOptions& optio
     stability_ = assess_stability(arrays_, time_step_s, options.integrator, options.stability);
     if (stability_.refused) throw StabilityError(stability_.message);
     time_step_ = time_step_s;
-    // The explicit schemes step a copy whose links are interleaved (interleaved_link_order: the same
-    // bits, faster); everything else reads arrays_ in the order the links were added.
-    stepping_ = arrays_;
-    if (stability_.integrator == Integrator::explicit_verlet || stability_.integrator == Integrator::symplectic_euler)
-        stepping_ = with_link_order(arrays_, interleaved_link_order(arrays_));
     switch (stability_.integrator) {
         case Integrator::explicit_verlet: explicit_.init(arrays_, time_step_s, stability_.sub_steps); break;
         case Integrator::symplectic_euler: symplectic_.init(arrays_, time_step_s, stability_.sub_steps); break;
@@ -147,8 +65,8 @@ double TransverseNetwork::step() {
     const double* ext = external_.data();
     double total = 0.0;
     switch (stability_.integrator) {
-        case Integrator::explicit_verlet: total = explicit_.step(stepping_, ext); break;
-        case Integrator::symplectic_euler: total = symplectic_.step(stepping_, ext); break;
+        case Integrator::explicit_verlet: total = explicit_.step(arrays_, ext); break;
+        case Integrator::symplectic_euler: total = symplectic_.step(arrays_, ext); break;
         case Integrator::trapezoidal: total = trapezoidal_.step(arrays_, ext); break;
         case Integrator::backward_euler: total = backward_.step(arrays_, ext); break;
         case Integrator::modal: total = modal_.step(arrays_, ext); break;

@@ -94,8 +94,6 @@ public:
 
 private:
     NetworkArrays arrays_;
-    NetworkArrays stepping_;   // what step() gives the explicit schemes: arrays_ with its links
-                               // interleaved (transverse_network.cpp: the same bits, faster)
     std::vector<double> external_;
     StabilityReport stability_;
     RuntimeGuard guard_;

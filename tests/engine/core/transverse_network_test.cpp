@@ -440,63 +440,6 @@ TEST_CASE("transverse_network: the runtime guard resets a runaway body and count
     }
 }
 
-// TransverseNetwork steps the explicit schemes on its links reordered so that consecutive links rarely
-// share a mass (transverse_network.cpp, interleaved_link_order); every mass still receives its links'
-// forces in the order they were added, so the state must equal, to the bit, that of the same scheme
-// stepped on the links as added (net.arrays()). A triangular lattice built node by node, as a
-// membrane's is (three consecutive links per node share it), anchored on one edge, struck at random.
-TEST_CASE("transverse_network: the interleaved link order gives the same bits as the order added") {
-    constexpr int columns = 9, rows = 7;
-    for (const auto scheme : {ameoto::Integrator::explicit_verlet, ameoto::Integrator::symplectic_euler}) {
-        CAPTURE(static_cast<int>(scheme));
-        ameoto::TransverseNetwork net;
-        auto node = [](int c, int r) { return r * columns + c; };
-        for (int i = 0; i < columns * rows; ++i) net.add_mass(1e-4 * (1.0 + 0.01 * i), 1e-5);
-        for (int r = 0; r < rows; ++r)
-            for (int c = 0; c < columns; ++c) {
-                const double k = 40.0 + r + 0.5 * c, z = 2e-3 * (1.0 + 0.1 * c);
-                if (c + 1 < columns) net.add_link(node(c, r), node(c + 1, r), k, z);
-                if (r + 1 < rows) net.add_link(node(c, r), node(c, r + 1), 1.1 * k, z);
-                if (r + 1 < rows && c + 1 < columns) net.add_link(node(c, r), node(c + 1, r + 1), 0.9 * k, z);
-                if (r == 0) net.add_anchor(node(c, r), 3.0 * k, z);
-            }
-        ameoto::NetworkOptions options;
-        options.integrator = scheme;
-        net.finalize(kT, options);
-        REQUIRE(net.integrator() == scheme);
-        // The reference: the same scheme on the links as added.
-        ameoto::ExplicitVerlet verlet;
-        ameoto::SymplecticEuler euler;
-        verlet.init(net.arrays(), kT, net.stability().sub_steps);
-        euler.init(net.arrays(), kT, net.stability().sub_steps);
-        std::vector<double> ext(static_cast<std::size_t>(net.mass_count()), 0.0);
-        ameoto::Random rng(7);
-        int mismatches = 0;
-        for (int n = 0; n < 3000; ++n) {
-            std::fill(ext.begin(), ext.end(), 0.0);
-            if (n % 97 == 0 || rng.uniform() < 0.05) {
-                const int m = static_cast<int>(rng.uniform() * net.mass_count()) % net.mass_count();
-                const double f = 0.02 * (rng.uniform() - 0.5);
-                ext[static_cast<std::size_t>(m)] = f;
-                net.apply_force(m, f);
-            }
-            const double total = net.step();
-            const double expected = scheme == ameoto::Integrator::explicit_verlet ? verlet.step(net.arrays(), ext.data())
-                                                                                 : euler.step(net.arrays(), ext.data());
-            if (total != expected) ++mismatches;
-            for (int i = 0; i < net.mass_count(); ++i) {
-                const auto u = static_cast<std::size_t>(i);
-                const double x = scheme == ameoto::Integrator::explicit_verlet ? verlet.position(u) : euler.position(u);
-                const double v = scheme == ameoto::Integrator::explicit_verlet ? verlet.velocity(u) : euler.velocity(u);
-                if (net.position(i) != x || net.velocity(i) != v) ++mismatches;
-            }
-        }
-        CHECK(mismatches == 0);
-        CHECK(std::isfinite(net.position(node(columns - 1, rows - 1))));
-        CHECK(net.position(node(columns - 1, rows - 1)) != 0.0);   // it moved
-    }
-}
-
 // The bulk readers give what the per-mass ones give.
 TEST_CASE("transverse_network: positions() and velocities() read every mass as position(m) and velocity(m)") {
     for (const auto scheme : {ameoto::Integrator::explicit_verlet, ameoto::Integrator::symplectic_euler,
