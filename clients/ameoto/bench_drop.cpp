@@ -90,8 +90,8 @@ int run_drop_bench(const BenchOptions& options, const CommandIo& io) {
     std::snprintf(line, sizeof line, "drops at once in real time on one core: %.1f (target 16: %s)\n", at_once,
                   at_once >= 16.0 ? "met" : "not met");
     io.out << line;
-    io.out << "limit: the canopy's own step and node reads, then the drops' link kernels (about 6 ns per link with AVX2); "
-              "see docs/bench.md, \"ameoto bench drop\"\n";
+    io.out << "limit: the canopy's scalar link pass (8 panels x 120 links, about 2 ns a link), then each drop's per-mass "
+              "passes (drag's square root, update) and the collision scan; see docs/bench.md, \"ameoto bench drop\"\n";
     return exit_status::ok;
 }
 

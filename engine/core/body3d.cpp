@@ -117,6 +117,8 @@ void Body3D::clear() {
     kind_.clear();
     broken_.clear();
     broken_count_ = 0;
+    candidates_valid_ = false;
+    next_bound_fresh_ = false;
     event_count_ = 0;
     last_energy_ = 0.0;
     last_position_sum_ = 0.0;
@@ -251,6 +253,7 @@ void Body3D::build_link_scratch() {
     candidates_.assign(links, 0);
     for (auto* a : {&listed_x_, &listed_y_, &listed_z_}) a->assign(n, 0.0);
     candidates_valid_ = false;
+    next_bound_fresh_ = false;
     mirror_.assign(8 * n + 8, 0.0);
     contribution_.assign(4 * (2 * links + 1) + 8, -0.0);
 }
@@ -291,6 +294,7 @@ void Body3D::set_position(int mass, Vec3 p) {
     px_[i] = p.x - sub_dt_ * v.x;
     py_[i] = p.y - sub_dt_ * v.y;
     pz_[i] = p.z - sub_dt_ * v.z;
+    next_bound_fresh_ = false;   // the sparse pass measures its bound again (sub_step_avx2())
 }
 
 void Body3D::set_velocity(int mass, Vec3 v) {
@@ -315,6 +319,7 @@ void Body3D::reset() {
     std::fill(broken_.begin(), broken_.end(), std::uint8_t{0});
     broken_count_ = 0;
     candidates_valid_ = false;
+    next_bound_fresh_ = false;
     event_count_ = 0;
     last_energy_ = 0.0;
     last_position_sum_ = 0.0;
@@ -398,6 +403,7 @@ struct StepView {
     const double *ex, *ey, *ez, *m, *inv_m, *lin, *quad;
     double gx, gy, gz, dt, inv_dt;
     bool cordis;
+    bool energy;                    // sum the energies (only for a finite energy limit: the guard)
     // The uniform cohesive pass (null otherwise).
     double* mirror;                 // per mass x y z 0 vx vy vz 0, written by forces()
     double* contribution;           // entry e at 4 e: [2 l] = +t, [2 l + 1] = -t of link l, [2 links] = -0.0
@@ -445,8 +451,10 @@ AMEOTO_INLINE void forces_group(const StepView& s, std::size_t i, double& kineti
     storen(s.fx + i, loadn(s.ex + i, Count) + m * splat(s.gx) - drag * vx, Count);
     storen(s.fy + i, loadn(s.ey + i, Count) + m * splat(s.gy) - drag * vy, Count);
     storen(s.fz + i, loadn(s.ez + i, Count) + m * splat(s.gz) - drag * vz, Count);
-    const v4d mv2 = m * v2;
-    for (int k = 0; k < Count; ++k) kinetic2 += mv2[k];
+    if (s.energy) {
+        const v4d mv2 = m * v2;
+        for (int k = 0; k < Count; ++k) kinetic2 += mv2[k];
+    }
     if (s.mirror) {
         v4d p0, p1, p2, p3, v0, v1, v2, v3;
         columns_to_rows(loadn(s.x + i, Count), loadn(s.y + i, Count), loadn(s.z + i, Count), p0, p1, p2, p3);
@@ -589,7 +597,8 @@ AMEOTO_INLINE void link_group(const StepView& s, const LaneLinks& g, bool consec
     const v4d e_spring = splat(s.k) * stretch * stretch;
     // The common case: bonded, no core, not breaking, and s = 0.0 + bond != 0 (so s = bond).
     if (gone_lanes == 0 && lane_bits((gap > zero) | (-spring > splat(s.threshold)) | (bond == zero)) == 0) [[likely]] {
-        for (int k = 0; k < Count; ++k) elastic2 += e_spring[k];
+        if (s.energy)
+            for (int k = 0; k < Count; ++k) elastic2 += e_spring[k];
         add_link_forces<Dense, Count>(s, g, all, bond * ux, bond * uy, bond * uz);
         return;
     }
@@ -600,10 +609,11 @@ AMEOTO_INLINE void link_group(const StepView& s, const LaneLinks& g, bool consec
     const v4d force = acting ? s_core + bond : s_core;
     const v4d e_core = core_on ? splat(s.core_k) * gap * gap : minus_zero;
     const v4d e_bond = acting ? e_spring : minus_zero;
-    for (int k = 0; k < Count; ++k) {
-        elastic2 += e_core[k];
-        elastic2 += e_bond[k];
-    }
+    if (s.energy)
+        for (int k = 0; k < Count; ++k) {
+            elastic2 += e_core[k];
+            elastic2 += e_bond[k];
+        }
     const int breaks = lane_bits(breaking) & all;
     for (int k = 0; k < Count; ++k) {
         if (!(breaks & (1 << k))) continue;
@@ -699,17 +709,18 @@ AMEOTO_INLINE std::size_t list_candidates(const StepView& view) {
     return count;
 }
 
-// How far any two masses can have moved towards each other since they were listed: the relative
-// displacement of a and b is at most the range (max - min over the masses) of the displacements, per
-// axis. Returns the squared bound (NaN if a position is not finite).
-AMEOTO_INLINE double approach_bound2(const StepView& view) {
-    const StepView s = view;
-    v4d lo_x = splat(0.0), lo_y = lo_x, lo_z = lo_x, hi_x = lo_x, hi_y = lo_x, hi_z = lo_x;
-    v4m bad = {0, 0, 0, 0};
-    auto take = [&](std::size_t i, int count) {
-        const v4d dx = loadn(s.x + i, count) - loadn(s.listed_x + i, count);
-        const v4d dy = loadn(s.y + i, count) - loadn(s.listed_y + i, count);
-        const v4d dz = loadn(s.z + i, count) - loadn(s.listed_z + i, count);
+// The displacements' range, gathered four masses at a time (lanes), by approach_bound2() or, fused
+// into the update, by update() for the next sub-step. (Members set by clear(), not by initialisers: an
+// implicit constructor would be compiled outside this AVX2 region.)
+struct DisplacementRange4 {
+    v4d lo_x, lo_y, lo_z, hi_x, hi_y, hi_z;
+    v4m bad;
+    AMEOTO_INLINE void clear() {
+        lo_x = lo_y = lo_z = hi_x = hi_y = hi_z = v4d{0.0, 0.0, 0.0, 0.0};
+        bad = v4m{0, 0, 0, 0};
+    }
+    // dx, dy, dz: displacements since listing (lanes past an array's tail: 0, a displacement of 0).
+    AMEOTO_INLINE void take(const v4d& dx, const v4d& dy, const v4d& dz) {
         bad |= (dx != dx) | (dy != dy) | (dz != dz);
         lo_x = _mm256_min_pd(lo_x, dx);
         lo_y = _mm256_min_pd(lo_y, dy);
@@ -717,26 +728,42 @@ AMEOTO_INLINE double approach_bound2(const StepView& view) {
         hi_x = _mm256_max_pd(hi_x, dx);
         hi_y = _mm256_max_pd(hi_y, dy);
         hi_z = _mm256_max_pd(hi_z, dz);
+    }
+    AMEOTO_INLINE double bound2() const {
+        if (lane_bits(bad) != 0) return std::numeric_limits<double>::quiet_NaN();
+        const v4d rx = hi_x - lo_x, ry = hi_y - lo_y, rz = hi_z - lo_z;
+        double range_x = 0.0, range_y = 0.0, range_z = 0.0;
+        for (int k = 0; k < 4; ++k) {
+            range_x = std::max(range_x, rx[k]);
+            range_y = std::max(range_y, ry[k]);
+            range_z = std::max(range_z, rz[k]);
+        }
+        return range_x * range_x + range_y * range_y + range_z * range_z;
+    }
+};
+
+// How far any two masses can have moved towards each other since they were listed: the relative
+// displacement of a and b is at most the range (max - min over the masses) of the displacements, per
+// axis. Returns the squared bound (NaN if a position is not finite).
+AMEOTO_INLINE double approach_bound2(const StepView& view) {
+    const StepView s = view;
+    DisplacementRange4 range;
+    range.clear();
+    auto take = [&](std::size_t i, int count) {
+        range.take(loadn(s.x + i, count) - loadn(s.listed_x + i, count), loadn(s.y + i, count) - loadn(s.listed_y + i, count),
+                   loadn(s.z + i, count) - loadn(s.listed_z + i, count));
     };
     std::size_t i = 0;
     for (; i + 4 <= s.n; i += 4) take(i, 4);
     if (i < s.n) take(i, static_cast<int>(s.n - i));   // the tail's empty lanes read 0: a displacement of 0
-    if (lane_bits(bad) != 0) return std::numeric_limits<double>::quiet_NaN();
-    const v4d rx = hi_x - lo_x, ry = hi_y - lo_y, rz = hi_z - lo_z;
-    double range_x = 0.0, range_y = 0.0, range_z = 0.0;
-    for (int k = 0; k < 4; ++k) {
-        range_x = std::max(range_x, rx[k]);
-        range_y = std::max(range_y, ry[k]);
-        range_z = std::max(range_z, rz[k]);
-    }
-    return range_x * range_x + range_y * range_y + range_z * range_z;
+    return range.bound2();
 }
 
 // 3. Update, four masses per group; for the uniform pass first the link forces, added per mass in link
 // order. Adds the new coordinates to sum in mass order. Fixed points have 1/m = 0 and zero velocity,
 // so both schemes leave them in place.
-template <int Count>
-AMEOTO_INLINE void update_group(const StepView& s, std::size_t i, double& sum) {
+template <int Count, bool Track>
+AMEOTO_INLINE void update_group(const StepView& s, std::size_t i, v4d& sum, DisplacementRange4& range) {
     v4d fx = loadn(s.fx + i, Count), fy = loadn(s.fy + i, Count), fz = loadn(s.fz + i, Count);
     if (s.slots) {
         v4d f0, f1, f2, f3;
@@ -779,22 +806,32 @@ AMEOTO_INLINE void update_group(const StepView& s, std::size_t i, double& sum) {
     storen(s.x + i, nx, Count);
     storen(s.y + i, ny, Count);
     storen(s.z + i, nz, Count);
-    const v4d row_sum = nx + ny + nz;
-    for (int k = 0; k < Count; ++k) sum += row_sum[k];
+    // Lane k sums the masses i = k mod 4 (the scalar step's sum[i % 4]); the lanes past Count add
+    // 0 + 0 + 0 = +0, which leaves a lane unchanged (a lane starts at +0 and never becomes -0).
+    sum += nx + ny + nz;
+    // The sparse pass's next approach bound (approach_bound2() on the positions just written; the
+    // tail's empty lanes are 0 - 0).
+    if constexpr (Track)
+        range.take(nx - loadn(s.listed_x + i, Count), ny - loadn(s.listed_y + i, Count), nz - loadn(s.listed_z + i, Count));
 }
 
-AMEOTO_INLINE double update(const StepView& view) {
+// Returns the coordinates' sum; with Track, also the approach bound of the positions written (bound2).
+template <bool Track>
+AMEOTO_INLINE double update(const StepView& view, double& bound2) {
     const StepView s = view;
-    double sum = 0.0;
+    v4d sum = splat(0.0);
+    DisplacementRange4 range;
+    if constexpr (Track) range.clear();
     std::size_t i = 0;
-    for (; i + 4 <= s.n; i += 4) update_group<4>(s, i, sum);
+    for (; i + 4 <= s.n; i += 4) update_group<4, Track>(s, i, sum, range);
     switch (s.n - i) {
-        case 3: update_group<3>(s, i, sum); break;
-        case 2: update_group<2>(s, i, sum); break;
-        case 1: update_group<1>(s, i, sum); break;
+        case 3: update_group<3, Track>(s, i, sum, range); break;
+        case 2: update_group<2, Track>(s, i, sum, range); break;
+        case 1: update_group<1, Track>(s, i, sum, range); break;
         default: break;
     }
-    return sum;
+    if constexpr (Track) bound2 = range.bound2();
+    return ((sum[0] + sum[1]) + sum[2]) + sum[3];
 }
 
 #undef AMEOTO_INLINE
@@ -805,7 +842,11 @@ double dense_links_avx2(const StepView& s) { return dense_links(s); }
 double sparse_links_avx2(const StepView& s) { return sparse_links(s); }
 std::size_t list_candidates_avx2(const StepView& s) { return list_candidates(s); }
 double approach_bound2_avx2(const StepView& s) { return approach_bound2(s); }
-double update_avx2(const StepView& s) { return update(s); }
+double update_avx2(const StepView& s) {
+    double unused = 0.0;
+    return update<false>(s, unused);
+}
+double update_tracking_avx2(const StepView& s, double& bound2) { return update<true>(s, bound2); }
 
 }  // namespace
 
@@ -857,6 +898,7 @@ void Body3D::sub_step_avx2(int index) {
     s.dt = sub_dt_;
     s.inv_dt = 1.0 / sub_dt_;
     s.cordis = integrator_ == Integrator::explicit_verlet;
+    s.energy = energy_limit_ < std::numeric_limits<double>::infinity();
     s.mirror = nullptr;
     s.contribution = nullptr;
     s.slots = nullptr;
@@ -906,7 +948,12 @@ void Body3D::sub_step_avx2(int index) {
         // holds whatever moved them (set_position() too). A position not finite: listed again, NaN
         // links kept.
         // (Margin and bound measured on a shattered 5 mm drop: lists again about every 9 steps.)
-        if (candidates_valid_ && !(approach_bound2_avx2(s) < 16.0 * rest_[0] * rest_[0])) candidates_valid_ = false;
+        // The bound of the positions now: the last sparse sub-step's update measured it (fused, no pass
+        // of its own), unless something has moved a mass since (set_position, reset, finalize).
+        if (candidates_valid_) {
+            const double bound2 = next_bound_fresh_ ? next_bound2_ : approach_bound2_avx2(s);
+            if (!(bound2 < 16.0 * rest_[0] * rest_[0])) candidates_valid_ = false;
+        }
         if (!candidates_valid_) {
             candidate_count_ = list_candidates_avx2(s);
             candidates_valid_ = true;
@@ -914,8 +961,10 @@ void Body3D::sub_step_avx2(int index) {
         s.candidate_count = candidate_count_;
         elastic2 = sparse_links_avx2(s);
     }
-    last_energy_ = 0.5 * (kinetic2 + elastic2);
-    last_position_sum_ = update_avx2(s);
+    last_energy_ = s.energy ? 0.5 * (kinetic2 + elastic2) : 0.0;
+    const bool sparse = uniform_cohesive_ && !s.slots;
+    last_position_sum_ = sparse ? update_tracking_avx2(s, next_bound2_) : update_avx2(s);
+    next_bound_fresh_ = sparse;
 }
 
 // The scalar step: the reference, and the code on a CPU without AVX2.
@@ -955,6 +1004,7 @@ void Body3D::sub_step_baseline(int index) {
         }
     }
     const double gx = gravity_.x, gy = gravity_.y, gz = gravity_.z;
+    const bool energy = energy_limit_ < std::numeric_limits<double>::infinity();
     double kinetic2 = 0.0;   // twice the kinetic energy
     for (std::size_t i = 0; i < n; ++i) {
         const double v2 = vx[i] * vx[i] + vy[i] * vy[i] + vz[i] * vz[i];
@@ -962,15 +1012,17 @@ void Body3D::sub_step_baseline(int index) {
         fx[i] = ex[i] + m[i] * gx - drag * vx[i];
         fy[i] = ey[i] + m[i] * gy - drag * vy[i];
         fz[i] = ez[i] + m[i] * gz - drag * vz[i];
-        kinetic2 += m[i] * v2;
+        if (energy) kinetic2 += m[i] * v2;
     }
 
-    // 2. Links: the uniform cohesive pass (a drop) or any links.
+    // 2. Links: the uniform cohesive pass (a drop) or any links. (Their elastic energy is summed
+    // whatever the limit: the scalar step is the reference, and its cost matters less.)
     const double elastic2 = uniform_cohesive_ ? uniform_cohesive_links(index) : generic_links(index);
-    last_energy_ = 0.5 * (kinetic2 + elastic2);
+    last_energy_ = energy ? 0.5 * (kinetic2 + elastic2) : 0.0;
 
     // 3. Update. Fixed points have 1/m = 0 and zero velocity, so both schemes leave them in place.
-    double sum = 0.0;
+    // The coordinates' sum for the guard in four partial sums, sum[i % 4] (the AVX2 step's lanes).
+    double sum[4] = {0.0, 0.0, 0.0, 0.0};
     if (cordis) {
         // Position Verlet: x[n+1] = 2 x[n] - x[n-1] + T^2 F / m.
         const double dt2 = dt * dt;
@@ -984,7 +1036,7 @@ void Body3D::sub_step_baseline(int index) {
             x[i] = nx;
             y[i] = ny;
             z[i] = nz;
-            sum += nx + ny + nz;
+            sum[i % 4] += nx + ny + nz;
         }
     } else {
         // Symplectic Euler: v += T F / m, then x += T v with the new v.
@@ -998,10 +1050,10 @@ void Body3D::sub_step_baseline(int index) {
             x[i] += dt * vx[i];
             y[i] += dt * vy[i];
             z[i] += dt * vz[i];
-            sum += x[i] + y[i] + z[i];
+            sum[i % 4] += x[i] + y[i] + z[i];
         }
     }
-    last_position_sum_ = sum;
+    last_position_sum_ = ((sum[0] + sum[1]) + sum[2]) + sum[3];
 }
 
 double Body3D::uniform_cohesive_links(int index) {

@@ -26,6 +26,7 @@
 //   for (const LinkBreak& e : body.breaks()) ...              // links that broke during that step
 //   body.set_position(m, p); body.set_velocity(m, v); body.reset();
 //   body.position(m), velocity(m), momentum(), energy(), resets(), link_broken(l), stability(),
+//   body.positions()                                          // .x .y .z: every mass's coordinates
 //   linear_drag(m), quadratic_drag(m) ...
 //   body.set_portable_kernels(true);                          // the scalar step even on AVX2 (tests)
 //   body.avx2_kernels();                                      // which code finalize() picked
@@ -67,7 +68,8 @@
 //      most are broken ("sparse") it computes only candidates, in link order, and adds their forces
 //      lane after lane. The candidates are the bonded links and the broken ones whose masses were
 //      within core length + 8 h (h: the rest length) when listed; the list is made again once any two
-//      masses may have approached by 4 h (bounded by the range of the masses' displacements since), so
+//      masses may have approached by 4 h (bounded by the range of the masses' displacements since,
+//      which the sparse step's update measures for the next sub-step as it writes the positions), so
 //      every link left out is one the scalar pass skips (broken, core not touching);
 //   3. per mass, four at a time: the dense pass's link forces, then the update.
 // A 5 mm drop per 48 kHz step, scalar -> AVX2 (docs/engine.md, "The drop"): awake 5.6 -> 3.1 us,
@@ -77,10 +79,12 @@
 // rounded whatever the vector width; no FMA: AVX2 does not include it and body3d.cpp is built with
 // -ffp-contract=off; nothing is reassociated); branches become lane masks; every force reaches its
 // mass's accumulator in link order, as in the scalar pass, and a link that adds nothing there adds
-// -0.0 here, which leaves any sum unchanged (x + -0 = x for every x, -0 included); the sums that cross
-// lanes (kinetic and elastic energy, the position sum of the guard) are added lane by lane in the
-// scalar order. Tested every step on a shattering drop (dense and sparse): AVX2 uniform pass, scalar
-// uniform pass, AVX2 per-mass kernels with the generic pass.
+// -0.0 here, which leaves any sum unchanged (x + -0 = x for every x, -0 included); the energies, which
+// cross lanes, are added lane by lane in the scalar order; the guard's position sum is kept as four
+// partial sums, masses i = k mod 4 in sum k (lane k here, sum[i % 4] in the scalar step), added
+// together at the end (no chain of dependent adds through every mass). Tested every step on a
+// shattering drop (dense and sparse): AVX2 uniform pass, scalar uniform pass, AVX2 per-mass kernels
+// with the generic pass.
 //
 // External forces per mass: gravity m g, linear drag -c v (the seed's model, section 4.5), quadratic
 // drag -b |v| v with b = rho_air C_d A / 2 (body3d_drag.hpp gives C_d and b for water drops), and
@@ -116,10 +120,13 @@
 // the links' elastic energy; gravity's potential is left out because a falling body's is unbounded)
 // exceeds the caller's limit, the body is reset (every mass back to its position at finalize(), zero
 // velocity, all links intact) and resets() increments: a diverging body is muted and counted, never
-// left to explode. The energy is the one the step measured anyway, at the start of its last sub-step
-// (no extra pass over the links), so the guard lags by one sub-step: a stable body cannot grow much in
-// one sub-step, and an unstable one (forced sub-steps) is let through at most one sub-step's growth
-// past the limit. Positions are checked after the last update.
+// left to explode. The energy is the one the step measured, at the start of its last sub-step (no extra
+// pass over the links), and only when a limit is set: by default (no limit) no energy is summed, since
+// its sums are a chain of dependent adds through every mass and link, and the non-finite check reads
+// the position sum alone (a NaN or Inf velocity reaches the positions at the next update). So the
+// guard lags by one sub-step: a stable body cannot grow much in one sub-step, and an unstable one
+// (forced sub-steps) is let through at most one sub-step's growth past the limit. Positions are
+// checked after the last update.
 
 #include <cstdint>
 #include <limits>
@@ -205,6 +212,13 @@ public:
     Integrator integrator() const { return integrator_; }
     Vec3 position(int m) const;
     Vec3 velocity(int m) const;                   // CORDIS: backward difference over the last sub-step
+    // Every mass's coordinates as arrays (mass_count() each): position(m) is {x[m], y[m], z[m]}. For a
+    // caller that scans every mass each step (the collision broad phase, drop_on_canopy.cpp) without a
+    // call per mass. Valid until the body is cleared or built again.
+    struct Coordinates {
+        const double *x, *y, *z;
+    };
+    Coordinates positions() const { return {x_.data(), y_.data(), z_.data()}; }
     double mass(int m) const { return mass_[idx(m)]; }   // 0 for a fixed point
     double linear_drag(int m) const { return linear_drag_[idx(m)]; }
     double quadratic_drag(int m) const { return quadratic_drag_[idx(m)]; }
@@ -278,6 +292,8 @@ private:
     std::vector<double> listed_x_, listed_y_, listed_z_;   // the positions they were listed at
     std::size_t candidate_count_ = 0;
     bool candidates_valid_ = false;
+    double next_bound2_ = 0.0;         // the approach bound of the positions the last update wrote
+    bool next_bound_fresh_ = false;    // ... and no mass has been moved since (sub_step_avx2())
     // events
     std::vector<LinkBreak> events_;
     std::size_t event_count_ = 0;

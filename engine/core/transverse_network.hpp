@@ -19,6 +19,7 @@
 //                                                           // runaway; true if it reset (counted)
 //   net.reset();                                            // all masses to rest
 //   net.position(m), net.velocity(m), net.kinetic_plus_potential_energy(), net.finite()
+//   net.positions(out), net.velocities(out)                 // every mass at once (out: mass_count())
 //
 // Integrators (integrators/*.hpp, docs/engine.md "Integrators and stability"): explicit Verlet (the
 // CORDIS scheme, default), symplectic Euler, trapezoidal (Newmark average acceleration), backward Euler,
@@ -77,6 +78,11 @@ public:
     int link_count() const { return static_cast<int>(arrays_.link_count()); }
     double position(int m) const;
     double velocity(int m) const;   // explicit Verlet: backward difference over the last sub-step
+    // Every mass's position / velocity into out[0 .. mass_count()), the same values as position(m) and
+    // velocity(m), with one dispatch for the whole body instead of one per call (the far field and the
+    // collision broad phase read every node every sample).
+    void positions(double* out) const;
+    void velocities(double* out) const;
     double mass(int m) const { return arrays_.mass(static_cast<std::size_t>(m)); }
     double kinetic_plus_potential_energy() const;   // J; modal: of the kept modes
     const StabilityReport& stability() const { return stability_; }

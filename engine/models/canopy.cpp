@@ -52,6 +52,7 @@ Canopy::Canopy(const CanopyGeometry& geometry, const MembraneMaterial& material,
     const Membrane prototype = build_membrane(outline_, geometry.masses_per_panel, material, time_step_s, options);
     panels_.assign(static_cast<std::size_t>(geometry.panels), prototype);
     nodes_ = prototype.network.mass_count();
+    displacements_.assign(static_cast<std::size_t>(nodes_), 0.0);
     const double sector = 2.0 * constants::pi / geometry.panels;
     for (int k = 0; k < geometry.panels; ++k) {
         cos_azimuth_.push_back(std::cos(panel_azimuth(k)));
@@ -121,12 +122,15 @@ double Canopy::normal_velocity(int panel, int node) const {
 // node at all the range is empty (lowest +infinity, highest -infinity).
 DisplacementRange Canopy::displacement_range() const {
     DisplacementRange r{std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
-    for (const Membrane& p : panels_)
+    double* const u_all = displacements_.data();
+    for (const Membrane& p : panels_) {
+        p.network.positions(u_all);   // position(i) for every node, one call
         for (int i = 0; i < nodes_; ++i) {
-            const double u = p.network.position(i);
+            const double u = u_all[i];
             r.lowest = std::min(r.lowest, u);
             r.highest = std::max(r.highest, u);
         }
+    }
     return r;
 }
 

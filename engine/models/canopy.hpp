@@ -114,6 +114,7 @@ private:
     std::vector<PolygonEdge> outline_;
     std::vector<Membrane> panels_;
     std::vector<Vec3> rest_, normal_;   // per panel and node, panel-major
+    mutable std::vector<double> displacements_;   // displacement_range()'s scratch: one panel's u
     // locate()'s tables, set by the constructor so that locate needs no trigonometry: per panel the
     // cosine and sine of its azimuth (to_local); the sector boundaries' unit vectors, boundary k at
     // azimuth (k - 1/2) 2 pi / N for k = 0..N (panel k lies between boundaries k and k + 1); and the

@@ -204,34 +204,43 @@ void DropOnCanopy::collide() {
     bool have_u = false;
     double u_max = 0.0, above = top_ + reach_;
     int near = 0;
+    // One mass: the checks below, then collide_one. Called with the mass's position as the pool gives it.
+    auto visit = [&](int d, int m, const Vec3 p) {
+        if (p.x * p.x + p.y * p.y > r2_max) return;
+        if (read && !have_u) {
+            const DisplacementRange u = canopy_.displacement_range();
+            u_max = u.highest;
+            above = top_ + std::max(u_max, 0.0) * per_normal + 1e-12;
+            below = band_below - std::max(-u.lowest, 0.0) * per_normal;
+            displaced_ = !(std::max(u.highest, -u.lowest) <= 0.25 * 0.05);
+            have_u = true;
+        }
+        if (p.z <= top_ + reach_ && p.z >= band_below) ++near;
+        if (p.z > above) return;
+        if (have_u) {
+            const double a = flat ? p.z : (p.z - canopy_.rest_height(p.x, p.y)) * canopy_.surface_normal(p.x, p.y).z;
+            if (a > u_max) return;
+        }
+        const Vec3 v = pool_.velocity(d, m);
+        if (p.z < below && p.z < below - (skin + t * (std::fabs(v.x) + std::fabs(v.y) + std::fabs(v.z))) * per_normal)
+            return;
+        Vec3 force;
+        if (collider_.collide_one(canopy_, p, v, pool_.mass(d, m), force)) {
+            pool_.apply_force(d, m, force);
+            contact_force_ = contact_force_ + force;
+        }
+    };
     for (const int d : pool_.active()) {
         const int n = pool_.mass_count(d);
-        for (int m = 0; m < n; ++m) {
-            const Vec3 p = pool_.position(d, m);
-            if (p.x * p.x + p.y * p.y > r2_max) continue;
-            if (read && !have_u) {
-                const DisplacementRange u = canopy_.displacement_range();
-                u_max = u.highest;
-                above = top_ + std::max(u_max, 0.0) * per_normal + 1e-12;
-                below = band_below - std::max(-u.lowest, 0.0) * per_normal;
-                displaced_ = !(std::max(u.highest, -u.lowest) <= 0.25 * 0.05);
-                have_u = true;
-            }
-            if (p.z <= top_ + reach_ && p.z >= band_below) ++near;
-            if (p.z > above) continue;
-            if (have_u) {
-                const double a = flat ? p.z : (p.z - canopy_.rest_height(p.x, p.y)) * canopy_.surface_normal(p.x, p.y).z;
-                if (a > u_max) continue;
-            }
-            const Vec3 v = pool_.velocity(d, m);
-            if (p.z < below && p.z < below - (skin + t * (std::fabs(v.x) + std::fabs(v.y) + std::fabs(v.z))) * per_normal)
-                continue;
-            Vec3 force;
-            if (collider_.collide_one(canopy_, p, v, pool_.mass(d, m), force)) {
-                pool_.apply_force(d, m, force);
-                contact_force_ = contact_force_ + force;
-            }
+        if (pool_.dormant(d)) {   // its body holds the positions at spawn: the pool adds the shift
+            for (int m = 0; m < n; ++m) visit(d, m, pool_.position(d, m));
+            continue;
         }
+        // Awake: the body's coordinate arrays (pool_.position(d, m) is position(m) of this same body;
+        // body() wakes only a dormant drop, and apply_force only adds to the external forces, so the
+        // arrays stay valid through the loop). A call per mass cost about as much as the checks.
+        const Body3D::Coordinates c = pool_.body(d).positions();
+        for (int m = 0; m < n; ++m) visit(d, m, Vec3{c.x[m], c.y[m], c.z[m]});
     }
     near_masses_ = near;
     unread_steps_ = have_u ? 0 : std::min(unread_steps_ + 1, 255);

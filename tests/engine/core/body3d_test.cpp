@@ -740,3 +740,21 @@ TEST_CASE("body3d: step() never allocates or locks, with breaks, contacts, drag 
     CHECK(audit.entries() > 0);
     CHECK_MESSAGE(audit.violations() == 0, audit.first());
 }
+
+// positions() (the collision broad phase's bulk read) gives position(m) for every mass, as the body moves.
+TEST_CASE("body3d: positions() reads every mass as position(m)") {
+    Body3D body;
+    for (int i = 0; i < 5; ++i) body.add_mass(1e-6, Vec3{0.001 * i, -0.002 * i, 0.5 + 0.001 * i});
+    for (int i = 0; i + 1 < 5; ++i) body.add_spring(i, i + 1, 0.1, 1e-6, 0.0015);
+    body.set_gravity(Vec3{0.0, 0.0, -9.80665});
+    body.finalize(kT);
+    body.set_velocity(4, Vec3{0.3, 0.0, -1.0});
+    for (int n = 0; n < 50; ++n) body.step();
+    const Body3D::Coordinates c = body.positions();
+    for (int m = 0; m < body.mass_count(); ++m) {
+        CHECK(c.x[m] == body.position(m).x);
+        CHECK(c.y[m] == body.position(m).y);
+        CHECK(c.z[m] == body.position(m).z);
+    }
+    CHECK(c.z[0] != 0.5);   // it moved (springs and gravity)
+}

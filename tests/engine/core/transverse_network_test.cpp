@@ -439,3 +439,29 @@ TEST_CASE("transverse_network: the runtime guard resets a runaway body and count
         CHECK(body.network.kinetic_plus_potential_energy() == 0.0);
     }
 }
+
+// The bulk readers give what the per-mass ones give.
+TEST_CASE("transverse_network: positions() and velocities() read every mass as position(m) and velocity(m)") {
+    for (const auto scheme : {ameoto::Integrator::explicit_verlet, ameoto::Integrator::symplectic_euler,
+                              ameoto::Integrator::trapezoidal, ameoto::Integrator::backward_euler,
+                              ameoto::Integrator::modal}) {
+        CAPTURE(static_cast<int>(scheme));
+        ameoto::TransverseNetwork net;
+        for (int i = 0; i < 6; ++i) net.add_mass(1e-3, 1e-4);
+        for (int i = 0; i + 1 < 6; ++i) net.add_link(i, i + 1, 100.0, 1e-3);
+        net.add_anchor(0, 200.0, 1e-3);
+        ameoto::NetworkOptions options;
+        options.integrator = scheme;
+        net.finalize(kT, options);
+        net.apply_force(5, 0.3);
+        for (int n = 0; n < 20; ++n) net.step();
+        std::vector<double> x(6), v(6);
+        net.positions(x.data());
+        net.velocities(v.data());
+        for (int i = 0; i < 6; ++i) {
+            CHECK(x[static_cast<std::size_t>(i)] == net.position(i));
+            CHECK(v[static_cast<std::size_t>(i)] == net.velocity(i));
+        }
+        CHECK(v[5] != 0.0);
+    }
+}
