@@ -155,15 +155,15 @@ Ameoto {
 
 	version { |action, timeout = 2| this.query('/version', action, timeout, '/version.reply') }
 
-	// A message without arguments and its reply (replyAddress, default the same address), e.g.
-	// query('/rain/rate', { |msg| msg.postln }): action.value(msg), or nil after timeout seconds.
+	// A message without arguments and its reply (replyAddress, default ADDRESS.reply as docs/PROTOCOL.md's
+	// Queries say), e.g. query('/rain/rate', { |msg| msg.postln }): action.value(msg), or nil after timeout seconds.
 	query { |address, action, timeout = 2, replyAddress|
 		var answered = false, f;
 		f = OSCFunc({ |msg|
 			answered = true;
 			responders.remove(f);
 			action.value(msg)
-		}, replyAddress ? address, addr).oneShot;
+		}, replyAddress ? (address.asString ++ ".reply").asSymbol, addr).oneShot;
 		responders.add(f);
 		addr.sendMsg(address);
 		SystemClock.sched(timeout, {
