@@ -64,7 +64,8 @@ struct LodSettings {
     int max_full = 4;                  // lattice drops at once, 0..64
     double full_level_db = 6.0;        // relative to a 2 mm drop at 1 m
     double texture_margin_db = 20.0;   // below the masking level a drop becomes texture
-    double peak_budget = 0.6;          // fraction of the block period a lattice drop's worst block may reach
+    double peak_budget = 0.5;          // the most a lattice drop's worst block may reach (fraction of the
+                                       // period): the 60 % target less a margin for the machine's own noise
 };
 
 // What the lattice drops did during one measured callback (for observe_load).
