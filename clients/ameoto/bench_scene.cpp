@@ -136,7 +136,7 @@ int run_scene_bench(const BenchOptions& options, const CommandIo& io) {
                << ",\"target_mean_percent\":25,\"target_p999_percent\":60}\n";
         return exit_status::ok;
     }
-    char line[200];
+    char line[400];
     std::snprintf(line, sizeof line, "umbrella scene, 48 kHz stereo; the dry scene (canopy, far field) takes %.1f %% of a core\n",
                   100.0 * dry_share);
     io.out << line;
