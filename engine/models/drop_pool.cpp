@@ -5,6 +5,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "engine/core/body3d_drag.hpp"
+
 namespace ameoto {
 
 DropPool::DropPool(const DropPoolConfig& config) : config_(config) {
@@ -33,7 +35,7 @@ DropPool::DropPool(const DropPoolConfig& config) : config_(config) {
         s.body.reserve(max_masses_, max_links);
         s.body.set_gravity(config_.gravity);
         s.body.set_integrator(config_.integrator);
-        s.components.init(max_masses_);
+        s.components.init(max_masses_, max_links);
     }
     active_.reserve(slots_.size());
     free_.reserve(slots_.size());
@@ -203,6 +205,22 @@ void DropPool::clear() {
     while (!active_.empty()) release(active_.size() - 1);
 }
 
+void DropPool::set_changed_piece_drag(Slot& s) {
+    // set_piece_drag (drop.hpp) for the changed pieces only: the same value, D (n / N)^(1/3)'s drag over n,
+    // computed once per piece instead of once per mass. The other pieces keep theirs (it depends on their
+    // size alone, which did not change).
+    const ConnectedComponents& cc = s.components;
+    if (s.drag != DragPreset::quadratic || cc.count() == 0) return;
+    const double n_total = static_cast<double>(s.info.mass_count);
+    for (const int piece : cc.changed()) {
+        const int n = cc.size_of(piece);
+        const double d_piece = s.calibration.diameter * std::cbrt(n / n_total);
+        const double b = drag::drop_quadratic_drag(d_piece) / n;
+        for (int i = 0; i < s.info.mass_count; ++i)
+            if (cc.component_of(s.info.first_mass + i) == piece) s.body.set_quadratic_drag(s.info.first_mass + i, b);
+    }
+}
+
 void DropPool::step() {
     const bool check = ++steps_since_check_ >= config_.retire_interval;
     if (check) steps_since_check_ = 0;
@@ -222,10 +240,12 @@ void DropPool::step() {
         }
         if (!s.body.breaks().empty()) {
             stats_.link_breaks += static_cast<long>(s.body.breaks().size());
-            const int pieces = s.components.compute(s.body);
+            // Only the pieces these breaks touched are searched, and only their masses get a new drag
+            // (connected_components.hpp): a tear costs its neighbourhood, not the whole drop.
+            const int pieces = s.components.update(s.body, s.body.breaks());
             if (pieces > s.pieces) {
                 stats_.breakups += pieces - s.pieces;
-                set_piece_drag(s.body, s.info, s.calibration, s.components, s.drag);
+                set_changed_piece_drag(s);
             }
             s.pieces = pieces;
         }

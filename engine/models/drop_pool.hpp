@@ -33,9 +33,10 @@
 // thread; add_liquid() also rejects a liquid whose drops would need more than max_sub_steps at the
 // pool's time step (a very viscous liquid's dampers), so spawn() can never fail to finalize.
 //
-// Breakup: after a step in which links broke, the slot's components are recomputed (union-find, no
-// allocation); each increase of their number counts as breakups, and each piece gets the drag of a drop
-// of its own volume (set_piece_drag). Masses are never created or removed: a broken drop's pieces stay
+// Breakup: after a step in which links broke, the slot's components are updated for those links only
+// (ConnectedComponents::update: a search around each broken link, no allocation); each increase of their
+// number counts as breakups, and each changed piece gets the drag of a drop of its own volume (the value
+// set_piece_drag gives, computed once per piece). Masses are never created or removed: a broken drop's pieces stay
 // in its body, separate, until the drop retires (conservation is exact by construction).
 //
 // Dormant fall: a drop spawned whole, undeformed and with one velocity for all its masses feels no
@@ -158,6 +159,7 @@ private:
     Slot& slot(int drop) const { return slots_[static_cast<std::size_t>(drop)]; }
     Body3D& awake(int drop) const;   // wakes a dormant drop (no allocation; the physics is unchanged)
     void step_dormant(Slot& s) const;
+    void set_changed_piece_drag(Slot& s);
     bool all_done(const Slot& s) const;
     void release(std::size_t active_index);
 

@@ -11,6 +11,13 @@ constexpr double reference_speed_m_per_s = 6.49;   // Gunn & Kinzer's terminal s
 constexpr double unmasked_rate_per_s = 100.0;
 constexpr double rate_smoothing_s = 0.5;
 constexpr double recovery_per_s = 0.5;
+// Lattice pricing (header): time constants of what it learns.
+constexpr double base_smoothing_s = 0.5;
+constexpr double mean_smoothing_s = 0.25;
+constexpr double event_memory_s = 10.0;
+constexpr double recent_smoothing_s = 0.1;
+
+double one_pole(double block_seconds, double time_constant_s) { return 1.0 - std::exp(-block_seconds / time_constant_s); }
 }  // namespace
 
 double LodGovernor::level_db(double diameter_m, double speed_m_per_s, double distance_m) {
@@ -23,8 +30,11 @@ LodTier LodGovernor::choose(double diameter_m, double speed_m_per_s, double dist
     const double level = level_db(diameter_m, speed_m_per_s, distance_m);
     const double shed = 1.0 - detail_;
     if (full_active < settings_.max_full && level >= settings_.full_level_db + masking_db_ + 40.0 * shed) {
-        ++counts_.full;
-        return LodTier::full;
+        if (lattice_affordable()) {
+            ++counts_.full;
+            return LodTier::full;
+        }
+        ++counts_.priced_out;   // heard as a template instead
     }
     if (level >= masking_db_ - settings_.texture_margin_db + 30.0 * shed) {
         ++counts_.template_;
@@ -46,6 +56,35 @@ void LodGovernor::end_block(double measured_load, int drops, double block_second
     } else {
         detail_ = std::min(1.0, detail_ + recovery_per_s * block_seconds);
     }
+}
+
+void LodGovernor::observe_load(double measured_load, const LatticeActivity& activity, double block_seconds) {
+    if (!(block_seconds > 0.0) || !std::isfinite(measured_load) || measured_load < 0.0) return;
+    LatticePrice& p = price_;
+    if (!p.known) {
+        p.known = true;
+        p.recent = measured_load;
+    }
+    p.recent += one_pole(block_seconds, recent_smoothing_s) * (measured_load - p.recent);
+    if (activity.awake <= 0) {
+        if (!base_seen_) p.base = measured_load;
+        base_seen_ = true;
+        p.base += one_pole(block_seconds, base_smoothing_s) * (measured_load - p.base);
+    } else if (base_seen_) {
+        const double above = std::max(0.0, measured_load - p.base);
+        if (activity.event) {
+            p.event = std::max(p.event, std::max(0.0, above - (activity.awake - 1) * p.mean));
+        } else {
+            p.mean += one_pole(block_seconds, mean_smoothing_s) * (above / activity.awake - p.mean);
+        }
+    }
+    p.event *= std::exp(-block_seconds / event_memory_s);
+}
+
+bool LodGovernor::lattice_affordable() const {
+    const LatticePrice& p = price_;
+    if (!p.known) return true;   // offline, or nothing measured yet
+    return p.recent + p.mean <= settings_.budget && p.recent + p.event <= std::max(settings_.peak_budget, settings_.budget);
 }
 
 }  // namespace ameoto

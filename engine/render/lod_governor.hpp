@@ -8,6 +8,8 @@
 //   ---- audio thread: no allocation ----
 //   LodTier t = g.choose(D_m, V_m_per_s, distance_m, full_active);   // per drop (V: impact speed)
 //   g.end_block(measured_load, drops_this_block, block_seconds);  // after each block: load in 0..1+
+//   g.observe_load(load, LatticeActivity{...}, block_seconds);    // live only: each callback's load and what
+//                                                        // the lattice drops did in it (prices them)
 //   g.detail()                                           // 0..1: how much detail the load allows now
 //   g.masking_db()                                       // the density's masking level now
 //
@@ -34,6 +36,22 @@
 // (1 - detail) * 30 dB; under it, detail() recovers at 0.5 per second (slow release, so it does not
 // oscillate). Offline renders pass no measured load (end_block with load 0): the choice then depends only
 // on the drops and the rate, so an offline render is reproducible to the sample.
+// Pricing a lattice drop (live only: after the first observe_load). A lattice drop costs the audio thread
+// far more than a template, and unevenly: about 10 % of a 64-frame block each block while it is awake,
+// and in the blocks where it is spawned and shatters on the membrane (hundreds of links breaking, its
+// pieces colliding) several times that. From each callback's measured load the governor learns:
+//   base    the load of blocks with no lattice drop awake (one-pole, 0.5 s);
+//   mean    one awake drop's share of the load above base, in blocks without a spawn or a break
+//           ((load - base) / awake, one-pole, 0.25 s): its expected cost per block;
+//   event   the worst block a spawn or a breakup gave: load - base - (awake - 1) mean, the excess one drop
+//           caused, a running maximum that decays with a 10 s time constant (so drops are tried again
+//           when the machine has become quieter);
+//   recent  the load now (one-pole, 0.1 s).
+// A drop is then admitted to the full tier only if, besides the rules above, its price fits:
+//   recent + mean <= budget  (its expected cost keeps the mean under the budget), and
+//   recent + event <= max(peak_budget, budget)  (its spawn and breakup block fits under the peak limit);
+// otherwise it becomes a template (counted in counts().priced_out). Before anything is learned the first
+// drops are admitted (they teach the price).
 
 #include <cstdint>
 
@@ -46,10 +64,25 @@ struct LodSettings {
     int max_full = 4;                  // lattice drops at once, 0..64
     double full_level_db = 6.0;        // relative to a 2 mm drop at 1 m
     double texture_margin_db = 20.0;   // below the masking level a drop becomes texture
+    double peak_budget = 0.5;          // the most a lattice drop's worst block may reach (fraction of the
+                                       // period): the 60 % target less a margin for the machine's own noise
+};
+
+// What the lattice drops did during one measured callback (for observe_load).
+struct LatticeActivity {
+    int awake = 0;         // lattice drops alive in the block (the most at once)
+    bool event = false;    // one was spawned or links broke in it
+};
+
+// What the governor has learned a lattice drop costs, fractions of the block period (see the header).
+struct LatticePrice {
+    bool known = false;    // a load has been observed (live)
+    double base = 0.0, mean = 0.0, event = 0.0, recent = 0.0;
 };
 
 struct LodCounts {
     std::uint64_t full = 0, template_ = 0, texture = 0;
+    std::uint64_t priced_out = 0;   // would have been full, but their price did not fit (live only)
 };
 
 class LodGovernor {
@@ -61,6 +94,9 @@ public:
 
     LodTier choose(double diameter_m, double speed_m_per_s, double distance_m, int full_active);
     void end_block(double measured_load, int drops, double block_seconds);
+    void observe_load(double measured_load, const LatticeActivity& activity, double block_seconds);
+    bool lattice_affordable() const;
+    const LatticePrice& lattice_price() const { return price_; }
 
     double detail() const { return detail_; }
     double masking_db() const { return masking_db_; }
@@ -74,6 +110,8 @@ private:
     double rate_per_s_ = 0.0;
     double masking_db_ = 0.0;
     LodCounts counts_;
+    LatticePrice price_;
+    bool base_seen_ = false;
 };
 
 }  // namespace ameoto

@@ -371,7 +371,16 @@ void Renderer::render_sample(float* const* outputs, int offset) {
     }
 }
 
+void Renderer::set_measured_load(double load) {
+    measured_load_ = load;
+    if (config_.adaptive_lod) governor_.observe_load(load, last_activity_, last_block_seconds_);
+}
+
 void Renderer::process(int frames, float* const* outputs) {
+    const DropPool& pool = scene_->drops.pool();
+    const DropPoolStats before = pool.stats();
+    const DropPool* pool_before = &pool;
+    const int awake_before = static_cast<int>(pool.active().size());
     for (int n = 0; n < frames; ++n) {
         const std::uint64_t now = frame_ + static_cast<std::uint64_t>(n);
         // Apply every command due at this sample, in order.
@@ -391,8 +400,15 @@ void Renderer::process(int frames, float* const* outputs) {
     if (fading_) stats_.body_resets += static_cast<std::uint64_t>(fading_->drops.guard());
     stats_.active_impacts = impacts_.active();
     stats_.active_full_drops = static_cast<int>(scene_->drops.pool().active().size());
+    // For the governor's price of a lattice drop (set_measured_load): a spawn or a break in this block.
+    const DropPoolStats& after = scene_->drops.pool().stats();
+    last_activity_.awake = std::max(awake_before, stats_.active_full_drops);
+    last_activity_.event = pool_before != &scene_->drops.pool() || after.spawned != before.spawned ||
+                           after.link_breaks != before.link_breaks;
+    last_block_seconds_ = frames * dt_;
     stats_.active_grains = grains_->active();
     stats_.detail = governor_.detail();
+    stats_.rain_tiers.priced_out = governor_.counts().priced_out;
     stats_.rain_rate_mm_per_h = has_umbrella_ ? rain_->rate() : rain_rate_;
     stats_.surface_drops = surfaces_->drops();
 }

@@ -133,7 +133,8 @@ public:
     static std::unique_ptr<LoadedScene> make_loaded_scene(const RendererConfig& config);
 
     void schedule(const Command& command);
-    void set_measured_load(double load) { measured_load_ = load; }   // the last block's, 0..1+
+    // The last block's load, 0..1+ (live): the governor's input, and what it prices lattice drops from.
+    void set_measured_load(double load);
     void process(int frames, float* const* outputs);
     bool poll_event(RendererEvent& event);
 
@@ -145,6 +146,7 @@ public:
     bool has_umbrella() const { return has_umbrella_; }
     const SceneSurfaces& surfaces() const { return *surfaces_; }
     const DropOnCanopy& scene() const { return scene_->drops; }
+    const LodGovernor& governor() const { return governor_; }
     const Canopy& canopy() const { return scene_->drops.canopy(); }
     int latency_samples() const { return scene_->drops.latency_samples(); }
 
@@ -182,6 +184,8 @@ private:
     std::unique_ptr<TextureGrains> grains_;
     Random grain_noise_;                  // the grains' own noise: the rain's draws do not depend on them
     double measured_load_ = 0.0;
+    LatticeActivity last_activity_;              // what the lattice drops did in the last process()
+    double last_block_seconds_ = 0.0;
     static constexpr int governor_period = 64;   // samples
     int governor_samples_ = 0;
     int block_drops_ = 0;

@@ -67,3 +67,48 @@ TEST_CASE("lod: with no measured load the choice depends only on the drops (offl
     }
     CHECK(a.detail() == 1.0);
 }
+
+TEST_CASE("lod: a lattice drop is priced from measured load: its mean cost and its spawn-and-breakup block") {
+    constexpr double block = 64.0 / 48000.0;
+    LodGovernor g(LodSettings{.budget = 0.4, .max_full = 4, .peak_budget = 0.6});
+    // Before any load is seen (offline, or the first blocks) nothing is priced.
+    CHECK_FALSE(g.lattice_price().known);
+    CHECK(g.lattice_affordable());
+    // 1 s with no lattice drop at 20 % load: the base.
+    for (int i = 0; i < 750; ++i) g.observe_load(0.20, LatticeActivity{0, false}, block);
+    CHECK(g.lattice_price().base == doctest::Approx(0.20));
+    CHECK(g.lattice_affordable());
+    // One drop awake costs 8 % a block (5 s: the 0.25 s mean has settled), its spawn block 0.35 above base.
+    g.observe_load(0.55, LatticeActivity{1, true}, block);
+    for (int i = 0; i < 3750; ++i) g.observe_load(0.28, LatticeActivity{1, false}, block);
+    CHECK(g.lattice_price().mean == doctest::Approx(0.08).epsilon(0.01));
+    CHECK(g.lattice_price().recent == doctest::Approx(0.28).epsilon(0.01));
+    // Decayed by exp(-5 s / 10 s) since: 0.35 * 0.61 = 0.21. recent + event = 0.49 <= 0.6: affordable.
+    CHECK(g.lattice_price().event == doctest::Approx(0.35 * std::exp(-0.5)).epsilon(0.01));
+    CHECK(g.lattice_affordable());
+    CHECK(g.choose(5e-3, 9.09, 0.4, 1) == LodTier::full);
+    // A heavier shatter: 0.55 above the base with another drop awake (0.55 - 0.08 = 0.47 its own). Now
+    // recent + event = 0.28 + 0.47 > 0.6: a loud near drop becomes a template, counted as priced out.
+    g.observe_load(0.75, LatticeActivity{2, true}, block);
+    CHECK(g.lattice_price().event == doctest::Approx(0.47).epsilon(0.01));
+    CHECK_FALSE(g.lattice_affordable());
+    CHECK(g.choose(5e-3, 9.09, 0.4, 1) == LodTier::template_);
+    CHECK(g.counts().priced_out == 1);
+    // The memory fades (10 s): on a quieter machine, 3 s later at 25 % load, recent + event fits again.
+    for (int i = 0; i < 2250; ++i) g.observe_load(0.25, LatticeActivity{0, false}, block);
+    CHECK(g.lattice_price().event == doctest::Approx(0.47 * std::exp(-0.3)).epsilon(0.02));
+    CHECK(g.lattice_affordable());
+    // The mean budget: a load near the budget leaves no room for one more drop's 8 %.
+    for (int i = 0; i < 750; ++i) g.observe_load(0.35, LatticeActivity{0, false}, block);
+    CHECK_FALSE(g.lattice_affordable());
+    CHECK(g.choose(5e-3, 9.09, 0.4, 0) == LodTier::template_);
+}
+
+TEST_CASE("lod: bad measured loads are ignored by the price") {
+    LodGovernor g;
+    g.observe_load(std::nan(""), LatticeActivity{0, false}, 0.001);
+    g.observe_load(-1.0, LatticeActivity{0, false}, 0.001);
+    g.observe_load(0.3, LatticeActivity{0, false}, 0.0);
+    CHECK_FALSE(g.lattice_price().known);
+    CHECK(g.lattice_affordable());
+}

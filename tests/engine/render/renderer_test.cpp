@@ -373,3 +373,46 @@ TEST_CASE("renderer: the heaviest rain uses grains and stays finite, within full
     CHECK(r.stats().rain_tiers.texture > 0);
     for (const auto& ch : out) CHECK(std::all_of(ch.begin(), ch.end(), [](float v) { return std::isfinite(v) && std::abs(v) < 1.0f; }));
 }
+
+TEST_CASE("renderer: live, the governor prices lattice drops from the load it is told; offline it never does") {
+    // A load the test makes up: 20 % plus 5 % per lattice drop awake, plus 60 % in any block where one
+    // was spawned or links broke (what the pool's counters show). The governor must learn that price
+    // from the renderer's reports and stop admitting lattice drops, whose 60 % spike on a 20-25 % load
+    // cannot fit under the 75 % budget (the detail falls only briefly: 85 % is just over it); offline,
+    // the same calls change nothing.
+    for (const bool live : {true, false}) {
+        ameoto::RendererConfig cfg;
+        cfg.rain_rate_mm_per_h = 50.0;
+        cfg.adaptive_lod = live;
+        cfg.lod_budget = 0.75;
+        ameoto::Renderer r(cfg);
+        std::vector<float> left(64), right(64);
+        float* out[2] = {left.data(), right.data()};
+        std::uint64_t full_before = 0;
+        for (int block = 0; block < 3 * 750; ++block) {   // 3 s
+            if (block == 2 * 750) full_before = r.stats().rain_tiers.full;
+            const ameoto::DropPoolStats before = r.scene().pool().stats();
+            r.process(64, out);
+            const ameoto::DropPoolStats& after = r.scene().pool().stats();
+            const bool event = after.spawned != before.spawned || after.link_breaks != before.link_breaks;
+            r.set_measured_load(0.2 + 0.05 * r.stats().active_full_drops + (event ? 0.6 : 0.0));
+        }
+        const std::uint64_t full_in_last_second = r.stats().rain_tiers.full - full_before;
+        const ameoto::LatticePrice& price = r.governor().lattice_price();
+        CAPTURE(live);
+        MESSAGE("live " << live << ": full " << r.stats().rain_tiers.full << " (last second " << full_in_last_second
+                        << "), priced out " << r.stats().rain_tiers.priced_out << ", learned mean " << price.mean
+                        << ", event " << price.event);
+        if (live) {
+            CHECK(price.known);
+            CHECK(price.base == doctest::Approx(0.2).epsilon(0.05));
+            CHECK(price.event > 0.4);   // 0.6, fading with a 10 s time constant since it was seen
+            CHECK(r.stats().rain_tiers.priced_out > 0);
+            CHECK(full_in_last_second == 0);
+        } else {
+            CHECK_FALSE(price.known);
+            CHECK(r.stats().rain_tiers.priced_out == 0);
+            CHECK(full_in_last_second > 0);
+        }
+    }
+}
