@@ -142,13 +142,14 @@ std::string cost_error_chart(const std::string& title, const std::vector<LogPane
             taken.push_back({right ? lx : lx - width, ly - height + 2, right ? lx + width : lx, ly + 2});
             s += text(lx, ly, c.label, right ? "start" : "end", 10);
         }
-        double note_y = f.y + 32;
-        s += text(f.x + f.w - 8, note_y, "at the floor with an arrow: error 0 (exact)", "end", 10, " fill=\"#555\"");
+        // Notes in the bottom-left corner: cheap and exact is where no method has been yet.
+        const double note_y = f.y + f.h - 40;
+        s += text(f.x + 8, note_y, "at the floor with an arrow: error 0 (exact)", "start", 10, " fill=\"#555\"");
         if (!omitted.empty()) {
             std::string list;
             for (const std::string& o : omitted) list += (list.empty() ? "" : ", ") + o;
-            s += text(f.x + f.w - 8, note_y + 14, "not drawn (modes left out, infinite error):", "end", 10, " fill=\"#555\"");
-            s += text(f.x + f.w - 8, note_y + 28, list, "end", 10, " fill=\"#555\"");
+            s += text(f.x + 8, note_y + 14, "not drawn (modes left out, infinite error):", "start", 10, " fill=\"#555\"");
+            s += text(f.x + 8, note_y + 28, list, "start", 10, " fill=\"#555\"");
         }
     }
     return s + "</svg>\n";
@@ -159,6 +160,10 @@ std::string stability_chart(const std::string& title, const std::vector<Stabilit
     std::string s = header(left + w + 230, top + h + 60, title);
     const LogFrame f{left, top, w, h, -1.0, 1.0, std::log10(0.5), 1.0};
     s += f.draw("omega_max T (log)", "amplitude growth factor per step (log)");
+    for (double v : {0.5, 2.0, 5.0}) {   // between the decades: the axis spans only 1.3 of them
+        s += fmt("<line x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\" stroke=\"#eee\"/>\n", f.x, f.py(v), f.x + f.w, f.py(v));
+        s += text(f.x - 6, f.py(v) + 4, tick_label(v), "end");
+    }
     auto clamp_y = [](double v) { return std::clamp(v, 0.5, 10.0); };
     s += fmt("<line x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\" stroke=\"#999\" stroke-dasharray=\"4 4\"/>\n", f.px(2.0), f.y,
              f.px(2.0), f.y + f.h);
