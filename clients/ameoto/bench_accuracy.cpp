@@ -254,7 +254,7 @@ std::string accuracy_bench_usage() {
            "Exit status: 0 measured; 1 a file could not be written; 2 usage error.\n"
            "\n"
            "Example (what docs/accuracy.md commits):\n"
-           "  ameoto bench accuracy --csv docs/accuracy.csv --svg docs/accuracy.svg \\\n"
+           "  ameoto bench accuracy --seconds 1 --runs 9 --csv docs/accuracy.csv --svg docs/accuracy.svg \\\n"
            "      --stability-svg docs/stability.svg --table engine/core/method_table.cpp\n";
 }
 
