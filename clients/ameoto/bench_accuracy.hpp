@@ -16,6 +16,8 @@
 // panel (the default umbrella has 8); also the quiet figure, the step alone with 1 N every 0.1 s (bench
 // engine's drive), and the contact figure: every node's displacement read as well, as the collider's
 // broad phase does while a lattice drop is near. Errors: bench_accuracy_errors.hpp.
+// Then the free drop (bench_accuracy_drop.hpp): explicit Verlet and symplectic Euler at 1x..8x the
+// sub-steps it needs, frequency error of its n = 2 oscillation and cost (CSV rows "free drop").
 // Outputs: a text table (or --json, one object per row), --csv FILE, --svg FILE (cost against error,
 // the Pareto front), --stability-svg FILE (the stability map) and --table FILE (the C++ source of
 // engine/core/method_table.cpp, the knob's data). docs/accuracy.md has the command that regenerates
