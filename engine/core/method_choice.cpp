@@ -27,9 +27,13 @@ bool better(const MeasuredMethod& a, const MeasuredMethod& b, AccuracyMeasure m)
 }  // namespace
 
 std::string method_label(const MethodSetting& s) {
+    // Appended piece by piece: GCC 12's -Wrestrict misfires on `label += " " + std::to_string(n)`.
     std::string label = integrator_name(s.integrator);
-    if (conditionally_stable(s.integrator)) label += " " + std::to_string(s.sub_steps) + "x";
-    if (s.integrator == Integrator::modal) label += s.modes > 0 ? " " + std::to_string(s.modes) + " modes" : " all modes";
+    if (conditionally_stable(s.integrator)) label.append(" ").append(std::to_string(s.sub_steps)).append("x");
+    if (s.integrator == Integrator::modal) {
+        if (s.modes > 0) label.append(" ").append(std::to_string(s.modes)).append(" modes");
+        else label.append(" all modes");
+    }
     return label;
 }
 
