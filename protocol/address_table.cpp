@@ -319,6 +319,37 @@ std::vector<AddressSpec> make_table() {
                      r.action = Action::quit;
                      return std::nullopt;
                  }});
+    // Appended (issue 6): the accuracy knob (engine/core/method_choice.hpp, docs/accuracy.md).
+    t.push_back({"/accuracy",
+                 {{"measure", ArgumentKind::text, "", 0, 0, true,
+                   "cents (frequency error), db (log-spectral distance) or off (the default method); none: a query",
+                   "cents"},
+                  {"budget", ArgumentKind::number, "cents or dB", AccuracyLimits::cents_min, AccuracyLimits::cents_max, true,
+                   "the largest error allowed: cents 0.001..1200, db 0.001..60"}},
+                 "Set the scene's accuracy budget: the canopy runs the cheapest measured method within it (the scene is "
+                 "rebuilt off the audio thread). With no arguments, ask for the budget and the method chosen.",
+                 "/done /accuracy (once the rebuilt scene plays); with no arguments: /accuracy.reply",
+                 [](const ValidatedArguments& a, const ProtocolContext&, Request& r) -> std::optional<std::string> {
+                     if (a.texts.empty()) {
+                         r.action = Action::accuracy_query;
+                         return std::nullopt;
+                     }
+                     r.action = Action::edit_scene;
+                     r.edit.op = SceneEdit::Op::accuracy;
+                     if (a.texts[0] == "off") {
+                         if (!a.numbers.empty()) return "'off' takes no budget";
+                         r.edit.accuracy.reset();
+                         return std::nullopt;
+                     }
+                     AccuracyMeasure measure{};
+                     if (!parse_accuracy_measure(a.texts[0], measure))
+                         return "measure '" + a.texts[0] + "' is not one of cents, db, off";
+                     if (a.numbers.empty()) return "give the budget: /accuracy " + a.texts[0] + " VALUE";
+                     const AccuracyBudget budget{measure, a.numbers[0]};
+                     if (std::string why = validate_accuracy_budget(budget); !why.empty()) return why;
+                     r.edit.accuracy = budget;
+                     return std::nullopt;
+                 }});
     return t;
 }
 

@@ -51,6 +51,7 @@ enum class Action {
     load_scene,             // resolve `scene_name` (built in, or a file in the scene folder), build, swap in
     save_scene,             // write the current scene as `scene_name` into the scene folder, atomically
     edit_scene,             // change the current scene (`edit`) and rebuild it off the audio thread
+    accuracy_query,         // reply /accuracy.reply: the scene's accuracy budget and the method chosen
     query,                  // reply ADDRESS.reply with the value now in effect (`query_address`, `query_text`)
     notify,                 // subscribe (`notify_on`) or unsubscribe the sender: periodic /status.reply and /meter
     version,                // reply /version.reply
@@ -71,10 +72,11 @@ struct QuerySpec {
 
 // A change to the current scene that needs a rebuild: the drop size distribution, or a surface.
 struct SceneEdit {
-    enum class Op { dsd, surface_add, surface_set, surface_remove } op = Op::dsd;
+    enum class Op { dsd, surface_add, surface_set, surface_remove, accuracy } op = Op::dsd;
     std::string dsd;                 // dsd: its name
     double mu = 2.0, lambda = 0.0;   // dsd gamma: shape, 1/mm (0: from the rate)
     SurfaceDescription surface;      // surface_add / surface_set (all fields); surface_remove: its name
+    std::optional<AccuracyBudget> accuracy;   // accuracy: the new budget (none: the default method)
 };
 
 struct Request {

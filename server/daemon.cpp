@@ -290,6 +290,7 @@ void Daemon::State::edit_scene(const Peer& sender, const std::string& address, c
             else
                 scene.surfaces.erase(found);
             break;
+        case Op::accuracy: scene.accuracy = edit.accuracy; break;   // configure_for_scene applies it
     }
     if (refusal.empty()) refusal = validate_scene(scene);
     if (!refusal.empty()) {
@@ -412,6 +413,19 @@ void Daemon::State::reply(const Peer& to, const std::string& address, const std:
     const auto bytes = protocol::encode_message(address, args);
     if (to.transport == Peer::Transport::udp) udp->send(bytes, to.udp);
     else if (tcp) tcp->send(to.tcp, bytes);
+}
+
+// /accuracy with no arguments: the scene's budget (off 0 when none) and the method it chose
+// (core/method_choice.hpp): measure, budget, method, sub-steps asked, modes kept (0: all), why.
+static std::vector<protocol::OscArgument> accuracy_reply(const SceneDescription& scene) {
+    using protocol::OscArgument;
+    const AccuracyBudget budget = scene.accuracy.value_or(AccuracyBudget{});
+    const MethodSetting setting = scene.accuracy ? choose_method(budget).method.setting : MethodSetting{};
+    const std::string why = scene.accuracy ? choose_method(budget).reason : "no budget: the default method";
+    return {OscArgument::from_string(scene.accuracy ? accuracy_measure_name(budget.measure) : "off"),
+            OscArgument::from_float(static_cast<float>(scene.accuracy ? budget.value : 0.0)),
+            OscArgument::from_string(method_label(setting)), OscArgument::from_int(setting.sub_steps),
+            OscArgument::from_int(setting.modes), OscArgument::from_string(why)};
 }
 
 void Daemon::State::reply_status(const Peer& to) {
@@ -591,6 +605,7 @@ void Daemon::State::on_packet(const unsigned char* data, std::size_t size, const
         }
         switch (v.request.action) {
             case protocol::Action::status: reply_status(sender); break;
+            case protocol::Action::accuracy_query: reply(sender, "/accuracy.reply", accuracy_reply(current_scene)); break;
             case protocol::Action::quit:
                 reply(sender, "/done", {protocol::OscArgument::from_string("/quit")});
                 asio::post(io, [this] { shutdown(); });

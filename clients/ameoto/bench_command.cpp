@@ -1,5 +1,8 @@
 #include "clients/ameoto/bench_command.hpp"
 
+#include <algorithm>
+
+#include "clients/ameoto/bench_accuracy.hpp"
 #include "clients/ameoto/bench_drop.hpp"
 #include "clients/ameoto/bench_engine.hpp"
 #include "clients/ameoto/bench_options.hpp"
@@ -12,12 +15,15 @@ std::string bench_usage() {
     return "usage: ameoto bench engine [--json] [--seconds S] [--sizes N,N,...] [--runs R] [--no-faust]\n"
            "       ameoto bench drop [--json] [--runs R]\n"
            "       ameoto bench scene [--json] [--seconds S]\n"
+           "       ameoto bench accuracy [--json] [--csv FILE] [--svg FILE] [--stability-svg FILE] [--table FILE]\n"
            "\n"
            "drop: the cost of the seed's full model, 5 mm water drops at terminal speed on the 8-panel\n"
            "nylon canopy at 48 kHz (impact and breakup), and how many at once one core can carry.\n"
            "scene: the drops per second one core holds at each level of detail (full, template,\n"
            "texture), and heavy rain (50 mm/h, umbrella and pond) in 64-frame blocks: mean and\n"
            "99.9th percentile callback time (--seconds x 4 s of audio per measurement, 1..20).\n"
+           "accuracy: cost against error of every integration method on the umbrella panel, the\n"
+           "stability map, and the accuracy knob's data (ameoto bench accuracy --help; docs/accuracy.md).\n"
            "\n"
            "Measures the physics engine on this machine (no server needed): every method (the\n"
            "transverse network with each integrator, the grid membrane in float and double) on\n"
@@ -43,6 +49,7 @@ std::string bench_usage() {
 }
 
 int run_bench(const CommandWords& words, const CommandIo& io) {
+    if (std::find(words.begin(), words.end(), "accuracy") != words.end()) return run_accuracy_bench(words, io);
     BenchOptions options;
     std::string error;
     switch (parse_bench_options(words, options, error)) {

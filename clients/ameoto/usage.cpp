@@ -75,7 +75,7 @@ std::string general_usage() {
                "  send      send one OSC message and print the server's replies\n"
                "  status    print the server's state: CPU load, drops, xruns, rain rate, ...\n"
                "  watch     live level meters and load in the terminal (Ctrl-C quits)\n"
-               "  bench     measure the physics engine on this machine (no server needed)\n"
+               "  bench     measure the physics engine on this machine: speed, accuracy (no server needed)\n"
                "  render    render one drop on the umbrella to a WAV file, offline (no server needed)\n"
                "  help      this text, or a command's: ameoto help send\n"
                "\n"

@@ -91,8 +91,10 @@ double power_iteration_omega_max(const NetworkArrays& arrays, int max_iterations
     return std::sqrt(std::max(theta, 0.0));
 }
 
-StabilityReport assess_stability(const NetworkArrays& arrays, double time_step_s, Integrator integrator,
-                                 const StabilityOptions& options) {
+namespace {
+
+StabilityReport assess_for_stability(const NetworkArrays& arrays, double time_step_s, Integrator integrator,
+                                     const StabilityOptions& options) {
     StabilityReport r;
     r.omega_max_bound = gershgorin_omega_max(arrays);
     r.omega_max_estimate = power_iteration_omega_max(arrays);
@@ -163,6 +165,19 @@ StabilityReport assess_stability(const NetworkArrays& arrays, double time_step_s
     }
     r.sub_steps = n;
     r.message = why + format("; running %.0f sub-steps (margin %.3g)", static_cast<double>(n), r.margin());
+    return r;
+}
+
+}  // namespace
+
+StabilityReport assess_stability(const NetworkArrays& arrays, double time_step_s, Integrator integrator,
+                                 const StabilityOptions& options) {
+    StabilityReport r = assess_for_stability(arrays, time_step_s, integrator, options);
+    const int wanted = std::min(options.min_sub_steps, options.max_sub_steps);
+    if (!r.refused && conditionally_stable(r.integrator) && wanted > r.sub_steps) {
+        r.sub_steps = wanted;
+        r.message += format("; %.0f sub-steps for accuracy (margin %.3g)", static_cast<double>(wanted), r.margin());
+    }
     return r;
 }
 

@@ -26,6 +26,8 @@
 //   refuse:            refuse, with a message naming the bound: "omega_max T = 41.2 exceeds 2 for the
 //                      explicit Verlet scheme; use sub-steps or an implicit method";
 //   none:              run as asked (for demonstrations and tests: only the runtime guard protects).
+// min_sub_steps > 1 oversamples an explicit scheme for accuracy (its frequency warping falls as
+// (omega T / n)^2, integrators/integrator.hpp): the report runs max(min_sub_steps, what stability needs).
 // Implicit schemes and modal never need any of this; their report still carries the bounds.
 // Runtime guard: a body whose state is non-finite or whose energy exceeds a limit is reset and counted.
 // The limit is the caller's (energy_limit_J > 0) or energy_factor times the square of the injected
@@ -55,6 +57,7 @@ struct StabilityOptions {
     StabilityBound bound = StabilityBound::gershgorin;
     int max_sub_steps = 4096;
     double safety = 0.9;   // largest margin allowed to run
+    int min_sub_steps = 1; // explicit schemes: at least this many (accuracy: method_choice.hpp), 1..max
 };
 
 struct StabilityReport {

@@ -69,7 +69,7 @@ const DropOnCanopyConfig& DropOnCanopy::checked(const DropOnCanopyConfig& c) {
 DropOnCanopy::DropOnCanopy(const DropOnCanopyConfig& config)
     : config_(checked(config)),
       dt_(1.0 / config_.sample_rate),
-      canopy_(config_.geometry, config_.material, dt_),
+      canopy_(config_.geometry, config_.material, dt_, config_.network),
       pool_(pool_config(config_)),
       collider_(canopy_, dt_, CollisionOptions{.restitution = config_.restitution}),
       far_field_(canopy_, layout_for(config_), dt_),

@@ -89,6 +89,8 @@ struct DropOnCanopyConfig {
     double max_lifetime_s = 30.0;                  // s (0: never)
     int guard_interval = 256;                      // samples between runs of the canopy's guard (0: only
                                                    // when the caller calls guard())
+    NetworkOptions network{};                      // the panels' integrator (core/method_choice.hpp picks
+                                                   // it from an accuracy budget)
 };
 
 struct DropOnCanopyStats {

@@ -38,6 +38,8 @@ RendererConfig configure_for_scene(RendererConfig config, const SceneDescription
     config.rain_rate_mm_per_h = scene.rain.rate_mm_per_h;
     config.lod_budget = scene.lod.budget_percent / 100.0;
     config.full_drops = std::min(scene.lod.max_full, Renderer::max_full_drops);
+    // The accuracy knob: the cheapest measured method within the budget; none: the default method.
+    config.canopy_network = scene.accuracy ? network_options_for(choose_method(*scene.accuracy).method.setting) : NetworkOptions{};
     for (const SurfaceDescription& s : scene.surfaces) {
         if (s.kind != SurfaceKind::umbrella) continue;
         std::optional<MembraneMaterial> m = membrane_material(s.material);
@@ -95,6 +97,7 @@ std::unique_ptr<UmbrellaScene> Renderer::make_scene(const RendererConfig& config
     // pieces bounce on the cap for seconds; each one awake costs the audio thread.)
     c.max_lifetime_s = 0.5;
     c.guard_interval = 0;         // the renderer runs the guard after every block
+    c.network = config.canopy_network;
     return std::make_unique<UmbrellaScene>(c);
 }
 

@@ -100,7 +100,10 @@ bool is_scene_name(std::string_view name) {
 }
 
 std::string validate_scene(const SceneDescription& s) {
-    if (s.version != scene_format_version) return "version " + std::to_string(s.version) + " is not 1";
+    if (s.version < 1 || s.version > scene_format_version)
+        return "version " + std::to_string(s.version) + " is not 1 to " + std::to_string(scene_format_version);
+    if (s.accuracy)
+        if (const std::string why = validate_accuracy_budget(*s.accuracy); !why.empty()) return why;
     if (!is_scene_name(s.name)) return "scene name '" + s.name + "' is not 1-32 of A-Z a-z 0-9 - _";
     const RainDescription& r = s.rain;
     for (const std::string& why : {check_number("rain rate", r.rate_mm_per_h, rate_range, "mm/h"),
@@ -303,8 +306,8 @@ SceneDescription parse_scene(std::string_view text, const std::string& file) {
     SceneDescription s;
     s.name = "";
     bool have_header = false, have_name = false;
-    std::set<std::string> seen;   // rain, listener, lod: once each
-    int number = 0;
+    std::set<std::string> seen;   // rain, listener, lod, accuracy: once each
+    int number = 0, file_version = 1;
     std::size_t start = 0;
     while (start <= text.size()) {
         const std::size_t end = std::min(text.find('\n', start), text.size());
@@ -334,18 +337,21 @@ SceneDescription parse_scene(std::string_view text, const std::string& file) {
             }
             if (version > scene_format_version)
                 throw SceneFileError(file, number, "version",
-                                     "version " + std::to_string(version) + " needs a newer ameoto (this one reads version 1)");
+                                     "version " + std::to_string(version) + " needs a newer ameoto (this one reads versions 1 and 2)");
             if (version < 1) throw SceneFileError(file, number, "version", "version " + std::to_string(version) + " does not exist");
             have_header = true;
+            file_version = version;
             if (end == text.size()) break;
             continue;
         }
         Line line;
         line.number = number;
         line.word = words[0];
-        static const std::set<std::string> known{"name", "rain", "listener", "lod", "surface"};
+        static const std::set<std::string> known{"name", "rain", "listener", "lod", "surface", "accuracy"};
         if (!known.count(line.word))
-            throw SceneFileError(file, number, line.word, "unknown line (expected name, rain, listener, lod or surface)");
+            throw SceneFileError(file, number, line.word, "unknown line (expected name, rain, listener, lod, surface or accuracy)");
+        if (line.word == "accuracy" && file_version < 2)
+            throw SceneFileError(file, number, line.word, "the accuracy line needs version 2 (start the file with 'ameoto-scene 2')");
         std::size_t first_pair = 1;
         if (line.word == "name" || line.word == "surface") {
             if (words.size() < 2 || words[1].find('=') != std::string::npos)
@@ -391,6 +397,13 @@ SceneDescription parse_scene(std::string_view text, const std::string& file) {
                 if (full != std::floor(full)) r.fail("full", "is not a whole number of drops");
                 s.lod.max_full = static_cast<int>(full);
             }
+        } else if (line.word == "accuracy") {
+            if (!seen.insert(line.word).second) r.fail(line.word, "given twice");
+            if (r.has("cents") == r.has("db")) r.fail("accuracy", "give one of cents=C (frequency error) or db=D (spectral distance)");
+            const bool cents = r.has("cents");
+            const double value = cents ? r.number("cents", 0.0, {AccuracyLimits::cents_min, AccuracyLimits::cents_max}, "cents")
+                                       : r.number("db", 0.0, {AccuracyLimits::decibels_min, AccuracyLimits::decibels_max}, "dB");
+            s.accuracy = AccuracyBudget{cents ? AccuracyMeasure::cents : AccuracyMeasure::decibels, value};
         } else {   // surface
             if (s.surfaces.size() == static_cast<std::size_t>(max_scene_surfaces))
                 r.fail("surface", "more than " + std::to_string(max_scene_surfaces) + " surfaces");
@@ -429,7 +442,7 @@ SceneDescription parse_scene(std::string_view text, const std::string& file) {
 
 std::string format_scene(const SceneDescription& s) {
     std::ostringstream out;
-    out << "ameoto-scene " << scene_format_version << "\n";
+    out << "ameoto-scene " << (s.accuracy ? 2 : 1) << "\n";   // version 1 readers load what needs nothing new
     out << "# written by ameoto; units: rate mm/h, wind m/s, direction and facing degrees, sizes and positions m,\n";
     out << "# budget % of the block period (docs/scenes.md)\n";
     out << "name " << s.name << "\n";
@@ -447,6 +460,7 @@ std::string format_scene(const SceneDescription& s) {
         if (f.kind == SurfaceKind::umbrella) out << " panels=" << f.panels;
         out << "\n";
     }
+    if (s.accuracy) out << "accuracy " << accuracy_measure_name(s.accuracy->measure) << "=" << number(s.accuracy->value) << "\n";
     return out.str();
 }
 

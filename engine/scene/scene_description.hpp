@@ -22,6 +22,11 @@
 //   listener x=0 y=0 z=1.6 facing=0
 //   lod budget=40 full=4
 //   surface NAME kind=umbrella|water|plate|ground material=M size=X[xY] x= y= z= [panels=N]
+// Version 2 adds one optional line (a version 1 file still loads; format_scene writes version 1 when
+// the scene has no accuracy line, so older ameoto keep reading what needs nothing new):
+//   accuracy cents=C | db=D              the accuracy budget (core/method_choice.hpp): the canopy runs the
+//                                        cheapest measured method within C cents of frequency error or
+//                                        D dB of log-spectral distance
 // Keys after the first word are key=value pairs in any order; unknown keys, repeated keys, missing
 // required keys and values out of range are errors naming the line and the key. A later version
 // number is refused (the file needs a newer ameoto); lines are at most 1024 characters, files at most
@@ -37,6 +42,7 @@
 #include <string_view>
 #include <vector>
 
+#include "engine/core/method_choice.hpp"
 #include "engine/scene/drop_size_distribution.hpp"
 
 namespace ameoto {
@@ -84,10 +90,11 @@ struct SceneDescription {
     ListenerDescription listener;
     LodDescription lod;
     std::vector<SurfaceDescription> surfaces;
+    std::optional<AccuracyBudget> accuracy;   // none: the engine's default method (explicit, as stable needs)
     bool operator==(const SceneDescription&) const = default;
 };
 
-inline constexpr int scene_format_version = 1;
+inline constexpr int scene_format_version = 2;   // the newest this ameoto reads (and writes when needed)
 inline constexpr int max_scene_surfaces = 16;
 inline constexpr std::size_t max_scene_line = 1024;
 inline constexpr std::size_t max_scene_file_bytes = 64 * 1024;

@@ -1,0 +1,372 @@
+#include "clients/ameoto/bench_accuracy.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <vector>
+
+#include "clients/ameoto/bench_accuracy_charts.hpp"
+#include "clients/ameoto/bench_accuracy_drop.hpp"
+#include "clients/ameoto/bench_drive.hpp"
+#include "clients/ameoto/bench_timer.hpp"
+#include "clients/ameoto/exit_status.hpp"
+#include "clients/ameoto/json_text.hpp"
+#include "clients/ameoto/option_reader.hpp"
+#include "engine/models/canopy.hpp"
+
+namespace ameoto::client {
+
+namespace {
+
+volatile double sink = 0.0;
+
+// What the scene does to a panel every sample under heavy rain: the template tier's force on one node
+// (hopping over the panel by a prime stride; small, so the body stays linear), the step, and the far
+// field's read of every node's velocity (FarFieldRadiation::process reads each panel node by node).
+// Velocities and positions are stored by the step schemes and formed from the modes by the modal one
+// (O(modes) each), so this read is where the modal scheme pays for its cheap step.
+double drive_scene(TransverseNetwork& net, long samples, long& clock) {
+    const int nodes = net.mass_count();
+    double sum = 0.0;
+    for (long n = 0; n < samples; ++n, ++clock) {
+        net.apply_force(static_cast<int>((clock * 7919) % nodes), 1e-3);
+        sum += net.step();
+        for (int i = 0; i < nodes; ++i) sum += net.velocity(i);
+    }
+    return sum;
+}
+
+// A lattice drop near the panel (the full tier) adds the collider's broad phase: every node's
+// displacement read each sample (Canopy::displacement_range).
+double drive_contact(TransverseNetwork& net, long samples, long& clock) {
+    const int nodes = net.mass_count();
+    double sum = 0.0;
+    for (long n = 0; n < samples; ++n, ++clock) {
+        double highest = -1e300;
+        for (int i = 0; i < nodes; ++i) highest = std::max(highest, net.position(i));
+        net.apply_force(static_cast<int>((clock * 7919) % nodes), 1e-3);
+        sum += net.step() + highest;
+        for (int i = 0; i < nodes; ++i) sum += net.velocity(i);
+    }
+    return sum;
+}
+
+struct AccuracyOptions {
+    bool json = false;
+    double seconds = 0.3;
+    int runs = 5;
+    std::string csv, svg, stability_svg, table;
+};
+
+const std::vector<MethodSetting>& settings() {
+    static const std::vector<MethodSetting> s = {
+        {Integrator::explicit_verlet, 1, 0},  {Integrator::explicit_verlet, 2, 0}, {Integrator::explicit_verlet, 4, 0},
+        {Integrator::explicit_verlet, 8, 0},  {Integrator::symplectic_euler, 1, 0}, {Integrator::trapezoidal, 1, 0},
+        {Integrator::backward_euler, 1, 0},   {Integrator::modal, 1, 8},            {Integrator::modal, 1, 16},
+        {Integrator::modal, 1, 32},           {Integrator::modal, 1, 0},
+    };
+    return s;
+}
+
+// Returns false with the message in error.
+bool parse(const CommandWords& words, AccuracyOptions& o, std::string& error, bool& help) {
+    OptionReader reader(words);
+    for (auto kind = reader.next_word(); kind != OptionReader::Word::end; kind = reader.next_word()) {
+        if (kind == OptionReader::Word::positional) {
+            if (reader.positional() == "accuracy") continue;
+            error = "unexpected argument '" + reader.positional() + "'";
+            return false;
+        }
+        const std::string& name = reader.name();
+        if (name == "--help" || name == "-h") {
+            help = true;
+            return true;
+        }
+        if (name == "--json") {
+            if (!reader.flag_into(error)) return false;
+            o.json = true;
+        } else if (name == "--seconds") {
+            const auto v = reader.number_into(0.01, 600.0, "s", error);
+            if (!v) return false;
+            o.seconds = *v;
+        } else if (name == "--runs") {
+            const auto v = reader.number_into(1.0, 101.0, "runs", error);
+            if (!v) return false;
+            if (*v != std::floor(*v)) {
+                error = "--runs: give a whole number of runs, 1..101";
+                return false;
+            }
+            o.runs = static_cast<int>(*v);
+        } else if (name == "--csv" || name == "--svg" || name == "--stability-svg" || name == "--table") {
+            std::string value;
+            if (!reader.value_into(value, error)) return false;
+            if (value.empty()) {
+                error = name + ": give a file name";
+                return false;
+            }
+            (name == "--csv" ? o.csv : name == "--svg" ? o.svg : name == "--table" ? o.table : o.stability_svg) = value;
+        } else {
+            error = "unknown option '" + name + "'";
+            return false;
+        }
+    }
+    return true;
+}
+
+std::string number(const char* f, double v) {
+    char buffer[64];
+    std::snprintf(buffer, sizeof buffer, f, v);
+    return buffer;
+}
+
+bool write_file(const std::string& path, const std::string& content, const CommandIo& io) {
+    std::ofstream out(path, std::ios::binary);
+    out << content;
+    if (!out) {
+        io.err << "ameoto bench: cannot write " << path << "\n";
+        return false;
+    }
+    return true;
+}
+
+std::string csv(const std::vector<AccuracyRow>& rows) {
+    std::string s = "body,method,integrator,sub_steps,modes,ns_per_sample,core_percent_48k,ns_per_sample_quiet,ns_per_sample_contact,cents,lsd_db,front_cents,front_db\n";
+    for (const AccuracyRow& r : rows) {
+        s += r.body + "," + method_label(r.method.setting) + "," + integrator_name(r.method.setting.integrator) + "," +
+             std::to_string(r.errors.sub_steps) + "," + std::to_string(r.errors.modes_kept) + "," +
+             number("%.1f", r.method.ns_per_sample) + "," + number("%.3f", r.core_percent()) + "," +
+             number("%.1f", r.ns_quiet) + "," + number("%.1f", r.ns_contact) + "," + number("%.4g", r.method.cents) + "," + number("%.4g", r.method.decibels) + "," + (r.front_cents ? "yes" : "no") +
+             "," + (r.front_decibels ? "yes" : "no") + "\n";
+    }
+    return s;
+}
+
+std::string json(const AccuracyRow& r) {
+    return "{\"suite\":\"accuracy\",\"body\":" + json_string(r.body) + ",\"method\":" + json_string(method_label(r.method.setting)) +
+           ",\"integrator\":" + json_string(integrator_name(r.method.setting.integrator)) +
+           ",\"sub_steps\":" + std::to_string(r.errors.sub_steps) + ",\"modes\":" + std::to_string(r.errors.modes_kept) +
+           ",\"ns_per_sample\":" + json_number(r.method.ns_per_sample) + ",\"core_percent\":" + json_number(r.core_percent()) + ",\"ns_per_sample_quiet\":" + json_number(r.ns_quiet) +
+           ",\"ns_per_sample_contact\":" + json_number(r.ns_contact) +
+           ",\"cents\":" + json_number(r.method.cents) + ",\"lsd_db\":" + json_number(r.method.decibels) +
+           ",\"front_cents\":" + (r.front_cents ? "true" : "false") + ",\"front_db\":" + (r.front_decibels ? "true" : "false") +
+           "}\n";
+}
+
+std::string table_row(const AccuracyRow& r) {
+    char line[256];
+    std::snprintf(line, sizeof line, "%-22s %9d %6d %10.1f %7.3f %8.1f %8.1f %10.4g %9.4g  %s%s\n", method_label(r.method.setting).c_str(),
+                  r.errors.sub_steps, r.errors.modes_kept, r.method.ns_per_sample, r.core_percent(), r.ns_quiet, r.ns_contact, r.method.cents,
+                  r.method.decibels, r.front_cents ? "front(cents) " : "", r.front_decibels ? "front(dB)" : "");
+    return line;
+}
+
+// 4 significant digits rounded up: the table never claims a method more accurate than it measured.
+std::string cpp_number(double v) {
+    if (!std::isfinite(v)) return "inf";
+    if (v <= 0.0) return "0";
+    const double unit = std::pow(10.0, std::floor(std::log10(v)) - 3.0);
+    return number("%.4g", std::ceil(v / unit * (1.0 - 1e-12)) * unit);
+}
+
+// method_table.cpp: the knob's data, as the engine compiles it.
+std::string table_source(const std::vector<AccuracyRow>& rows, const std::string& machine) {
+    std::string s =
+        "// Generated by `ameoto bench accuracy --table engine/core/method_table.cpp` (clients/ameoto/bench_accuracy.cpp):\n"
+        "// the default umbrella panel (50 masses, nylon, 48 kHz); cost in ns per output sample of one panel in the\n"
+        "// scene under heavy rain (a force every sample, the far field reading every node's velocity),\n"
+        "// errors against the exact modal solution (docs/accuracy.md). Regenerate, do not edit by hand.\n"
+        "#include \"engine/core/method_choice.hpp\"\n\n"
+        "#include <limits>\n\n"
+        "namespace ameoto {\n\n"
+        "namespace {\n\n"
+        "constexpr double inf = std::numeric_limits<double>::infinity();   // a mode the method leaves out\n\n"
+        "constexpr MeasuredMethod table[] = {\n";
+    const char* names[] = {"explicit_verlet", "symplectic_euler", "trapezoidal", "backward_euler", "modal"};
+    for (const AccuracyRow& r : rows) {
+        const MethodSetting& m = r.method.setting;
+        s += "    {{Integrator::" + std::string(names[static_cast<int>(m.integrator)]) + ", " + std::to_string(m.sub_steps) + ", " +
+             std::to_string(m.modes) + "}, " + number("%.1f", r.method.ns_per_sample) + ", " + cpp_number(r.method.cents) +
+             ", " + cpp_number(r.method.decibels) + "},\n";
+    }
+    s += "};\n\n}  // namespace\n\n"
+         "std::span<const MeasuredMethod> measured_methods() { return table; }\n\n"
+         "const char* measured_methods_source() {\n"
+         "    return \"ameoto bench accuracy --table engine/core/method_table.cpp (" + machine + ")\";\n"
+         "}\n\n}  // namespace ameoto\n";
+    return s;
+}
+
+std::string cpu_model() {
+    std::ifstream in("/proc/cpuinfo");
+    std::string line;
+    while (std::getline(in, line))
+        if (line.rfind("model name", 0) == 0 && line.find(':') != std::string::npos) return line.substr(line.find(':') + 2);
+    return "unknown CPU";
+}
+
+std::vector<double> omega_t_grid() {
+    std::vector<double> x;
+    for (int i = 0; i <= 24; ++i) x.push_back(0.1 * std::pow(100.0, i / 24.0));   // 0.1..10, log-spaced
+    return x;
+}
+
+}  // namespace
+
+AccuracyRow measure_method(const BenchMesh& mesh, const MethodSetting& setting, const AccuracyReference& reference,
+                           double seconds, int runs) {
+    AccuracyRow r;
+    r.body = mesh.name;
+    r.method.setting = setting;
+    r.errors = measure_errors(mesh, setting, reference);
+    r.method.cents = r.errors.cents;
+    r.method.decibels = r.errors.decibels;
+    TransverseNetwork net = build_network(mesh, setting);
+    long clock = 0;
+    r.ns_quiet = time_per_sample([&](long n) { sink = sink + drive_impulses(net, mesh.excite_node, n, clock); }, seconds, runs).median_ns;
+    net.reset();
+    r.method.ns_per_sample = time_per_sample([&](long n) { sink = sink + drive_scene(net, n, clock); }, seconds, runs).median_ns;
+    net.reset();
+    r.ns_contact = time_per_sample([&](long n) { sink = sink + drive_contact(net, n, clock); }, seconds, runs).median_ns;
+    return r;
+}
+
+std::string accuracy_bench_usage() {
+    return "usage: ameoto bench accuracy [--json] [--seconds S] [--runs R] [--csv FILE] [--svg FILE]\n"
+           "                             [--stability-svg FILE] [--table FILE]\n"
+           "\n"
+           "Speed against accuracy of every integration method on the default umbrella's panel (50 masses,\n"
+           "nylon, 48 kHz): explicit Verlet at 1x, 2x, 4x, 8x sub-steps, symplectic Euler, trapezoidal,\n"
+           "backward Euler, modal with 8, 16, 32 and all audible modes. Cost: ns per output sample of one\n"
+           "panel and % of one core at 48 kHz (thread CPU time, median of runs). Errors against the exact\n"
+           "modal solution: the largest frequency error of the audible modes below 5 kHz (cents) and the\n"
+           "log-spectral distance of the impulse response, 20 Hz..20 kHz (dB). Then a free 3 mm drop in\n"
+           "explicit Verlet and symplectic Euler at 1x..8x its sub-steps (cost, cents). Then the stability map:\n"
+           "growth factor per step against omega_max T (0.1..10) on an 8-mass chain, with the bound.\n"
+           "\n"
+           "Options:\n"
+           "  --json                one JSON object per method, one per line\n"
+           "  --seconds S           CPU time spent timing each method, 0.01..600 (default 0.3)\n"
+           "  --runs R              timed runs per method, 1..101; the median is reported (default 5)\n"
+           "  --csv FILE            write the rows as CSV (docs/accuracy.csv)\n"
+           "  --svg FILE            write the cost/error chart with the Pareto fronts (docs/accuracy.svg)\n"
+           "  --stability-svg FILE  write the stability map (docs/stability.svg)\n"
+           "  --table FILE          write the knob's data as C++ (engine/core/method_table.cpp)\n"
+           "\n"
+           "Exit status: 0 measured; 1 a file could not be written; 2 usage error.\n"
+           "\n"
+           "Example (what docs/accuracy.md commits):\n"
+           "  ameoto bench accuracy --seconds 1 --runs 9 --csv docs/accuracy.csv --svg docs/accuracy.svg \\\n"
+           "      --stability-svg docs/stability.svg --table engine/core/method_table.cpp\n";
+}
+
+int run_accuracy_bench(const CommandWords& words, const CommandIo& io) {
+    AccuracyOptions o;
+    std::string error;
+    bool help = false;
+    if (!parse(words, o, error, help)) {
+        io.err << "ameoto bench: " << error << "\n(see ameoto bench accuracy --help)\n";
+        return exit_status::usage;
+    }
+    if (help) {
+        io.out << accuracy_bench_usage();
+        return exit_status::ok;
+    }
+    const BenchMesh mesh = canopy_panel_mesh(CanopyGeometry{}.masses_per_panel);
+    io.err << "ameoto bench: the exact reference (modal, every audible mode) on the " << mesh.nodes.size() << "-mass panel\n";
+    const AccuracyReference reference = make_reference(mesh, pitch_band_hz);
+    if (!o.json) {
+        io.out << "canopy panel (" << mesh.nodes.size() << " masses, nylon, 48 kHz); its " << reference.mode_hz.size()
+               << " audible modes below " << number("%.0f", pitch_band_hz) << " Hz:";
+        for (double hz : reference.mode_hz) io.out << " " << number("%.1f", hz);
+        io.out << " Hz\n"
+               << "ns/sample: in the scene under heavy rain (a force every sample, the far field reading every\n"
+               << "node's velocity); quiet: the step alone, 1 N every 0.1 s (as bench engine); contact: a lattice\n"
+               << "drop near as well (every node's displacement read each sample)\n"
+               << "method                 sub-steps  modes  ns/sample  % core    quiet  contact      cents    LSD dB\n";
+    }
+    std::vector<AccuracyRow> rows;
+    for (const MethodSetting& s : settings()) {
+        io.err << "ameoto bench: " << method_label(s) << "\n" << std::flush;
+        rows.push_back(measure_method(mesh, s, reference, o.seconds, o.runs));
+    }
+    std::vector<MeasuredMethod> methods;
+    for (const AccuracyRow& r : rows) methods.push_back(r.method);
+    for (AccuracyRow& r : rows) {
+        for (const MeasuredMethod& f : pareto_front(methods, AccuracyMeasure::cents)) r.front_cents |= f.setting == r.method.setting;
+        for (const MeasuredMethod& f : pareto_front(methods, AccuracyMeasure::decibels)) r.front_decibels |= f.setting == r.method.setting;
+        io.out << (o.json ? json(r) : table_row(r));
+    }
+    // The free drop: its own schemes (Body3D: explicit Verlet, symplectic Euler) and sub-steps.
+    io.err << "ameoto bench: the free drop's reference (symplectic Euler, 64x the sub-steps it needs)\n" << std::flush;
+    const double drop_reference_hz = drop_frequency(Integrator::symplectic_euler, 64);
+    std::string drop_csv;
+    if (!o.json)
+        io.out << "\nfree drop (3 mm water, 1 % stretch, no gravity): n = 2 oscillation " << number("%.3f", drop_reference_hz)
+               << " Hz converged\nmethod                 sub-steps  ns/sample   % core      cents\n";
+    for (Integrator i : {Integrator::explicit_verlet, Integrator::symplectic_euler}) {
+        for (int factor : {1, 2, 4, 8}) {
+            const DropAccuracy d = measure_drop(i, factor, drop_reference_hz, o.seconds, o.runs);
+            const std::string label = std::string(integrator_name(i)) + " " + std::to_string(factor) + "x";
+            const double core = d.ns_per_sample * 48000.0 * 1e-9 * 100.0;
+            drop_csv += "free drop," + label + "," + integrator_name(i) + "," + std::to_string(d.sub_steps) + ",0," +
+                        number("%.1f", d.ns_per_sample) + "," + number("%.3f", core) + ",,," + number("%.4g", d.cents) + ",,,\n";
+            if (o.json) {
+                io.out << "{\"suite\":\"accuracy\",\"body\":\"free drop\",\"method\":" << json_string(label)
+                       << ",\"integrator\":" << json_string(integrator_name(i)) << ",\"sub_steps\":" << d.sub_steps
+                       << ",\"ns_per_sample\":" << json_number(d.ns_per_sample) << ",\"core_percent\":" << json_number(core)
+                       << ",\"cents\":" << json_number(d.cents) << ",\"lsd_db\":null}\n";
+            } else {
+                char line[160];
+                std::snprintf(line, sizeof line, "%-22s %9d %10.1f %8.3f %10.4g\n", label.c_str(), d.sub_steps, d.ns_per_sample,
+                              core, d.cents);
+                io.out << line;
+            }
+        }
+    }
+    bool written = true;
+    if (!o.csv.empty()) written &= write_file(o.csv, csv(rows) + drop_csv, io);
+    if (!o.table.empty()) written &= write_file(o.table, table_source(rows, cpu_model()), io);
+    if (!o.svg.empty()) {
+        LogPanel cents{"largest frequency error of the audible modes below 5 kHz, cents", {}, 1e-3};
+        LogPanel db{"log-spectral distance of the impulse response, dB", {}, 1e-3};
+        for (const AccuracyRow& r : rows) {
+            cents.points.push_back({method_label(r.method.setting), r.method.ns_per_sample, r.method.cents, r.front_cents});
+            db.points.push_back({method_label(r.method.setting), r.method.ns_per_sample, r.method.decibels, r.front_decibels});
+        }
+        written &= write_file(o.svg, cost_error_chart("Umbrella panel (50 masses, nylon, 48 kHz): cost against error", {cents, db}), io);
+    }
+    // The stability map.
+    const std::vector<double> grid = omega_t_grid();
+    std::vector<StabilitySeries> series;
+    for (Integrator i : {Integrator::explicit_verlet, Integrator::symplectic_euler, Integrator::trapezoidal,
+                         Integrator::backward_euler, Integrator::modal}) {
+        StabilitySeries s{integrator_name(i), grid, {}, {}};
+        for (double x : grid) {
+            s.measured.push_back(growth_factor(i, x));
+            s.theory.push_back(theoretical_growth(i, x));
+        }
+        series.push_back(std::move(s));
+    }
+    if (!o.json) {
+        io.out << "\nstability map: amplitude growth factor per step, 8-mass chain (omega_max T; bound in brackets)\n";
+        for (std::size_t g = 0; g < grid.size(); g += 4) {
+            io.out << number("omega_max T = %6.3f:", grid[g]);
+            for (const StabilitySeries& s : series)
+                io.out << "  " << s.name << " " << number("%.4g", s.measured[g]) << " [" << number("%.4g", s.theory[g]) << "]";
+            io.out << "\n";
+        }
+    } else {
+        for (const StabilitySeries& s : series)
+            for (std::size_t g = 0; g < grid.size(); ++g)
+                io.out << "{\"suite\":\"accuracy\",\"map\":\"stability\",\"integrator\":" << json_string(s.name)
+                       << ",\"omega_max_t\":" << json_number(grid[g]) << ",\"growth\":" << json_number(s.measured[g])
+                       << ",\"bound\":" << json_number(s.theory[g]) << "}\n";
+    }
+    if (!o.stability_svg.empty())
+        written &= write_file(o.stability_svg,
+                              stability_chart("Stability map: growth per step against omega_max T (8-mass chain)", series), io);
+    return written ? exit_status::ok : exit_status::refused;
+}
+
+}  // namespace ameoto::client
