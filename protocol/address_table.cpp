@@ -321,19 +321,15 @@ std::vector<AddressSpec> make_table() {
                  }});
     // Appended (issue 6): the accuracy knob (engine/core/method_choice.hpp, docs/accuracy.md).
     t.push_back({"/accuracy",
-                 {{"measure", ArgumentKind::text, "", 0, 0, true,
-                   "cents (frequency error), db (log-spectral distance) or off (the default method); none: a query",
-                   "cents"},
+                 {{"measure", ArgumentKind::text, "", 0, 0, false,
+                   "cents (frequency error), db (log-spectral distance) or off (the default method)",
+                   "off"},
                   {"budget", ArgumentKind::number, "cents or dB", AccuracyLimits::cents_min, AccuracyLimits::cents_max, true,
-                   "the largest error allowed: cents 0.001..1200, db 0.001..60"}},
+                   "the largest error allowed: cents 0.001..1200, db 0.001..60", "5"}},
                  "Set the scene's accuracy budget: the canopy runs the cheapest measured method within it (the scene is "
                  "rebuilt off the audio thread). With no arguments, ask for the budget and the method chosen.",
                  "/done /accuracy (once the rebuilt scene plays); with no arguments: /accuracy.reply",
                  [](const ValidatedArguments& a, const ProtocolContext&, Request& r) -> std::optional<std::string> {
-                     if (a.texts.empty()) {
-                         r.action = Action::accuracy_query;
-                         return std::nullopt;
-                     }
                      r.action = Action::edit_scene;
                      r.edit.op = SceneEdit::Op::accuracy;
                      if (a.texts[0] == "off") {
@@ -350,6 +346,7 @@ std::vector<AddressSpec> make_table() {
                      r.edit.accuracy = budget;
                      return std::nullopt;
                  }});
+    t.back().query = {true, {}, "/accuracy.reply s measure, f budget, s method, i sub_steps, i modes, s why"};
     return t;
 }
 

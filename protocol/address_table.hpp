@@ -51,7 +51,6 @@ enum class Action {
     load_scene,             // resolve `scene_name` (built in, or a file in the scene folder), build, swap in
     save_scene,             // write the current scene as `scene_name` into the scene folder, atomically
     edit_scene,             // change the current scene (`edit`) and rebuild it off the audio thread
-    accuracy_query,         // reply /accuracy.reply: the scene's accuracy budget and the method chosen
     query,                  // reply ADDRESS.reply with the value now in effect (`query_address`, `query_text`)
     notify,                 // subscribe (`notify_on`) or unsubscribe the sender: periodic /status.reply and /meter
     version,                // reply /version.reply

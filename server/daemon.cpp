@@ -526,12 +526,14 @@ void Daemon::State::answer_query(const Peer& to, const std::string& address, con
         reply(to, reply_address, names);
     } else if (address == "/scene" || address == "/scene/load") {
         reply(to, reply_address, {text(scene.name)});
+    } else if (address == "/accuracy") {
+        reply(to, reply_address, accuracy_reply(scene));
     } else if (address == "/notify") {
         const bool on = std::find(subscribers.begin(), subscribers.end(), to) != subscribers.end();
         reply(to, reply_address, {OscArgument::from_int(on ? 1 : 0)});
     } else {
-        // A settable address whose query the table announces but the daemon does not answer yet (e.g.
-        // /accuracy when it arrives from its branch): add its branch above, from the applied state.
+        // A settable address whose query the table announces but the daemon does not answer: a new
+        // address needs its branch above, from the applied state (query_table_test lists them).
         reply(to, "/fail", protocol::fail_arguments(address, "this server cannot answer the query of " + address + " yet"));
     }
 }
@@ -605,7 +607,6 @@ void Daemon::State::on_packet(const unsigned char* data, std::size_t size, const
         }
         switch (v.request.action) {
             case protocol::Action::status: reply_status(sender); break;
-            case protocol::Action::accuracy_query: reply(sender, "/accuracy.reply", accuracy_reply(current_scene)); break;
             case protocol::Action::quit:
                 reply(sender, "/done", {protocol::OscArgument::from_string("/quit")});
                 asio::post(io, [this] { shutdown(); });

@@ -27,7 +27,8 @@ OscArgument s(const std::string& v) { return OscArgument::from_string(v); }
 TEST_CASE("/accuracy: no arguments is a query") {
     const Validation v = check({});
     REQUIRE(v.ok);
-    CHECK(v.request.action == Action::accuracy_query);
+    CHECK(v.request.action == Action::query);
+    CHECK(v.request.query_address == "/accuracy");
     REQUIRE(find_address("/accuracy"));
     CHECK(std::string(find_address("/accuracy")->reply).find("/accuracy.reply") != std::string::npos);
 }

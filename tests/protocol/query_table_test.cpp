@@ -62,7 +62,6 @@ TEST_CASE("the table's queries are exactly the settable addresses; actions that 
             CHECK_FALSE(spec.query.available);
             continue;
         }
-        // /accuracy comes from another branch; once it is in the table it needs its query too.
         CHECK(spec.query.available);
         // A query form never collides with the setting form: it has fewer arguments than the required ones.
         std::size_t required = 0;
