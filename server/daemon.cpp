@@ -20,6 +20,7 @@
 #include "server/backends/jack_backend.hpp"
 #include "server/backends/null_backend.hpp"
 #include "server/osc/client_table.hpp"
+#include "server/osc/traffic_counters.hpp"
 #include "server/osc/udp_endpoint.hpp"
 #include "server/realtime/audio_bridge.hpp"
 #include "server/realtime/rt_probe.hpp"
@@ -94,6 +95,8 @@ struct Daemon::State {
     std::unique_ptr<Worker> worker;
     std::unique_ptr<UdpEndpoint> udp;
     ClientTable<UdpEndpoint::Endpoint> clients;
+    TrafficCounters traffic;
+    std::chrono::steady_clock::time_point traffic_reported = std::chrono::steady_clock::now();
     protocol::ProtocolContext context;
     SystemdNotifier systemd;
     bool ready = false;
@@ -131,6 +134,7 @@ struct Daemon::State {
     void on_packet(const unsigned char* data, std::size_t size, const UdpEndpoint::Endpoint& sender);
     void reply(const UdpEndpoint::Endpoint& to, const std::string& address, const std::vector<protocol::OscArgument>& args);
     void reply_status(const UdpEndpoint::Endpoint& to);
+    void notice(const std::string& source, const std::string& text);
     void poll();
     void measure_rate();
     void feed_watchdog();
@@ -303,6 +307,7 @@ void Daemon::State::build_and_load(const UdpEndpoint::Endpoint& sender, const st
             c.object = built->loaded.get();
             c.reply_to = reply_to;
             if (!bridge->send(c)) {
+                ++traffic.busy;
                 reply(clients.at(reply_to), "/fail", protocol::fail_arguments(address, "busy: command queue full"));
                 return;
             }
@@ -367,6 +372,7 @@ void Daemon::State::rebuild_scene(const UdpEndpoint::Endpoint& sender, const std
             if (bridge->send(c)) {
                 scene.release();   // the audio thread owns it now
             } else {
+                ++traffic.busy;
                 reply(clients.at(reply_to), "/fail", protocol::fail_arguments(address, "busy: command queue full"));
             }
         },
@@ -397,6 +403,13 @@ void Daemon::State::reply_status(const UdpEndpoint::Endpoint& to) {
            OscArgument::from_int64(static_cast<std::int64_t>(s.frames)),
            OscArgument::from_float(static_cast<float>(s.rain_rate_mm_per_h)),
            OscArgument::from_string(backend->name())});
+}
+
+// A fault (or its end) that no request asked about: /notice source text to every sender the server knows
+// (the ClientTable's last 4096), and the log. docs/PROTOCOL.md lists the sources.
+void Daemon::State::notice(const std::string& source, const std::string& text) {
+    const auto message = protocol::encode_message("/notice", {protocol::OscArgument::from_string(source), protocol::OscArgument::from_string(text)});
+    for (std::size_t i = 0; i < clients.size(); ++i) udp->send(message, clients.at(static_cast<std::uint16_t>(i)));
 }
 
 void Daemon::State::on_packet(const unsigned char* data, std::size_t size, const UdpEndpoint::Endpoint& sender) {
@@ -461,7 +474,10 @@ void Daemon::State::on_packet(const unsigned char* data, std::size_t size, const
                     c.timed = true;
                     c.frame = bridge->frame_for(message.timetag.to_unix_seconds());
                 }
-                if (!bridge->send(c)) reply(sender, "/fail", protocol::fail_arguments(message.address, "busy: command queue full"));
+                if (!bridge->send(c)) {
+                    ++traffic.busy;
+                    reply(sender, "/fail", protocol::fail_arguments(message.address, "busy: command queue full"));
+                }
                 break;
             }
         }
@@ -497,6 +513,7 @@ void Daemon::State::poll() {
                                   : e.command == CommandKind::rain_rate ? "/rain/rate"
                                   : e.command == CommandKind::lod       ? "/lod"
                                                                         : "/sync";
+            ++traffic.busy;
             reply(to, "/fail", protocol::fail_arguments(address, "busy: too many scheduled commands"));
         }
     }
@@ -508,13 +525,17 @@ void Daemon::State::poll() {
         systemd.status("playing on " + backend->name());
     }
     if (null && null->wav()) {
-        const std::string error = null->wav()->take_error();
-        if (!error.empty()) warn(error);
+        // Disk full, a write error, the file removed: logged and told over OSC; the audio never waits.
+        for (std::string error = null->wav()->take_error(); !error.empty(); error = null->wav()->take_error()) {
+            warn(error);
+            notice("output", error);
+        }
     }
     if (jack) {
         if (jack->server_lost()) {
             if (!jack_reported_lost) {
                 warn("the JACK server went away; OSC keeps running, reconnecting when it returns");
+                notice("jack", "the JACK server went away; reconnecting when it returns");
                 systemd.status("waiting for the JACK server");
                 jack_reported_lost = true;
             }
@@ -523,6 +544,7 @@ void Daemon::State::poll() {
                 std::string error;
                 if (jack->reconnect(error)) {
                     say("JACK server is back: playing again");
+                    notice("jack", "the JACK server is back: playing again");
                     systemd.status("playing on jack");
                     jack_reported_lost = false;
                 } else if (error.find("Hz") != std::string::npos) {
@@ -543,6 +565,12 @@ void Daemon::State::measure_rate() {
         drops_per_second = static_cast<double>(s.drops - rate_drops) * backend->sample_rate() / static_cast<double>(s.frames - rate_frames);
         rate_drops = s.drops;
         rate_frames = s.frames;
+    }
+    // The load counters, at most every 5 s and only when they changed.
+    const auto now = std::chrono::steady_clock::now();
+    if (now - traffic_reported >= 5s) {
+        if (const auto line = traffic.report_if_changed()) say(*line);
+        traffic_reported = now;
     }
     rate_timer.expires_after(1s);
     rate_timer.async_wait([this](const boost::system::error_code& ec) {
@@ -582,6 +610,10 @@ int Daemon::run() {
     try {
         s.udp = std::make_unique<UdpEndpoint>(s.io, s.options.bind, s.options.port,
                                               [&s](const unsigned char* d, std::size_t n, const UdpEndpoint::Endpoint& from) {
+                                                  if (!s.options.allow.allows(from.address())) {
+                                                      ++s.traffic.refused_senders;   // --allow: no reply, not even /fail
+                                                      return;
+                                                  }
                                                   s.on_packet(d, n, from);
                                               });
     } catch (const std::exception& e) {
@@ -591,6 +623,7 @@ int Daemon::run() {
     const auto local = s.udp->local_endpoint();
     if (!local.address().is_loopback())
         warn("listening on " + local.address().to_string() + ", reachable from other machines (--bind)");
+    if (s.options.allow.restricts()) say("answering only senders in " + s.options.allow.text() + " (--allow)");
     say("listening on osc.udp://" + local.address().to_string() + ":" + std::to_string(local.port()) + "/");
     if (s.jack) say("backend jack, client " + s.jack->client_name());
     if (s.null) say(s.null->wav() ? "backend null, writing " + s.null->wav()->path() : "backend null, discarding audio");
@@ -617,6 +650,7 @@ int Daemon::run() {
     s.io.run();
 
     s.backend->stop();
+    if (s.traffic.busy > 0 || s.traffic.refused_senders > 0) say(s.traffic.report());
     if (s.null && s.null->wav()) say("wrote " + std::to_string(s.null->wav()->frames_written()) + " frames to " + s.null->wav()->path());
     say("stopped");
     return s.exit_code;

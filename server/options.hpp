@@ -9,6 +9,8 @@
 #include <optional>
 #include <string>
 
+#include "server/osc/sender_filter.hpp"
+
 namespace ameoto {
 
 enum class BackendChoice { automatic, jack, null };
@@ -16,6 +18,7 @@ enum class BackendChoice { automatic, jack, null };
 struct DaemonOptions {
     int port = 7770;                      // UDP; 0 = any free port (printed at start)
     std::string bind = "127.0.0.1";
+    SenderFilter allow;                   // --allow: senders outside these networks are ignored (default: all)
     BackendChoice backend = BackendChoice::automatic;
     std::string jack_name = "ameoto";
     bool autoconnect = false;
