@@ -406,7 +406,7 @@ void Daemon::State::reply_status(const UdpEndpoint::Endpoint& to) {
 }
 
 // A fault (or its end) that no request asked about: /notice source text to every sender the server knows
-// (the ClientTable's last 4096), and the log. docs/PROTOCOL.md lists the sources.
+// (the last 4096 that sent /status or a command). docs/PROTOCOL.md lists the sources.
 void Daemon::State::notice(const std::string& source, const std::string& text) {
     const auto message = protocol::encode_message("/notice", {protocol::OscArgument::from_string(source), protocol::OscArgument::from_string(text)});
     for (std::size_t i = 0; i < clients.size(); ++i) udp->send(message, clients.at(static_cast<std::uint16_t>(i)));
@@ -425,7 +425,10 @@ void Daemon::State::on_packet(const unsigned char* data, std::size_t size, const
             continue;
         }
         switch (v.request.action) {
-            case protocol::Action::status: reply_status(sender); break;
+            case protocol::Action::status:
+                clients.index_of(sender);   // known from now on: it gets /notice (faults) like any client that sent a command
+                reply_status(sender);
+                break;
             case protocol::Action::quit:
                 reply(sender, "/done", {protocol::OscArgument::from_string("/quit")});
                 asio::post(io, [this] { shutdown(); });
