@@ -37,6 +37,14 @@ namespace fs = std::filesystem;
 
 namespace {
 
+// Start-up builds the scene's templates: seconds of CPU, more on a busy machine.
+ameoto::test::DaemonOptions patient() {
+    ameoto::test::DaemonOptions o;
+    o.listen_timeout = 30s;
+    o.running_timeout = 20s;
+    return o;
+}
+
 // A UDP client whose datagrams come from a chosen loopback address (all of 127/8 is loopback on Linux),
 // to play a sender inside or outside --allow.
 class ClientFrom {
@@ -145,14 +153,14 @@ std::string file_text(const fs::path& path) {
 }  // namespace
 
 TEST_CASE("who may talk: 127.0.0.1 by default, and nothing said about other machines") {
-    Daemon d({"--backend", "null", "--output", "-", "--realtime"});
+    Daemon d({"--backend", "null", "--output", "-", "--realtime"}, {}, patient());
     CHECK(d.listening_line().find("osc.udp://127.0.0.1:") != std::string::npos);
     CHECK(d.process().output().find("reachable from other machines") == std::string::npos);
     CHECK(d.process().output().find("--allow") == std::string::npos);
 }
 
 TEST_CASE("who may talk: --bind 0.0.0.0 is logged; --allow 127.0.0.2/32 answers 127.0.0.2, ignores 127.0.0.1 and counts it") {
-    Daemon d({"--backend", "null", "--output", "-", "--realtime", "--bind", "0.0.0.0", "--allow", "127.0.0.2/32"});
+    Daemon d({"--backend", "null", "--output", "-", "--realtime", "--bind", "0.0.0.0", "--allow", "127.0.0.2/32"}, {}, patient());
     CHECK(d.listening_line().find("osc.udp://0.0.0.0:") != std::string::npos);
     CHECK(d.process().output().find("listening on 0.0.0.0, reachable from other machines (--bind)") != std::string::npos);
     CHECK(d.process().output().find("answering only senders in 127.0.0.2/32 (--allow)") != std::string::npos);
@@ -185,7 +193,7 @@ TEST_CASE("who may talk: a bad --allow stops ameotod at the command line with th
 
 TEST_CASE("SIGKILL: the WAV reads back up to the last second") {
     const std::string wav = ameoto::test::temp_path("sigkill.wav");
-    Daemon d({"--backend", "null", "--output", wav, "--realtime", "--rain", "20"});
+    Daemon d({"--backend", "null", "--output", wav, "--realtime", "--rain", "20"}, {}, patient());
     const auto running = std::chrono::steady_clock::now();   // the first block is out by now
     std::this_thread::sleep_for(2500ms);
     const double alive_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - running).count();
@@ -215,7 +223,7 @@ TEST_CASE("disk full while writing the WAV: told over OSC and in the log, the au
         return;
     }
     const std::string wav = (disk.path() / "full.wav").string();
-    Daemon d({"--backend", "null", "--output", wav, "--realtime"});
+    Daemon d({"--backend", "null", "--output", wav, "--realtime"}, {}, patient());
     OscTestClient client(d.port());
     const auto before = frames_of(client);   // the server knows this client now: it gets notices
     const auto notice = wait_for_notice(client, "failed", 10s);
@@ -240,7 +248,7 @@ TEST_CASE("disk full while writing the WAV: told over OSC and in the log, the au
 TEST_CASE("the WAV removed while writing: told over OSC and in the log, the stream continues in a new file") {
     ameoto::test::TempDir dir("ameoto-removed");
     const std::string wav = (dir.path() / "removed.wav").string();
-    Daemon d({"--backend", "null", "--output", wav, "--realtime"});
+    Daemon d({"--backend", "null", "--output", wav, "--realtime"}, {}, patient());
     OscTestClient client(d.port());
     frames_of(client);
     std::this_thread::sleep_for(300ms);
@@ -265,7 +273,7 @@ TEST_CASE("scene save on a full disk: /fail with the reason, the old scene file 
         MESSAGE("SKIPPED: cannot mount a tmpfs (" << disk.why() << "); needs root");
         return;
     }
-    Daemon d({"--backend", "null", "--output", "-", "--realtime", "--scene-dir", disk.path().string()});
+    Daemon d({"--backend", "null", "--output", "-", "--realtime", "--scene-dir", disk.path().string()}, {}, patient());
     OscTestClient client(d.port());
     const auto saved = client.request("/scene/save", {OscArgument::from_string("keep")}, "/done", 5s);
     REQUIRE(saved);
@@ -290,9 +298,7 @@ TEST_CASE("scene save on a full disk: /fail with the reason, the old scene file 
 
 TEST_CASE("JACK killed (SIGKILL) and started again: a /notice, OSC answers throughout, playing again within 2 s") {
     ameoto::test::JackServer jack;
-    ameoto::test::DaemonOptions options;
-    options.listen_timeout = 15s;
-    Daemon d({"--backend", "jack", "--jack-name", "ameoto_faults"}, jack.env(), options);
+    Daemon d({"--backend", "jack", "--jack-name", "ameoto_faults"}, jack.env(), patient());
     OscTestClient client(d.port());
     CHECK(frames_of(client) > 0);
 
