@@ -120,6 +120,9 @@ public:
         if (mounted_) ::umount2(dir_.path().c_str(), MNT_DETACH);
     }
     bool mounted() const { return mounted_; }
+    bool grow(const std::string& size) const {
+        return ::mount(nullptr, dir_.path().c_str(), nullptr, MS_REMOUNT | MS_NOSUID | MS_NODEV, ("size=" + size).c_str()) == 0;
+    }
     const std::string& why() const { return why_; }
     fs::path path() const { return dir_.path(); }
     // Writes a filler file until the disk refuses (ENOSPC); returns the errno that stopped it.
@@ -216,7 +219,7 @@ TEST_CASE("SIGKILL: the WAV reads back up to the last second") {
     CHECK(energy > 0.0);
 }
 
-TEST_CASE("disk full while writing the WAV: told over OSC and in the log, the audio keeps running") {
+TEST_CASE("disk full while writing the WAV: told over OSC and in the log, the audio keeps running, writing resumes with room") {
     SmallDisk disk("1m");   // 48 kHz stereo float is 384 KB/s: full after about 2.7 s
     if (!disk.mounted()) {
         MESSAGE("SKIPPED: cannot mount a tmpfs (" << disk.why() << "); needs root");
@@ -239,10 +242,17 @@ TEST_CASE("disk full while writing the WAV: told over OSC and in the log, the au
     CHECK(later - at_full > 48000 / 2);
     // One report, not one per block.
     CHECK_FALSE(wait_for_notice(client, "failed", 1500ms));
+    // Room again (tmpfs grows on remount): writing resumes by itself, and says so.
+    REQUIRE(disk.grow("16m"));
+    const auto again = wait_for_notice(client, "again", 5s);
+    REQUIRE_MESSAGE(again, d.process().output());
+    CHECK(again->args[0].text == "output");
+    CHECK(again->args[1].text.find("frames were lost") != std::string::npos);
+    std::this_thread::sleep_for(1500ms);
     CHECK(d.process().stop(SIGTERM, 5s) == 0);
-    const auto w = ameoto::test::read_wav(wav);   // what fitted reads back
+    const auto w = ameoto::test::read_wav(wav);   // what fitted, and what came after, reads back
     REQUIRE_MESSAGE(w.ok, w.error);
-    CHECK(w.frames > 48000);
+    CHECK(w.frames > (1 << 20) / 8 + 48000);   // more than 1 MiB holds (8 bytes a frame), by the 1.5 s after the room came
 }
 
 TEST_CASE("the WAV removed while writing: told over OSC and in the log, the stream continues in a new file") {
