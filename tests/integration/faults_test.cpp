@@ -209,7 +209,8 @@ TEST_CASE("SIGKILL: the WAV reads back up to the last second") {
     // claims may lag the audio by up to 1 s + 10 ms, plus a 256-frame block.
     const double seconds = static_cast<double>(w.frames) / 48000.0;
     MESSAGE("alive " << alive_s << " s after 'running'; the killed WAV holds " << seconds << " s");
-    CHECK(seconds >= alive_s - 1.0 - 0.010 - 256.0 / 48000.0 - 0.05);   // 50 ms: the time stop() takes to deliver SIGKILL
+    // 250 ms more for scheduling: the writer thread runs at normal priority on a machine that may be busy.
+    CHECK(seconds >= alive_s - 1.0 - 0.010 - 256.0 / 48000.0 - 0.25);
     CHECK(seconds <= alive_s + 0.5);                                     // 0.5 s: start-up before 'running' was read
     double energy = 0.0;
     for (float s : w.samples) {
