@@ -45,7 +45,7 @@ void WavWriter::open_file(const std::string& path) {
     info.channels = channels_;
     info.format = SF_FORMAT_WAV | SF_FORMAT_FLOAT;
     // Opened here rather than by sf_open so the descriptor is ours to fstat (has the file been removed?).
-    const int fd = ::open(path.c_str(), O_RDWR | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+    const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);   // as sf_open does for SFM_WRITE
     const int open_errno = errno;
     SNDFILE* f = fd >= 0 ? sf_open_fd(fd, SFM_WRITE, &info, SF_TRUE) : nullptr;
     std::lock_guard lock(file_mutex_);
