@@ -45,25 +45,38 @@ ameoto::test::DaemonOptions patient() {
     return o;
 }
 
-// A UDP client whose datagrams come from a chosen loopback address (all of 127/8 is loopback on Linux),
-// to play a sender inside or outside --allow.
+// A UDP client whose datagrams come from a chosen loopback address (all of 127/8 is loopback on Linux;
+// ::1 for IPv6), to play a sender inside or outside --allow. It sends to the same family's loopback.
 class ClientFrom {
 public:
-    ClientFrom(const std::string& local_address, int server_port) : port_(server_port) {
-        fd_ = socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0);
-        sockaddr_in local{};
-        local.sin_family = AF_INET;
-        inet_pton(AF_INET, local_address.c_str(), &local.sin_addr);
-        if (fd_ < 0 || bind(fd_, reinterpret_cast<sockaddr*>(&local), sizeof local) != 0)
-            throw std::runtime_error("cannot bind a client to " + local_address + ": " + std::strerror(errno));
+    ClientFrom(const std::string& local_address, int server_port) : v6_(local_address.find(':') != std::string::npos) {
+        fd_ = socket(v6_ ? AF_INET6 : AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0);
+        int bound = -1;
+        if (v6_) {
+            sockaddr_in6 local{};
+            local.sin6_family = AF_INET6;
+            inet_pton(AF_INET6, local_address.c_str(), &local.sin6_addr);
+            bound = bind(fd_, reinterpret_cast<sockaddr*>(&local), sizeof local);
+            to6_.sin6_family = AF_INET6;
+            to6_.sin6_port = htons(static_cast<std::uint16_t>(server_port));
+            to6_.sin6_addr = in6addr_loopback;
+        } else {
+            sockaddr_in local{};
+            local.sin_family = AF_INET;
+            inet_pton(AF_INET, local_address.c_str(), &local.sin_addr);
+            bound = bind(fd_, reinterpret_cast<sockaddr*>(&local), sizeof local);
+            to4_.sin_family = AF_INET;
+            to4_.sin_port = htons(static_cast<std::uint16_t>(server_port));
+            to4_.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+        }
+        if (fd_ < 0 || bound != 0) throw std::runtime_error("cannot bind a client to " + local_address + ": " + std::strerror(errno));
     }
     ~ClientFrom() { close(fd_); }
     void send(const std::vector<unsigned char>& bytes) {
-        sockaddr_in to{};
-        to.sin_family = AF_INET;
-        to.sin_port = htons(static_cast<std::uint16_t>(port_));
-        to.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-        sendto(fd_, bytes.data(), bytes.size(), 0, reinterpret_cast<sockaddr*>(&to), sizeof to);
+        if (v6_)
+            sendto(fd_, bytes.data(), bytes.size(), 0, reinterpret_cast<sockaddr*>(&to6_), sizeof to6_);
+        else
+            sendto(fd_, bytes.data(), bytes.size(), 0, reinterpret_cast<sockaddr*>(&to4_), sizeof to4_);
     }
     // The next datagram's address, or "" when none comes in time.
     std::string receive_address(std::chrono::milliseconds timeout) {
@@ -77,8 +90,10 @@ public:
     }
 
 private:
+    bool v6_;
     int fd_ = -1;
-    int port_;
+    sockaddr_in to4_{};
+    sockaddr_in6 to6_{};
 };
 
 std::int64_t frames_of(OscTestClient& client) {
@@ -186,6 +201,20 @@ TEST_CASE("who may talk: --bind 0.0.0.0 is logged; --allow 127.0.0.2/32 answers 
     CHECK(d.process().stop(SIGTERM, 5s) == 0);
     CHECK(d.process().output().find("load: 0 commands answered /fail busy, 7 datagrams dropped from senders outside --allow") !=
           std::string::npos);
+}
+
+TEST_CASE("who may talk: --bind :: --allow ::1/128 answers ::1 and drops IPv4 senders (seen as ::ffff:127.0.0.1)") {
+    Daemon d({"--backend", "null", "--output", "-", "--realtime", "--bind", "::", "--allow", "::1/128"}, {}, patient());
+    CHECK(d.process().output().find("answering only senders in ::1/128 (--allow)") != std::string::npos);
+    ClientFrom v6("::1", d.port());
+    ClientFrom v4("127.0.0.1", d.port());
+    const auto status = ameoto::protocol::encode_message("/status", {});
+    v4.send(status);
+    CHECK(v4.receive_address(500ms).empty());
+    v6.send(status);
+    CHECK(v6.receive_address(2s) == "/status.reply");
+    CHECK(d.process().stop(SIGTERM, 5s) == 0);
+    CHECK(d.process().output().find("1 datagrams dropped from senders outside --allow") != std::string::npos);
 }
 
 TEST_CASE("who may talk: a bad --allow stops ameotod at the command line with the reason") {
