@@ -22,6 +22,7 @@
 #include "server/osc/client_table.hpp"
 #include "server/osc/peer.hpp"
 #include "server/osc/tcp_endpoint.hpp"
+#include "server/osc/traffic_counters.hpp"
 #include "server/osc/udp_endpoint.hpp"
 #include "server/realtime/audio_bridge.hpp"
 #include "server/realtime/rt_probe.hpp"
@@ -109,6 +110,8 @@ struct Daemon::State {
     static constexpr std::size_t max_timed_settings = 4096;
     Liquid applied_liquid;
     MembraneMaterial applied_material;     // the umbrella's, when the scene has one
+    TrafficCounters traffic;
+    std::chrono::steady_clock::time_point traffic_reported = std::chrono::steady_clock::now();
     protocol::ProtocolContext context;
     SystemdNotifier systemd;
     bool ready = false;
@@ -154,6 +157,7 @@ struct Daemon::State {
     void apply_setting(const Command& c);
     void apply_due_settings(std::uint64_t frame);
     void forget(const Peer& gone);
+    void notice(const std::string& source, const std::string& text);
     void poll();
     void measure_rate();
     void feed_watchdog();
@@ -329,6 +333,7 @@ void Daemon::State::build_and_load(const Peer& sender, const std::string& addres
             c.object = built->loaded.get();
             c.reply_to = reply_to;
             if (!bridge->send(c)) {
+                ++traffic.busy;
                 reply(clients.at(reply_to), "/fail", protocol::fail_arguments(address, "busy: command queue full"));
                 return;
             }
@@ -401,6 +406,7 @@ void Daemon::State::rebuild_scene(const Peer& sender, const std::string& address
                 if (material) applied_material = *material;
                 if (liquid) applied_liquid = *liquid;
             } else {
+                ++traffic.busy;
                 reply(clients.at(reply_to), "/fail", protocol::fail_arguments(address, "busy: command queue full"));
             }
         },
@@ -591,6 +597,13 @@ void Daemon::State::send_meters() {
     for (const Peer& p : subscribers) reply(p, "/meter", args);
 }
 
+// A fault (or its end) that no request asked about: /notice source text to every sender the server knows
+// (the last 4096 that sent /status or a command). docs/PROTOCOL.md lists the sources.
+void Daemon::State::notice(const std::string& source, const std::string& text) {
+    const std::vector<protocol::OscArgument> args{protocol::OscArgument::from_string(source), protocol::OscArgument::from_string(text)};
+    for (std::size_t i = 0; i < clients.size(); ++i) reply(clients.at(static_cast<std::uint16_t>(i)), "/notice", args);
+}
+
 void Daemon::State::on_packet(const unsigned char* data, std::size_t size, const Peer& sender) {
     const protocol::DecodedPacket packet = protocol::decode_packet(data, size);
     if (!packet.error.empty()) {
@@ -606,7 +619,10 @@ void Daemon::State::on_packet(const unsigned char* data, std::size_t size, const
             continue;
         }
         switch (v.request.action) {
-            case protocol::Action::status: reply_status(sender); break;
+            case protocol::Action::status:
+                clients.index_of(sender);   // known from now on: it gets /notice (faults) like any client that sent a command
+                reply_status(sender);
+                break;
             case protocol::Action::quit:
                 reply(sender, "/done", {protocol::OscArgument::from_string("/quit")});
                 asio::post(io, [this] { shutdown(); });
@@ -634,6 +650,7 @@ void Daemon::State::on_packet(const unsigned char* data, std::size_t size, const
                     c.frame = frame_at(clock, message.timetag.to_unix_seconds());
                 }
                 if (!bridge->send(c)) {
+                    ++traffic.busy;
                     reply(sender, "/fail", protocol::fail_arguments(message.address, "busy: command queue full"));
                     break;
                 }
@@ -682,6 +699,7 @@ void Daemon::State::poll() {
                                   : e.command == CommandKind::rain_rate ? "/rain/rate"
                                   : e.command == CommandKind::lod       ? "/lod"
                                                                         : "/sync";
+            ++traffic.busy;
             reply(to, "/fail", protocol::fail_arguments(address, "busy: too many scheduled commands"));
         }
     }
@@ -695,13 +713,17 @@ void Daemon::State::poll() {
         systemd.status("playing on " + backend->name());
     }
     if (null && null->wav()) {
-        const std::string error = null->wav()->take_error();
-        if (!error.empty()) warn(error);
+        // Disk full, a write error, the file removed: logged and told over OSC; the audio never waits.
+        for (std::string error = null->wav()->take_error(); !error.empty(); error = null->wav()->take_error()) {
+            warn(error);
+            notice("output", error);
+        }
     }
     if (jack) {
         if (jack->server_lost()) {
             if (!jack_reported_lost) {
                 warn("the JACK server went away; OSC keeps running, reconnecting when it returns");
+                notice("jack", "the JACK server went away; reconnecting when it returns");
                 systemd.status("waiting for the JACK server");
                 jack_reported_lost = true;
             }
@@ -710,6 +732,7 @@ void Daemon::State::poll() {
                 std::string error;
                 if (jack->reconnect(error)) {
                     say("JACK server is back: playing again");
+                    notice("jack", "the JACK server is back: playing again");
                     systemd.status("playing on jack");
                     jack_reported_lost = false;
                 } else if (error.find("Hz") != std::string::npos) {
@@ -730,6 +753,12 @@ void Daemon::State::measure_rate() {
         drops_per_second = static_cast<double>(s.drops - rate_drops) * backend->sample_rate() / static_cast<double>(s.frames - rate_frames);
         rate_drops = s.drops;
         rate_frames = s.frames;
+    }
+    // The load counters, at most every 5 s and only when they changed.
+    const auto now = std::chrono::steady_clock::now();
+    if (now - traffic_reported >= 5s) {
+        if (const auto line = traffic.report_if_changed()) say(*line);
+        traffic_reported = now;
     }
     rate_timer.expires_after(1s);
     rate_timer.async_wait([this](const boost::system::error_code& ec) {
@@ -771,6 +800,10 @@ int Daemon::run() {
     try {
         s.udp = std::make_unique<UdpEndpoint>(s.io, s.options.bind, s.options.port,
                                               [&s](const unsigned char* d, std::size_t n, const UdpEndpoint::Endpoint& from) {
+                                                  if (!s.options.allow.allows(from.address())) {
+                                                      ++s.traffic.refused_senders;   // --allow: no reply, not even /fail
+                                                      return;
+                                                  }
                                                   s.on_packet(d, n, Peer::over_udp(from));
                                               });
     } catch (const std::exception& e) {
@@ -783,6 +816,11 @@ int Daemon::run() {
                 s.io, s.options.bind, *s.options.tcp_port, TcpLimits{},
                 [&s](const unsigned char* d, std::size_t n, std::uint64_t connection) { s.on_packet(d, n, Peer::over_tcp(connection)); },
                 [&s](std::uint64_t connection) { s.forget(Peer::over_tcp(connection)); });
+            s.tcp->set_admit([&s](const boost::asio::ip::address& peer) {
+                if (s.options.allow.allows(peer)) return true;
+                ++s.traffic.refused_senders;   // --allow: closed at once, no reply
+                return false;
+            });
         } catch (const std::exception& e) {
             warn("cannot listen on TCP " + s.options.bind + ":" + std::to_string(*s.options.tcp_port) + ": " + e.what());
             return 1;
@@ -791,6 +829,7 @@ int Daemon::run() {
     const auto local = s.udp->local_endpoint();
     if (!local.address().is_loopback())
         warn("listening on " + local.address().to_string() + ", reachable from other machines (--bind)");
+    if (s.options.allow.restricts()) say("answering only senders in " + s.options.allow.text() + " (--allow)");
     say("listening on osc.udp://" + local.address().to_string() + ":" + std::to_string(local.port()) + "/");
     if (s.tcp) say("listening on osc.tcp://" + local.address().to_string() + ":" + std::to_string(s.tcp->local_endpoint().port()) + "/");
     if (s.jack) say("backend jack, client " + s.jack->client_name());
@@ -819,6 +858,7 @@ int Daemon::run() {
     s.io.run();
 
     s.backend->stop();
+    if (s.traffic.busy > 0 || s.traffic.refused_senders > 0) say(s.traffic.report());
     if (s.null && s.null->wav()) say("wrote " + std::to_string(s.null->wav()->frames_written()) + " frames to " + s.null->wav()->path());
     say("stopped");
     return s.exit_code;

@@ -39,6 +39,11 @@ Options:
                       on the same connection. At most 16 connections, 64 KiB a packet
   --bind ADDRESS      IP address to listen on, UDP and TCP (default 127.0.0.1;
                       anything else is reachable from other machines and is logged)
+  --allow CIDR,...    answer only senders in these networks, IPv4 or IPv6, e.g.
+                      127.0.0.1/32,10.0.0.0/8,::1/128 (a bare address is one host);
+                      datagrams (and TCP connections) from anyone
+                      else are dropped without a reply and
+                      counted in the log (default: every sender that reaches --bind)
   --backend KIND      auto | jack | null (default auto: JACK when a server runs,
                       otherwise null)
   --jack-name NAME    JACK client name (default ameoto); ports NAME:out_1..N
@@ -114,6 +119,12 @@ ParsedOptions parse_options(int argc, const char* const* argv) {
             boost::asio::ip::make_address(v, ec);
             if (ec) return fail("--bind: '" + v + "' is not an IP address");
             o.bind = v;
+        } else if (arg == "--allow") {
+            if (!value(v)) return fail("--allow needs networks in CIDR notation, e.g. 10.0.0.0/8,::1/128");
+            std::string error;
+            auto filter = SenderFilter::parse(v, error);
+            if (!filter) return fail("--allow: " + error);
+            o.allow = *filter;
         } else if (arg == "--backend") {
             if (!value(v)) return fail("--backend needs auto, jack or null");
             if (v == "auto") o.backend = BackendChoice::automatic;

@@ -9,6 +9,8 @@
 #include <optional>
 #include <string>
 
+#include "server/osc/sender_filter.hpp"
+
 namespace ameoto {
 
 enum class BackendChoice { automatic, jack, null };
@@ -17,6 +19,7 @@ struct DaemonOptions {
     int port = 7770;                      // UDP; 0 = any free port (printed at start)
     std::optional<int> tcp_port;          // OSC over TCP; none = off (default); 0 = any free port (printed)
     std::string bind = "127.0.0.1";       // UDP and TCP
+    SenderFilter allow;                   // --allow: senders outside these networks are ignored (default: all)
     BackendChoice backend = BackendChoice::automatic;
     std::string jack_name = "ameoto";
     bool autoconnect = false;

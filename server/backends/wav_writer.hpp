@@ -9,16 +9,27 @@
 //                   w.space_frames()            // room left, for an offline render that waits
 //   control thread: w.reopen()                  // SIGHUP: finalise this file, start a new one (see below)
 //                   w.close()                   // drain, finalise; also done by the destructor
-//                   w.path(), w.frames_written(), w.take_error()
+//                   w.path(), w.frames_written(), w.frames_lost()
+//                   w.take_error()              // the next disk event, once, oldest first; "" when none
 //
 // Nothing a user made is lost: the header is rewritten about once a second (libsndfile's
 // SFC_UPDATE_HEADER_NOW), so even after SIGKILL the file reads back up to the last second; close()
 // finalises it. reopen() never overwrites: if a file still stands at the path (it was not rotated
 // away), the new one gets a -1, -2, ... suffix. Samples are 32-bit float, so a WAV is bit-exact with
 // what JACK would have played.
+//
+// Faults never stop the audio: the writer thread keeps draining the ring whatever the disk does.
+// - A write that fails (disk full, I/O error): reported once with the reason, then the samples that
+//   cannot be written are dropped and counted (frames_lost); writing resumes by itself when the disk
+//   takes data again, reported once more. What was written before stays readable (the header is
+//   rewritten in place, which needs no new disk space).
+// - The file removed while writing (checked about once a second: fstat's link count is 0): reported,
+//   and the stream continues in a new file at the same path, so nothing more is lost into a file no
+//   one can open.
 
 #include <atomic>
 #include <cstdint>
+#include <deque>
 #include <mutex>
 #include <string>
 #include <thread>
@@ -45,13 +56,16 @@ public:
 
     std::string path() const;
     std::uint64_t frames_written() const { return frames_written_.load(); }
-    std::string take_error();   // the last disk error, once; "" when none
+    std::uint64_t frames_lost() const { return frames_lost_.load(); }
+    std::string take_error();
 
 private:
     void run();
     void open_file(const std::string& path);
     void close_file();
     void write_pending();
+    void check_still_linked();
+    void report(std::string event);   // with file_mutex_ held
 
     std::string requested_path_;
     const int channels_;
@@ -59,9 +73,12 @@ private:
     SpscRing<float> ring_;
     mutable std::mutex file_mutex_;   // guards file_, path_, error_ (never taken by the render thread)
     SNDFILE* file_ = nullptr;
+    int fd_ = -1;                     // file_'s descriptor, for the link count
+    bool failing_ = false;            // the last write failed (reported once until writes succeed again)
     std::string path_;
-    std::string error_;
+    std::deque<std::string> events_;
     std::atomic<std::uint64_t> frames_written_{0};
+    std::atomic<std::uint64_t> frames_lost_{0};
     std::atomic<bool> stop_{false};
     std::atomic<bool> reopen_{false};
     std::thread thread_;

@@ -6,6 +6,7 @@
 //   ClientTable<Endpoint> clients;
 //   std::uint16_t i = clients.index_of(sender);   // finds or adds; the oldest entry is reused when full
 //   const Endpoint& to = clients.at(i);
+//   clients.size()                                 // senders known, for notices to all of them
 
 #include <cstdint>
 #include <vector>
@@ -30,6 +31,7 @@ public:
     }
 
     const Endpoint& at(std::uint16_t index) const { return entries_.at(index); }
+    std::size_t size() const { return entries_.size(); }
 
 private:
     std::vector<Endpoint> entries_;

@@ -41,7 +41,12 @@ void TcpEndpoint::accept() {
     acceptor_.async_accept([this](const boost::system::error_code& ec, tcp::socket socket) {
         if (ec == asio::error::operation_aborted || !acceptor_.is_open()) return;
         if (!ec) {
-            if (connections_.size() >= limits_.max_connections) {
+            boost::system::error_code peer_error;
+            const auto peer = socket.remote_endpoint(peer_error);
+            if (peer_error || (admit_ && !admit_(peer.address()))) {
+                boost::system::error_code ignored;   // not an allowed sender (--allow): closed, no reply
+                socket.close(ignored);
+            } else if (connections_.size() >= limits_.max_connections) {
                 boost::system::error_code ignored;   // over the bound: refused by closing at once
                 socket.close(ignored);
             } else {

@@ -8,6 +8,7 @@
 //                                                 std::uint64_t connection) { ... });   // throws on bind error
 //   tcp.send(connection, bytes);   // framed; ignored when that connection has gone
 //   tcp.local_endpoint();          // the bound address and port (for --tcp-port 0)
+//   tcp.set_admit([](const address& peer) { return allowed; });   // --allow: others are closed at once
 //   tcp.open_connections();  tcp.close();
 //
 // Bounds, so that no client can make the server misbehave: at most `max_connections` at once (one
@@ -39,6 +40,7 @@ class TcpEndpoint {
 public:
     using Receiver = std::function<void(const unsigned char*, std::size_t, std::uint64_t connection)>;
     using Closed = std::function<void(std::uint64_t connection)>;
+    using Admit = std::function<bool(const boost::asio::ip::address& peer)>;
 
     TcpEndpoint(boost::asio::io_context& io, const std::string& address, int port, TcpLimits limits, Receiver receiver,
                 Closed closed);
@@ -46,6 +48,7 @@ public:
     void send(std::uint64_t connection, const std::vector<unsigned char>& bytes);
     boost::asio::ip::tcp::endpoint local_endpoint() const { return acceptor_.local_endpoint(); }
     std::size_t open_connections() const { return connections_.size(); }
+    void set_admit(Admit admit) { admit_ = std::move(admit); }
     void close();
 
 private:
@@ -58,6 +61,7 @@ private:
 
     boost::asio::io_context& io_;
     boost::asio::ip::tcp::acceptor acceptor_;
+    Admit admit_;
     TcpLimits limits_;
     Receiver receiver_;
     Closed closed_;

@@ -12,14 +12,25 @@ UdpEndpoint::UdpEndpoint(boost::asio::io_context& io, const std::string& address
     // A large receive buffer rides out bursts of messages while the control thread is busy.
     boost::system::error_code ignored;
     socket_.set_option(boost::asio::socket_base::receive_buffer_size(1 << 20), ignored);
+    socket_.non_blocking(true);   // for draining what is already queued (receive); async operations are unaffected
     receive();
 }
 
 void UdpEndpoint::receive() {
     socket_.async_receive_from(boost::asio::buffer(buffer_), sender_, [this](const boost::system::error_code& ec, std::size_t size) {
         if (ec == boost::asio::error::operation_aborted) return;
-        if (!ec) receiver_(buffer_.data(), size, sender_);
-        receive();
+        if (!ec) {
+            receiver_(buffer_.data(), size, sender_);
+            // Under a flood the datagrams already queued are read here, up to a bound so timers still run,
+            // rather than each taking a trip through the event loop (a queued handler per datagram).
+            for (int more = 0; more < 256 && socket_.is_open(); ++more) {
+                boost::system::error_code again;
+                const std::size_t n = socket_.receive_from(boost::asio::buffer(buffer_), sender_, 0, again);
+                if (again) break;   // would block: nothing more waiting
+                receiver_(buffer_.data(), n, sender_);
+            }
+        }
+        if (socket_.is_open()) receive();
     });
 }
 

@@ -94,7 +94,7 @@ TEST_CASE("Python: timed bundles of drops sound at their timetags' samples, 0.25
         wall_then = wall_seconds();
         const auto status = client.request("/status", {}, "/status.reply", 2s);
         REQUIRE(status);
-        frame_then = status->args[10].integer;
+        frame_then = std::llround(status->args[10].number * 48000.0);   // field 11: seconds of audio
         run = run_example(d.port(), {"--rate", "0", "--drops", "0", "--bundle-in", "0.5", "--bundle-spacing", "0.25",
                                      "--bundle-drops", "3"});
         CHECK(d.process().stop(SIGTERM, 5s) == 0);

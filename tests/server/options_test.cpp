@@ -75,3 +75,18 @@ TEST_CASE("--help names the units") {
     const std::string u = ameoto::usage();
     for (const char* needle : {"mm/h", "Hz", "frames", "seconds", "--bind", "SIGHUP"}) CHECK(u.find(needle) != std::string::npos);
 }
+
+TEST_CASE("--allow takes IPv4 and IPv6 networks and refuses anything else, naming the option") {
+    CHECK_FALSE(parse({}).options.allow.restricts());
+    const auto p = parse({"--allow", "127.0.0.1/32,10.0.0.0/8,::1/128"});
+    REQUIRE(p.error.empty());
+    CHECK(p.options.allow.text() == "127.0.0.1/32,10.0.0.0/8,::1/128");
+    CHECK(p.options.allow.allows(boost::asio::ip::make_address("10.9.8.7")));
+    CHECK_FALSE(p.options.allow.allows(boost::asio::ip::make_address("192.0.2.1")));
+    for (const char* bad : {"10.0.0.0/40", "10.0.0.1/8", "localhost", "10.0.0.0/8,"}) {
+        const auto r = parse({"--allow", bad});
+        CHECK_MESSAGE(r.error.find("--allow: ") == 0, bad << ": " << r.error);
+    }
+    CHECK(parse({"--allow"}).error.find("--allow needs") == 0);
+    CHECK(ameoto::usage().find("--allow CIDR") != std::string::npos);
+}

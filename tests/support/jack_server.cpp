@@ -59,6 +59,12 @@ void JackServer::stop() {
     process_.reset();
 }
 
+void JackServer::kill() {
+    using namespace std::chrono_literals;
+    if (process_) process_->stop(SIGKILL, 5s);
+    process_.reset();
+}
+
 std::vector<std::string> JackServer::env(const std::vector<std::string>& more) const {
     std::vector<std::string> e{"JACK_DEFAULT_SERVER=" + name_, "JACK_NO_AUDIO_RESERVATION=1"};
     e.insert(e.end(), more.begin(), more.end());

@@ -6,6 +6,7 @@
 //                                     // throws std::runtime_error with jackd's output if it does not come up
 //   ChildProcess p(argv, jack.env()); // JACK_DEFAULT_SERVER=<its name>: clients find this server only
 //   jack.stop(); jack.start();        // a crash and a return, for reconnection tests
+//   jack.kill();                      // SIGKILL: a crash without jackd's own clean-up
 //   ~JackServer                       // stops jackd by its PID and removes the /dev/shm files it left
 //
 // Its own server name means a JACK server the user runs is never touched, and tests can run side by side.
@@ -27,6 +28,7 @@ public:
 
     void start();
     void stop();
+    void kill();
     const std::string& name() const { return name_; }
     std::vector<std::string> env(const std::vector<std::string>& more = {}) const;
 
