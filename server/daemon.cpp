@@ -17,6 +17,7 @@
 #include <optional>
 
 #include "protocol/address_table.hpp"
+#include "protocol/receive.hpp"
 #include "server/backends/jack_backend.hpp"
 #include "server/backends/null_backend.hpp"
 #include "server/osc/client_table.hpp"
@@ -45,14 +46,6 @@ std::string default_wav_name() {
     localtime_r(&now, &local);
     std::strftime(name, sizeof name, "ameoto-%Y%m%d-%H%M%S.wav", &local);
     return unused_path(name);
-}
-
-// The address a /fail for an undecodable packet names: its own, when it starts like a message.
-std::string packet_address(const unsigned char* data, std::size_t size) {
-    if (size >= 8 && std::string(reinterpret_cast<const char*>(data), 7) == "#bundle") return "#bundle";
-    std::string address;
-    for (std::size_t i = 0; i < size && i < 64 && data[i] != 0; ++i) address += static_cast<char>(data[i]);
-    return address.empty() || address[0] != '/' ? std::string("") : address;
 }
 
 // A live surface may take at most this many sub-steps per sample: each multiplies the canopy's cost, and
@@ -400,13 +393,12 @@ void Daemon::State::reply_status(const UdpEndpoint::Endpoint& to) {
 }
 
 void Daemon::State::on_packet(const unsigned char* data, std::size_t size, const UdpEndpoint::Endpoint& sender) {
-    const protocol::DecodedPacket packet = protocol::decode_packet(data, size);
-    if (!packet.error.empty()) {
-        reply(sender, "/fail", protocol::fail_arguments(packet_address(data, size), packet.error));
+    const protocol::ReceivedPacket packet = protocol::receive_packet(data, size, context);
+    if (packet.failed()) {
+        reply(sender, "/fail", protocol::fail_arguments(packet.fail_address, packet.fail_reason));
         return;
     }
-    for (const auto& message : packet.messages) {
-        const protocol::Validation v = protocol::validate(message, context);
+    for (const auto& [message, v] : packet.messages) {
         if (!v.ok) {
             reply(sender, "/fail", protocol::fail_arguments(message.address, v.reason));
             continue;
