@@ -106,6 +106,9 @@ TEST_CASE("every address refuses every bad message over UDP with /fail, the stat
     long_address[0] = '/';
     client.send(long_address, {});
     expect_fail(client, long_address);
+    // The largest datagram IPv4 carries (65507 bytes): a scene name of 65 400 characters.
+    client.send("/scene/load", {OscArgument::from_string(std::string(65400, 'a'))});
+    expect_fail(client, "/scene/load");
     MESSAGE(sent << " bad messages and packets refused");
 
     // Nothing else came back: no /done, no /synced, no second reply to anything.
