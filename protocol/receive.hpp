@@ -10,6 +10,10 @@
 //   for (const ReceivedMessage& m : p.messages)
 //       m.validation.ok ? act on m.validation.request : reply /fail m.message.address m.validation.reason;
 //
+//   if (changes_scene(command.kind))                          // rain rate, wind, listener, lod:
+//       next = scene_after(current, command);                 // what the command changes in the scene;
+//       if (!validate_scene(next).empty()) reply /fail ...;   // refused when that is not valid
+//
 // A packet that does not decode is refused whole (nothing in it is acted on); within a bundle that
 // decodes, each message is validated and refused on its own (as scsynth does).
 
@@ -36,6 +40,13 @@ struct ReceivedPacket {
 };
 
 ReceivedPacket receive_packet(const void* data, std::size_t size, const ProtocolContext& context);
+
+// The scene as an accepted command leaves it: rain rate, wind, listener (an umbrella is carried: it
+// keeps its place over the listener's head) and level of detail; other commands change nothing. The
+// daemon refuses the command when the result does not validate (a listener moved so far that the
+// carried umbrella would leave the scene's range), so /scene/save always has a valid scene to write.
+SceneDescription scene_after(SceneDescription scene, const Command& command);
+bool changes_scene(CommandKind kind);   // rain_rate, wind, listener, lod
 
 // The address a /fail for an undecodable packet names (at most 64 characters of it).
 std::string packet_address(const unsigned char* data, std::size_t size);

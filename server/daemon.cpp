@@ -428,25 +428,13 @@ void Daemon::State::on_packet(const unsigned char* data, std::size_t size, const
             case protocol::Action::edit_scene: edit_scene(sender, message.address, v.request.edit); break;
             case protocol::Action::enqueue: {
                 Command c = v.request.command;
-                if (c.kind == CommandKind::rain_rate) current_scene.rain.rate_mm_per_h = c.values[0];
-                if (c.kind == CommandKind::wind) {
-                    current_scene.rain.wind_m_per_s = c.values[0];
-                    current_scene.rain.wind_direction_rad = c.values[1];
-                    current_scene.rain.gustiness = c.values[2];
-                }
-                if (c.kind == CommandKind::listener) {
-                    // An umbrella is carried: it keeps its place over the listener's head.
-                    for (SurfaceDescription& f : current_scene.surfaces)
-                        if (f.kind == SurfaceKind::umbrella) {
-                            f.x_m += c.values[0] - current_scene.listener.x_m;
-                            f.y_m += c.values[1] - current_scene.listener.y_m;
-                            f.z_m += c.values[2] - current_scene.listener.z_m;
-                        }
-                    current_scene.listener = ListenerDescription{c.values[0], c.values[1], c.values[2], c.values[3]};
-                }
-                if (c.kind == CommandKind::lod) {
-                    current_scene.lod.budget_percent = 100.0 * c.values[0];
-                    current_scene.lod.max_full = static_cast<int>(c.values[1]);
+                if (protocol::changes_scene(c.kind)) {
+                    SceneDescription next = protocol::scene_after(current_scene, c);
+                    if (const std::string why = validate_scene(next); !why.empty()) {
+                        reply(sender, "/fail", protocol::fail_arguments(message.address, why));
+                        break;
+                    }
+                    current_scene = std::move(next);
                 }
                 c.reply_to = clients.index_of(sender);
                 if (message.bundled && !message.timetag.immediate()) {

@@ -58,32 +58,14 @@ void check_saves_and_loads(const SceneDescription& scene, const std::string& add
     }
 }
 
-// The scene changes Daemon::State::on_packet and edit_scene make for an accepted request.
+// The scene changes Daemon::State::on_packet (scene_after) and edit_scene make for an accepted request.
 void apply(ServerState& s, const DecodedMessage& m, const Request& r) {
     SceneDescription next = s.scene;
     switch (r.action) {
         case Action::enqueue: {
-            const Command& c = r.command;
-            check_finite(c, m.address);
-            if (c.kind == CommandKind::rain_rate) next.rain.rate_mm_per_h = c.values[0];
-            if (c.kind == CommandKind::wind) {
-                next.rain.wind_m_per_s = c.values[0];
-                next.rain.wind_direction_rad = c.values[1];
-                next.rain.gustiness = c.values[2];
-            }
-            if (c.kind == CommandKind::listener) {
-                for (SurfaceDescription& f : next.surfaces)
-                    if (f.kind == SurfaceKind::umbrella) {
-                        f.x_m += c.values[0] - next.listener.x_m;
-                        f.y_m += c.values[1] - next.listener.y_m;
-                        f.z_m += c.values[2] - next.listener.z_m;
-                    }
-                next.listener = ListenerDescription{c.values[0], c.values[1], c.values[2], c.values[3]};
-            }
-            if (c.kind == CommandKind::lod) {
-                next.lod.budget_percent = 100.0 * c.values[0];
-                next.lod.max_full = static_cast<int>(c.values[1]);
-            }
+            check_finite(r.command, m.address);
+            next = scene_after(s.scene, r.command);
+            if (!validate_scene(next).empty()) return;   // the daemon refuses it
             break;
         }
         case Action::set_liquid:
@@ -122,6 +104,10 @@ void apply(ServerState& s, const DecodedMessage& m, const Request& r) {
         case Action::status:
         case Action::quit: break;
     }
+    // A message the server accepted keeps a valid scene valid: otherwise /scene/save and every later
+    // scene edit would be refused for a reason the client never caused.
+    if (validate_scene(s.scene).empty() && !validate_scene(next).empty())
+        broken("an accepted message keeps the scene valid", m.address + ": " + validate_scene(next));
     check_saves_and_loads(next, m.address);
     s.scene = next;
 }

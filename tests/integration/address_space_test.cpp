@@ -106,6 +106,15 @@ TEST_CASE("every address refuses every bad message over UDP with /fail, the stat
     long_address[0] = '/';
     client.send(long_address, {});
     expect_fail(client, long_address);
+    // Valid arguments that would make the scene invalid: the carried umbrella (0.3 m above the ears)
+    // pushed past the scene's 1000 m range, which /scene/save could then not write.
+    client.send("/listener", {OscArgument::from_float(0), OscArgument::from_float(0), OscArgument::from_float(1000)});
+    expect_fail(client, "/listener");
+    // A custom umbrella material whose name a scene file cannot hold (names are 1-32 characters).
+    client.send("/material/surface", {OscArgument::from_string("umbrella"), OscArgument::from_string(std::string(40, 'm')),
+                                      OscArgument::from_float(0.1f), OscArgument::from_float(100), OscArgument::from_float(1),
+                                      OscArgument::from_float(1e-5f)});
+    expect_fail(client, "/material/surface");
     // The largest datagram IPv4 carries (65507 bytes): a scene name of 65 400 characters.
     client.send("/scene/load", {OscArgument::from_string(std::string(65400, 'a'))});
     expect_fail(client, "/scene/load");

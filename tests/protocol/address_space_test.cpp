@@ -119,3 +119,30 @@ TEST_CASE("bundles nested to the bound decode, every message validated on its ow
     CHECK(p.messages[1].validation.reason == "argument 1 rate (mm/h): 1000 is outside 0..500");
     CHECK(p.messages[2].validation.reason == "unknown address");
 }
+
+TEST_CASE("a custom material's name fits a scene file (1-32 characters): the umbrella's material is saved") {
+    const auto custom = [](const std::string& name) {
+        return encode_message("/material/surface", {OscArgument::from_string("umbrella"), OscArgument::from_string(name),
+                                                    OscArgument::from_float(0.1f), OscArgument::from_float(100),
+                                                    OscArgument::from_float(1), OscArgument::from_float(1e-5f)});
+    };
+    CHECK(receive(custom(std::string(32, 'm'))).messages.at(0).validation.ok);
+    CHECK(receive(custom(std::string(33, 'm'))).messages.at(0).validation.reason == "a material name has 1 to 32 characters");
+}
+
+TEST_CASE("scene_after: a listener carries the umbrella; the result validates or the daemon refuses the command") {
+    const SceneDescription umbrella = *builtin_scene("umbrella");
+    Command c;
+    c.kind = CommandKind::listener;
+    c.values[0] = 10.0;
+    c.values[1] = -5.0;
+    c.values[2] = 1.6;
+    const SceneDescription moved = scene_after(umbrella, c);
+    CHECK(moved.listener.x_m == 10.0);
+    CHECK(moved.surfaces.at(0).x_m - moved.listener.x_m == umbrella.surfaces.at(0).x_m - umbrella.listener.x_m);
+    CHECK(validate_scene(moved).empty());
+    c.values[2] = 1000.0;   // the umbrella, 0.3 m above the ears, would be above 1000 m
+    CHECK(validate_scene(scene_after(umbrella, c)).find("z 1000.3 m is outside -1000..1000") != std::string::npos);
+    CHECK(changes_scene(CommandKind::listener));
+    CHECK_FALSE(changes_scene(CommandKind::drop));
+}
