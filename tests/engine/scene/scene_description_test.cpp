@@ -185,3 +185,13 @@ TEST_CASE("scene file: numbers too large for a double, too many keys, and a vers
     // A name longer than 32 characters, in the file.
     CHECK(error_of("ameoto-scene 1\nname " + std::string(40, 'a') + "\n").rfind("test.scene:2: ", 0) == 0);
 }
+
+TEST_CASE("scene file: a subnormal value format_scene writes reads back (found by the fuzzer)") {
+    SceneDescription s = *builtin_scene("umbrella");
+    s.listener.x_m = 9.33678148025e-313;
+    s.surfaces.at(0).x_m = 9.33678148025e-313;
+    REQUIRE(validate_scene(s).empty());
+    CHECK(parse_scene(format_scene(s), "tiny.scene") == s);
+    CHECK(error_of("ameoto-scene 1\nrain rate=1e400\n") == "test.scene:2: rate: inf mm/h is outside 0..500");
+    CHECK(error_of("ameoto-scene 1\nrain rate=1x\n") == "test.scene:2: rate: '1x' is not a number");
+}
