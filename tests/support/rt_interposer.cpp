@@ -27,8 +27,8 @@
 #include <cstdlib>
 #include <cstring>
 
-#if defined(__SANITIZE_ADDRESS__)
-// Under AddressSanitizer (scripts/build-sanitized) the heap is ASan's: forward to its allocator
+#if defined(AMEOTO_RT_UNDER_ASAN)
+// Under AddressSanitizer (scripts/build-sanitized; this file itself is built without instrumentation) the heap is ASan's: forward to its allocator
 // (libasan's interceptors), never to glibc's, or a block ASan handed out (operator new, strdup)
 // would reach glibc's free. The probe counts exactly as in the normal build.
 extern "C" {
