@@ -26,6 +26,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <new>
 
 #if defined(AMEOTO_RT_UNDER_ASAN)
 // Under AddressSanitizer (scripts/build-sanitized; this file itself is built without instrumentation) the heap is ASan's: forward to its allocator
@@ -183,6 +184,27 @@ int posix_memalign(void** out, size_t a, size_t n) {
     *out = p;
     return 0;
 }
+
+#if defined(AMEOTO_RT_UNDER_ASAN)
+// ASan's own operator new does not call malloc, so the probe would not see `new` on the audio thread.
+// These route it through the probe's malloc (and delete through free, every non-aligned form, so each
+// block is freed the way it was allocated); aligned new and delete stay ASan's, a consistent pair.
+}  // extern "C"
+void* operator new(size_t n) {
+    if (void* p = malloc(n ? n : 1)) return p;
+    throw std::bad_alloc();
+}
+void* operator new[](size_t n) { return operator new(n); }
+void* operator new(size_t n, const std::nothrow_t&) noexcept { return malloc(n ? n : 1); }
+void* operator new[](size_t n, const std::nothrow_t&) noexcept { return malloc(n ? n : 1); }
+void operator delete(void* p) noexcept { free(p); }
+void operator delete[](void* p) noexcept { free(p); }
+void operator delete(void* p, size_t) noexcept { free(p); }
+void operator delete[](void* p, size_t) noexcept { free(p); }
+void operator delete(void* p, const std::nothrow_t&) noexcept { free(p); }
+void operator delete[](void* p, const std::nothrow_t&) noexcept { free(p); }
+extern "C" {
+#endif
 
 // Locks and waits
 int pthread_mutex_lock(pthread_mutex_t* m) {
