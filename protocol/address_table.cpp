@@ -261,6 +261,8 @@ std::vector<AddressSpec> make_table() {
                      if (std::find(ctx.surfaces.begin(), ctx.surfaces.end(), surface) == ctx.surfaces.end())
                          return "no surface named '" + surface + "'";
                      if (auto refusal = check_name(name)) return refusal;
+                     // The umbrella's material is written into saved scenes, whose names are 1-32 characters.
+                     if (!is_scene_name(name)) return "a material name has 1 to 32 characters";
                      if (a.numbers.empty()) {
                          std::optional<MembraneMaterial> material = membrane_material(name);
                          if (!material && ctx.custom_material) material = ctx.custom_material(name);

@@ -57,16 +57,36 @@ bool decode_message(const unsigned char* data, std::size_t size, Timetag tt, boo
     for (std::size_t i = 0; i < m.types.size(); ++i) {
         OscArgument a;
         a.type = m.types[i];
-        const lo_arg* v = argv[i];
+        // liblo's argument pointers are only 4-byte aligned (OSC pads to 4), while lo_arg holds 8-byte
+        // members: read each value by copying its bytes, never through lo_arg (a misaligned access,
+        // undefined behaviour; found by the fuzzer under UBSan, tests/fuzz/crashes/crash-685b886e...).
+        const auto* raw = reinterpret_cast<const unsigned char*>(argv[i]);
         switch (a.type) {
-            case 'i': a.integer = v->i; a.number = v->i; break;
-            case 'h': a.integer = v->h; a.number = static_cast<double>(v->h); break;
-            case 'f': a.number = float_as_typed(v->f); break;
-            case 'd': a.number = v->d; break;
-            case 's': case 'S': a.text = &v->s; break;
+            case 'i': {
+                std::int32_t v;
+                std::memcpy(&v, raw, sizeof v);
+                a.integer = v;
+                a.number = v;
+                break;
+            }
+            case 'h': {
+                std::int64_t v;
+                std::memcpy(&v, raw, sizeof v);
+                a.integer = v;
+                a.number = static_cast<double>(v);
+                break;
+            }
+            case 'f': {
+                float v;
+                std::memcpy(&v, raw, sizeof v);
+                a.number = float_as_typed(v);
+                break;
+            }
+            case 'd': std::memcpy(&a.number, raw, sizeof a.number); break;
+            case 's': case 'S': a.text = reinterpret_cast<const char*>(raw); break;
             case 'T': a.number = 1; break;
             case 'F': a.number = 0; break;
-            case 'c': a.integer = v->c; a.number = v->c; break;
+            case 'c': a.integer = raw[0]; a.number = raw[0]; break;   // lo_arg's c: the first byte
             default: break;   // N, I, m, b, t: kept by type only
         }
         m.args.push_back(std::move(a));

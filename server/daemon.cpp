@@ -17,6 +17,7 @@
 #include <optional>
 
 #include "protocol/address_table.hpp"
+#include "protocol/receive.hpp"
 #include "server/backends/jack_backend.hpp"
 #include "server/backends/null_backend.hpp"
 #include "server/osc/client_table.hpp"
@@ -48,14 +49,6 @@ std::string default_wav_name() {
     localtime_r(&now, &local);
     std::strftime(name, sizeof name, "ameoto-%Y%m%d-%H%M%S.wav", &local);
     return unused_path(name);
-}
-
-// The address a /fail for an undecodable packet names: its own, when it starts like a message.
-std::string packet_address(const unsigned char* data, std::size_t size) {
-    if (size >= 8 && std::string(reinterpret_cast<const char*>(data), 7) == "#bundle") return "#bundle";
-    std::string address;
-    for (std::size_t i = 0; i < size && i < 64 && data[i] != 0; ++i) address += static_cast<char>(data[i]);
-    return address.empty() || address[0] != '/' ? std::string("") : address;
 }
 
 // A live surface may take at most this many sub-steps per sample: each multiplies the canopy's cost, and
@@ -456,28 +449,7 @@ void Daemon::State::reply_status(const Peer& to) {
 }
 
 // The scene record follows a rain, wind, listener or detail change the engine has (or is about to) apply.
-void Daemon::State::apply_setting(const Command& c) {
-    if (c.kind == CommandKind::rain_rate) current_scene.rain.rate_mm_per_h = c.values[0];
-    if (c.kind == CommandKind::wind) {
-        current_scene.rain.wind_m_per_s = c.values[0];
-        current_scene.rain.wind_direction_rad = c.values[1];
-        current_scene.rain.gustiness = c.values[2];
-    }
-    if (c.kind == CommandKind::listener) {
-        // An umbrella is carried: it keeps its place over the listener's head.
-        for (SurfaceDescription& f : current_scene.surfaces)
-            if (f.kind == SurfaceKind::umbrella) {
-                f.x_m += c.values[0] - current_scene.listener.x_m;
-                f.y_m += c.values[1] - current_scene.listener.y_m;
-                f.z_m += c.values[2] - current_scene.listener.z_m;
-            }
-        current_scene.listener = ListenerDescription{c.values[0], c.values[1], c.values[2], c.values[3]};
-    }
-    if (c.kind == CommandKind::lod) {
-        current_scene.lod.budget_percent = 100.0 * c.values[0];
-        current_scene.lod.max_full = static_cast<int>(c.values[1]);
-    }
-}
+void Daemon::State::apply_setting(const Command& c) { current_scene = protocol::scene_after(current_scene, c); }
 
 // Timed changes whose frame has played, in the order of their frames (ties: as sent).
 void Daemon::State::apply_due_settings(std::uint64_t frame) {
@@ -605,15 +577,14 @@ void Daemon::State::notice(const std::string& source, const std::string& text) {
 }
 
 void Daemon::State::on_packet(const unsigned char* data, std::size_t size, const Peer& sender) {
-    const protocol::DecodedPacket packet = protocol::decode_packet(data, size);
-    if (!packet.error.empty()) {
-        reply(sender, "/fail", protocol::fail_arguments(packet_address(data, size), packet.error));
+    const protocol::ReceivedPacket packet = protocol::receive_packet(data, size, context);
+    if (packet.failed()) {
+        reply(sender, "/fail", protocol::fail_arguments(packet.fail_address, packet.fail_reason));
         return;
     }
     // One clock reading for the whole packet: the messages of a bundle keep their distances to the sample.
     const AudioClock clock = bridge->clock();
-    for (const auto& message : packet.messages) {
-        const protocol::Validation v = protocol::validate(message, context);
+    for (const auto& [message, v] : packet.messages) {
         if (!v.ok) {
             reply(sender, "/fail", protocol::fail_arguments(message.address, v.reason));
             continue;
@@ -644,6 +615,14 @@ void Daemon::State::on_packet(const unsigned char* data, std::size_t size, const
             case protocol::Action::edit_scene: edit_scene(sender, message.address, v.request.edit); break;
             case protocol::Action::enqueue: {
                 Command c = v.request.command;
+                // A change must leave a scene that can still be saved and rebuilt (e.g. /listener must not
+                // carry the umbrella out of range); the record itself changes once the queue takes it.
+                if (protocol::changes_scene(c.kind)) {
+                    if (const std::string why = validate_scene(protocol::scene_after(current_scene, c)); !why.empty()) {
+                        reply(sender, "/fail", protocol::fail_arguments(message.address, why));
+                        break;
+                    }
+                }
                 c.reply_to = clients.index_of(sender);
                 if (message.bundled && !message.timetag.immediate()) {
                     c.timed = true;
@@ -656,9 +635,7 @@ void Daemon::State::on_packet(const unsigned char* data, std::size_t size, const
                 }
                 // What the queries answer: an untimed change from now on (the audio thread applies it at
                 // its next block); a timed one once its frame has played.
-                const bool setting = c.kind == CommandKind::rain_rate || c.kind == CommandKind::wind ||
-                                     c.kind == CommandKind::listener || c.kind == CommandKind::lod;   // not /drop, /sync
-                if (!setting) break;
+                if (!protocol::changes_scene(c.kind)) break;   // rain, wind, listener, lod; not /drop, /sync
                 if (!c.timed || c.frame <= bridge->snapshot().frames) apply_setting(c);
                 else if (timed_settings.size() < max_timed_settings) timed_settings.push_back(c);
                 break;

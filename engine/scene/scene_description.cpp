@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <cstdlib>
 #include <cstdio>
 #include <map>
 #include <set>
@@ -268,14 +269,12 @@ public:
         return parse(key, it->second, range, unit);
     }
     double parse(const std::string& key, const std::string& value, Range range, const char* unit) const {
-        double v = 0.0;
-        std::size_t used = 0;
-        try {
-            v = std::stod(value, &used);
-        } catch (const std::exception&) {
-            fail(key, "'" + value + "' is not a number");
-        }
-        if (used != value.size()) fail(key, "'" + value + "' is not a number");
+        // strtod, not stod: stod throws on underflow, so a subnormal such as 9.3e-313 (which format_scene
+        // writes for a value that small; found by the fuzzer, tests/fuzz/crashes/crash-9019f465...)
+        // would not read back. Overflow gives +-HUGE_VAL, which the range check refuses.
+        char* end = nullptr;
+        const double v = std::strtod(value.c_str(), &end);
+        if (value.empty() || end != value.c_str() + value.size()) fail(key, "'" + value + "' is not a number");
         if (!in(range, v)) fail(key, ameoto::number(v) + (unit[0] ? std::string(" ") + unit : "") + " is outside " + range_text(range));
         return v;
     }

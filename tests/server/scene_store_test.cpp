@@ -6,6 +6,8 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iterator>
+#include <string>
 
 #include "tests/support/temp_dir.hpp"
 
@@ -89,4 +91,40 @@ TEST_CASE("scene store: a save that cannot finish leaves the old file whole") {
     bad.rain.rate_mm_per_h = -5.0;
     CHECK_THROWS(store.save("keep", bad));
     CHECK(store.load("keep").rain.rate_mm_per_h == 12.0);
+}
+
+TEST_CASE("scene store: a save never writes through a link, at the scene's name or at the temporary name") {
+    ameoto::test::TempDir dir("ameoto-scenes");
+    ameoto::test::TempDir elsewhere("ameoto-outside");
+    const SceneStore store(dir.path());
+    const auto read = [](const std::filesystem::path& p) {
+        std::ifstream in(p);
+        return std::string(std::istreambuf_iterator<char>(in), {});
+    };
+    const auto victim = elsewhere.path() / "victim.txt";
+    std::ofstream(victim) << "not a scene\n";
+    // NAME.scene is a link out of the folder: the save replaces the link with the scene (rename does
+    // not follow links); the file it pointed at is untouched.
+    std::filesystem::create_symlink(victim, dir.path() / "out.scene");
+    SceneDescription s = *ameoto::builtin_scene("street");
+    s.name = "out";
+    store.save("out", s);
+    CHECK(read(victim) == "not a scene\n");
+    CHECK_FALSE(std::filesystem::is_symlink(dir.path() / "out.scene"));
+    CHECK(store.load("out") == s);
+    // A link planted at the temporary name the save tries first: O_EXCL|O_NOFOLLOW refuses it and the
+    // save takes the next name.
+    std::filesystem::create_symlink(victim, dir.path() / (".planted.scene.tmp" + std::to_string(::getpid()) + "-0"));
+    s.name = "planted";
+    store.save("planted", s);
+    CHECK(read(victim) == "not a scene\n");
+    CHECK(store.load("planted") == s);
+    // Names that are not names: empty, too long, with a NUL in them.
+    for (const std::string& bad : {std::string(), std::string(33, 'a'), std::string("a\0b", 3), std::string("a\nb")}) {
+        // (what() is a C string: a NUL in the name ends the message there)
+        CHECK(error_of(store, bad).rfind("scene name '", 0) == 0);
+        CHECK_THROWS(store.save(bad, s));
+    }
+    // Nothing was written outside the folder.
+    CHECK(std::distance(std::filesystem::directory_iterator(elsewhere.path()), {}) == 1);
 }

@@ -26,7 +26,25 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <new>
 
+#if defined(AMEOTO_RT_UNDER_ASAN)
+// Under AddressSanitizer (scripts/build-sanitized; this file itself is built without instrumentation) the heap is ASan's: forward to its allocator
+// (libasan's interceptors), never to glibc's, or a block ASan handed out (operator new, strdup)
+// would reach glibc's free. The probe counts exactly as in the normal build.
+extern "C" {
+void* __interceptor_malloc(size_t);
+void* __interceptor_calloc(size_t, size_t);
+void* __interceptor_realloc(void*, size_t);
+void* __interceptor_memalign(size_t, size_t);
+void __interceptor_free(void*);
+}
+#define AMEOTO_REAL_MALLOC __interceptor_malloc
+#define AMEOTO_REAL_CALLOC __interceptor_calloc
+#define AMEOTO_REAL_REALLOC __interceptor_realloc
+#define AMEOTO_REAL_MEMALIGN __interceptor_memalign
+#define AMEOTO_REAL_FREE __interceptor_free
+#else
 extern "C" {
 void* __libc_malloc(size_t);
 void* __libc_calloc(size_t, size_t);
@@ -34,6 +52,12 @@ void* __libc_realloc(void*, size_t);
 void* __libc_memalign(size_t, size_t);
 void __libc_free(void*);
 }
+#define AMEOTO_REAL_MALLOC __libc_malloc
+#define AMEOTO_REAL_CALLOC __libc_calloc
+#define AMEOTO_REAL_REALLOC __libc_realloc
+#define AMEOTO_REAL_MEMALIGN __libc_memalign
+#define AMEOTO_REAL_FREE __libc_free
+#endif
 
 namespace {
 
@@ -131,35 +155,56 @@ void ameoto_rt_probe_reset() {
 // Allocation
 void* malloc(size_t n) {
     check("malloc");
-    return __libc_malloc(n);
+    return AMEOTO_REAL_MALLOC(n);
 }
 void* calloc(size_t n, size_t s) {
     check("calloc");
-    return __libc_calloc(n, s);
+    return AMEOTO_REAL_CALLOC(n, s);
 }
 void* realloc(void* p, size_t n) {
     check("realloc");
-    return __libc_realloc(p, n);
+    return AMEOTO_REAL_REALLOC(p, n);
 }
 void free(void* p) {
     if (p) check("free");
-    __libc_free(p);
+    AMEOTO_REAL_FREE(p);
 }
 void* memalign(size_t a, size_t n) {
     check("memalign");
-    return __libc_memalign(a, n);
+    return AMEOTO_REAL_MEMALIGN(a, n);
 }
 void* aligned_alloc(size_t a, size_t n) {
     check("aligned_alloc");
-    return __libc_memalign(a, n);
+    return AMEOTO_REAL_MEMALIGN(a, n);
 }
 int posix_memalign(void** out, size_t a, size_t n) {
     check("posix_memalign");
-    void* p = __libc_memalign(a, n);
+    void* p = AMEOTO_REAL_MEMALIGN(a, n);
     if (!p) return 12;   // ENOMEM
     *out = p;
     return 0;
 }
+
+#if defined(AMEOTO_RT_UNDER_ASAN)
+// ASan's own operator new does not call malloc, so the probe would not see `new` on the audio thread.
+// These route it through the probe's malloc (and delete through free, every non-aligned form, so each
+// block is freed the way it was allocated); aligned new and delete stay ASan's, a consistent pair.
+}  // extern "C"
+void* operator new(size_t n) {
+    if (void* p = malloc(n ? n : 1)) return p;
+    throw std::bad_alloc();
+}
+void* operator new[](size_t n) { return operator new(n); }
+void* operator new(size_t n, const std::nothrow_t&) noexcept { return malloc(n ? n : 1); }
+void* operator new[](size_t n, const std::nothrow_t&) noexcept { return malloc(n ? n : 1); }
+void operator delete(void* p) noexcept { free(p); }
+void operator delete[](void* p) noexcept { free(p); }
+void operator delete(void* p, size_t) noexcept { free(p); }
+void operator delete[](void* p, size_t) noexcept { free(p); }
+void operator delete(void* p, const std::nothrow_t&) noexcept { free(p); }
+void operator delete[](void* p, const std::nothrow_t&) noexcept { free(p); }
+extern "C" {
+#endif
 
 // Locks and waits
 int pthread_mutex_lock(pthread_mutex_t* m) {

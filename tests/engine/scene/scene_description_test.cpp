@@ -3,7 +3,9 @@
 
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <string>
+#include <vector>
 
 using namespace ameoto;
 
@@ -134,4 +136,62 @@ TEST_CASE("scene names are names, never paths") {
         CHECK_FALSE(is_scene_name(bad));
     }
     CHECK_FALSE(is_scene_name(std::string(33, 'a')));
+}
+
+TEST_CASE("scene file: cut at every byte, or with any byte changed, reads or fails with the file and a line in it, "
+          "never anything else") {
+    // Every built-in scene as written, and the hand-written one: each prefix (a truncated write or
+    // copy) and each single-byte change (to NUL, '=', a space, 0xff) either is a valid scene or throws
+    // SceneFileError naming the file and a line that exists.
+    std::vector<std::string> texts{good};
+    for (const std::string& name : builtin_scene_names()) texts.push_back(format_scene(*builtin_scene(name)));
+    int refused = 0, read = 0;
+    for (const std::string& text : texts) {
+        const int lines = static_cast<int>(std::count(text.begin(), text.end(), '\n')) + 1;
+        auto check = [&](const std::string& variant) {
+            try {
+                const SceneDescription s = parse_scene(variant, "cut.scene");
+                CHECK(validate_scene(s).empty());
+                ++read;
+            } catch (const SceneFileError& e) {
+                CHECK(std::string(e.what()).rfind("cut.scene", 0) == 0);
+                CHECK(e.line() >= 0);
+                CHECK(e.line() <= lines);
+                ++refused;
+            }
+        };
+        for (std::size_t n = 0; n < text.size(); ++n) check(text.substr(0, n));
+        for (std::size_t i = 0; i < text.size(); ++i)
+            for (const char c : {'\0', '=', ' ', '\xff'}) {
+                std::string v = text;
+                v[i] = c;
+                check(v);
+            }
+    }
+    MESSAGE(read << " variants read, " << refused << " refused");
+    CHECK(refused > 1000);
+}
+
+TEST_CASE("scene file: numbers too large for a double, too many keys, and a version far in the future are refused") {
+    CHECK(error_of("ameoto-scene 1\nrain rate=1e400\n").rfind("test.scene:2: rate: ", 0) == 0);
+    CHECK(error_of("ameoto-scene 1\nlistener x=-1e400\n").rfind("test.scene:2: x: ", 0) == 0);
+    CHECK(error_of("ameoto-scene 1\nlod full=99999999999999999999\n").rfind("test.scene:2: full: ", 0) == 0);
+    CHECK(error_of("ameoto-scene 99999999999999999999\n").rfind("test.scene:1: ", 0) == 0);
+    CHECK(error_of("ameoto-scene 0\n").rfind("test.scene:1: version: ", 0) == 0);
+    CHECK(error_of("ameoto-scene -1\n").rfind("test.scene:1: ", 0) == 0);
+    std::string keys = "ameoto-scene 1\nrain";
+    for (int i = 0; i < 100; ++i) keys += " k" + std::to_string(i) + "=1";
+    CHECK(error_of(keys + "\n").rfind("test.scene:2: k0: unknown key", 0) == 0);
+    // A name longer than 32 characters, in the file.
+    CHECK(error_of("ameoto-scene 1\nname " + std::string(40, 'a') + "\n").rfind("test.scene:2: ", 0) == 0);
+}
+
+TEST_CASE("scene file: a subnormal value format_scene writes reads back (found by the fuzzer)") {
+    SceneDescription s = *builtin_scene("umbrella");
+    s.listener.x_m = 9.33678148025e-313;
+    s.surfaces.at(0).x_m = 9.33678148025e-313;
+    REQUIRE(validate_scene(s).empty());
+    CHECK(parse_scene(format_scene(s), "tiny.scene") == s);
+    CHECK(error_of("ameoto-scene 1\nrain rate=1e400\n") == "test.scene:2: rate: inf mm/h is outside 0..500");
+    CHECK(error_of("ameoto-scene 1\nrain rate=1x\n") == "test.scene:2: rate: '1x' is not a number");
 }
