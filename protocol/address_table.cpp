@@ -332,20 +332,22 @@ std::vector<AddressSpec> make_table() {
                  "rebuilt off the audio thread). With no arguments, ask for the budget and the method chosen.",
                  "/done /accuracy (once the rebuilt scene plays); with no arguments: /accuracy.reply",
                  [](const ValidatedArguments& a, const ProtocolContext&, Request& r) -> std::optional<std::string> {
-                     r.action = Action::edit_scene;
-                     r.edit.op = SceneEdit::Op::accuracy;
+                     // Nothing is written into the request until the whole message is accepted.
+                     std::optional<AccuracyBudget> accuracy;
                      if (a.texts[0] == "off") {
                          if (!a.numbers.empty()) return "'off' takes no budget";
-                         r.edit.accuracy.reset();
-                         return std::nullopt;
+                     } else {
+                         AccuracyMeasure measure{};
+                         if (!parse_accuracy_measure(a.texts[0], measure))
+                             return "measure '" + a.texts[0].substr(0, 64) + "' is not one of cents, db, off";
+                         if (a.numbers.empty()) return "give the budget: /accuracy " + a.texts[0] + " VALUE";
+                         const AccuracyBudget budget{measure, a.numbers[0]};
+                         if (std::string why = validate_accuracy_budget(budget); !why.empty()) return why;
+                         accuracy = budget;
                      }
-                     AccuracyMeasure measure{};
-                     if (!parse_accuracy_measure(a.texts[0], measure))
-                         return "measure '" + a.texts[0] + "' is not one of cents, db, off";
-                     if (a.numbers.empty()) return "give the budget: /accuracy " + a.texts[0] + " VALUE";
-                     const AccuracyBudget budget{measure, a.numbers[0]};
-                     if (std::string why = validate_accuracy_budget(budget); !why.empty()) return why;
-                     r.edit.accuracy = budget;
+                     r.action = Action::edit_scene;
+                     r.edit.op = SceneEdit::Op::accuracy;
+                     r.edit.accuracy = accuracy;
                      return std::nullopt;
                  }});
     t.back().query = {true, {}, "/accuracy.reply s measure, f budget, s method, i sub_steps, i modes, s why"};

@@ -103,7 +103,10 @@ inline std::vector<BadCase> bad_cases(const protocol::AddressSpec& spec) {
         if (a.kind == ArgumentKind::integer) with("not an integer", double_argument(std::floor(0.5 * (a.min + a.max)) + 0.5));
     }
     const std::vector<OscArgument> required = valid_arguments(spec);
-    if (!required.empty())
+    // Without its last required argument a settable address may be its own query (docs/PROTOCOL.md,
+    // "Queries": no value, or only the name of the thing asked about), which is valid, not missing.
+    const bool is_query_form = spec.query.available && required.size() - 1 == spec.query.arguments.size();
+    if (!required.empty() && !is_query_form)
         cases.push_back({"missing the last required argument", {required.begin(), required.end() - 1}});
     std::vector<OscArgument> extra = all;
     extra.push_back(OscArgument::from_int(1));
