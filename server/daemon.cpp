@@ -22,6 +22,7 @@
 #include "server/backends/null_backend.hpp"
 #include "server/osc/client_table.hpp"
 #include "server/osc/peer.hpp"
+#include "server/osc/reply_ports.hpp"
 #include "server/osc/tcp_endpoint.hpp"
 #include "server/osc/traffic_counters.hpp"
 #include "server/osc/udp_endpoint.hpp"
@@ -92,6 +93,7 @@ struct Daemon::State {
     std::unique_ptr<Worker> worker;
     std::unique_ptr<UdpEndpoint> udp;
     ClientTable<Peer> clients;
+    ReplyPorts reply_ports;             // /reply/port: UDP senders whose replies go to another port
     std::unique_ptr<TcpEndpoint> tcp;
     // /notify subscribers: bounded, so no number of clients can make the server send without end.
     static constexpr std::size_t max_subscribers = 16;
@@ -145,6 +147,7 @@ struct Daemon::State {
     void answer_query(const Peer& to, const std::string& address, const std::string& name);
     void reply_version(const Peer& to);
     void set_notify(const Peer& to, bool on);
+    void set_reply_port(const Peer& sender, int port);
     void notify_subscribers();
     void send_meters();
     void apply_setting(const Command& c);
@@ -410,7 +413,8 @@ void Daemon::State::rebuild_scene(const Peer& sender, const std::string& address
 
 void Daemon::State::reply(const Peer& to, const std::string& address, const std::vector<protocol::OscArgument>& args) {
     const auto bytes = protocol::encode_message(address, args);
-    if (to.transport == Peer::Transport::udp) udp->send(bytes, to.udp);
+    // Every reply passes here, so a /reply/port redirect covers them all (/notify's, /notice, /synced).
+    if (to.transport == Peer::Transport::udp) udp->send(bytes, reply_ports.destination(to.udp));
     else if (tcp) tcp->send(to.tcp, bytes);
 }
 
@@ -506,6 +510,8 @@ void Daemon::State::answer_query(const Peer& to, const std::string& address, con
         reply(to, reply_address, {text(scene.name)});
     } else if (address == "/accuracy") {
         reply(to, reply_address, accuracy_reply(scene));
+    } else if (address == "/reply/port") {
+        reply(to, reply_address, {OscArgument::from_int(to.transport == Peer::Transport::udp ? reply_ports.port_of(to.udp) : 0)});
     } else if (address == "/notify") {
         const bool on = std::find(subscribers.begin(), subscribers.end(), to) != subscribers.end();
         reply(to, reply_address, {OscArgument::from_int(on ? 1 : 0)});
@@ -537,6 +543,25 @@ void Daemon::State::set_notify(const Peer& to, bool on) {
     }
     if (!on && found != subscribers.end()) subscribers.erase(found);
     reply(to, "/done", {protocol::OscArgument::from_string("/notify")});
+}
+
+// /reply/port PORT: this sender's later replies go to its IP address at PORT (0: its own port again).
+// The /done is the first reply to take the new way, so a patch knows its receiver hears the server.
+void Daemon::State::set_reply_port(const Peer& sender, int port) {
+    if (sender.transport != Peer::Transport::udp) {
+        reply(sender, "/fail", protocol::fail_arguments("/reply/port", "a TCP client's replies always come back on its connection"));
+        return;
+    }
+    if (port == 0) {
+        reply_ports.restore(sender.udp);
+    } else if (!reply_ports.redirect(sender.udp, static_cast<std::uint16_t>(port))) {
+        reply(sender, "/fail", protocol::fail_arguments("/reply/port", "too many redirected senders: at most " +
+                                                                           std::to_string(ReplyPorts::capacity) +
+                                                                           " (/reply/port 0 frees a sender's place)"));
+        return;
+    }
+    clients.index_of(sender);   // known from now on: it gets /notice like any client that sent a command
+    reply(sender, "/done", {protocol::OscArgument::from_string("/reply/port")});
 }
 
 // A TCP connection that closed: it is no one's subscriber any more.
@@ -643,6 +668,7 @@ void Daemon::State::on_packet(const unsigned char* data, std::size_t size, const
             case protocol::Action::query: answer_query(sender, v.request.query_address, v.request.query_text); break;
             case protocol::Action::notify: set_notify(sender, v.request.notify_on); break;
             case protocol::Action::version: reply_version(sender); break;
+            case protocol::Action::reply_port: set_reply_port(sender, v.request.reply_port); break;
         }
     }
 }
