@@ -73,6 +73,14 @@ double degrees(double radians) { return radians * (180.0 / 3.1415926535897932384
 // OSC's i is 32 bits; a counter past that reports the largest value instead of wrapping negative.
 std::int32_t saturate_int32(std::uint64_t v) { return v > 2147483647u ? 2147483647 : static_cast<std::int32_t>(v); }
 
+// The server's own replies (docs/PROTOCOL.md, "Replies"). One arriving as a request is another server's
+// answer, or this server's own after a /reply/port aimed at a server's port: answering it with /fail
+// would start an exchange that never ends, so it is dropped unanswered.
+bool is_reply_address(const std::string& address) {
+    return address == "/done" || address == "/fail" || address == "/synced" || address == "/notice" || address == "/meter" ||
+           (address.size() > 6 && address.ends_with(".reply"));
+}
+
 }  // namespace
 
 struct Daemon::State {
@@ -611,6 +619,7 @@ void Daemon::State::on_packet(const unsigned char* data, std::size_t size, const
     const AudioClock clock = bridge->clock();
     for (const auto& [message, v] : packet.messages) {
         if (!v.ok) {
+            if (!protocol::find_address(message.address) && is_reply_address(message.address)) continue;   // never answer a reply
             reply(sender, "/fail", protocol::fail_arguments(message.address, v.reason));
             continue;
         }

@@ -2,7 +2,8 @@
 // does, from a port it never reads) and hears every reply on a second socket bound to the port it named
 // (as Max's [udpreceive] does); nothing comes back to the sending socket. Port 0 restores the sender's
 // own port, bad values are refused on the original port, /notify subscribers follow the redirect, and a
-// TCP client is refused (its replies always come back on its connection).
+// TCP client is refused (its replies always come back on its connection). A reply sent to the server is
+// never answered, so a redirect aimed at a server cannot start an endless exchange.
 
 #include <doctest/doctest.h>
 #include <arpa/inet.h>
@@ -223,4 +224,28 @@ TEST_CASE("a TCP client gets /fail for /reply/port: its replies always come back
     CHECK(reply.messages.front().address == "/fail");
     CHECK(reply.messages.front().args[0].text == "/reply/port");
     CHECK(reply.messages.front().args[1].text.find("TCP") != std::string::npos);
+}
+
+TEST_CASE("a reply sent to the server is never answered, so a redirect aimed at a server's own port cannot loop") {
+    Daemon d({"--backend", "null", "--output", "-"});
+    OscTestClient client(d.port());
+    // Each of the server's replies, sent to it as a request: no /fail (a /fail to a server that answers
+    // /fail with /fail would go on for ever); an unknown address still gets its /fail.
+    for (const char* address : {"/done", "/fail", "/synced", "/notice", "/meter", "/status.reply", "/rain/rate.reply", "/reply/port.reply"})
+        client.send(address, {OscArgument::from_string("/x")});
+    const auto unknown = client.request("/no/such/address", {}, "/fail", 2s);
+    REQUIRE(unknown);
+    CHECK(unknown->args[0].text == "/no/such/address");
+    CHECK(client.others.empty());
+
+    // Replies aimed at the server itself: its /done comes back to it and is dropped; it keeps serving,
+    // and the client can undo the redirect (its /done then comes back to the client).
+    client.send("/reply/port", {i(d.port())});
+    client.send("/status");
+    OscTestClient other(d.port());
+    REQUIRE(other.request("/status", {}, "/status.reply", 2s));
+    const auto restored = client.request("/reply/port", {i(0)}, "/done", 2s);
+    REQUIRE(restored);
+    CHECK(restored->args[0].text == "/reply/port");
+    CHECK(client.others.empty());   // nothing of the server talking to itself reached the client
 }
