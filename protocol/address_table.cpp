@@ -351,6 +351,23 @@ std::vector<AddressSpec> make_table() {
                      return std::nullopt;
                  }});
     t.back().query = {true, {}, "/accuracy.reply s measure, f budget, s method, i sub_steps, i modes, s why"};
+    // Appended (issue 7): Max's [udpsend] sends from a port it never listens on, so it cannot hear replies
+    // sent back to the sender (scsynth's rule). As Ardour's OSC surface does ("reply manual port"), a
+    // sender may name the port its replies go to; the address stays the sender's own.
+    t.push_back({"/reply/port",
+                 {{"port", ArgumentKind::integer, "", 0.0, 65535.0, false,
+                   "UDP port on the sender's own IP address for every later reply to it; 0 = back to the port it sends from",
+                   "7771"}},
+                 "Send every later reply to this sender (/done, /fail, /synced, query replies, /status.reply, /notify's "
+                 "/status.reply and /meter, /notice) to its IP address at PORT instead of the port it sends from. UDP only "
+                 "(a TCP client's replies come back on its connection). At most 4096 senders redirected at once.",
+                 "/done /reply/port (already sent to the new port); /fail /reply/port over TCP or when 4096 senders are redirected",
+                 [](const ValidatedArguments& a, const ProtocolContext&, Request& r) -> std::optional<std::string> {
+                     r.action = Action::reply_port;
+                     r.reply_port = static_cast<int>(a.numbers[0]);
+                     return std::nullopt;
+                 }});
+    t.back().query = {true, {}, "/reply/port.reply i port: where this sender's replies go (0: the port it sends from)"};
     return t;
 }
 

@@ -54,6 +54,7 @@ enum class Action {
     query,                  // reply ADDRESS.reply with the value now in effect (`query_address`, `query_text`)
     notify,                 // subscribe (`notify_on`) or unsubscribe the sender: periodic /status.reply and /meter
     version,                // reply /version.reply
+    reply_port,             // send this sender's later replies to its IP address at `reply_port` (0: its own port)
 };
 
 // The protocol's own version, in /version.reply: raised when an address or a reply changes shape.
@@ -89,6 +90,7 @@ struct Request {
     std::string query_address;                 // query: the address asked about (its reply is ADDRESS.reply)
     std::string query_text;                    // query: its text argument when it takes one (a surface's name)
     bool notify_on = false;                    // notify
+    int reply_port = 0;                        // reply_port: 1..65535, or 0 for the sender's own port
 };
 
 struct Validation {

@@ -22,6 +22,7 @@
 #include "server/backends/null_backend.hpp"
 #include "server/osc/client_table.hpp"
 #include "server/osc/peer.hpp"
+#include "server/osc/reply_ports.hpp"
 #include "server/osc/tcp_endpoint.hpp"
 #include "server/osc/traffic_counters.hpp"
 #include "server/osc/udp_endpoint.hpp"
@@ -72,6 +73,14 @@ double degrees(double radians) { return radians * (180.0 / 3.1415926535897932384
 // OSC's i is 32 bits; a counter past that reports the largest value instead of wrapping negative.
 std::int32_t saturate_int32(std::uint64_t v) { return v > 2147483647u ? 2147483647 : static_cast<std::int32_t>(v); }
 
+// The server's own replies (docs/PROTOCOL.md, "Replies"). One arriving as a request is another server's
+// answer, or this server's own after a /reply/port aimed at a server's port: answering it with /fail
+// would start an exchange that never ends, so it is dropped unanswered.
+bool is_reply_address(const std::string& address) {
+    return address == "/done" || address == "/fail" || address == "/synced" || address == "/notice" || address == "/meter" ||
+           (address.size() > 6 && address.ends_with(".reply"));
+}
+
 }  // namespace
 
 struct Daemon::State {
@@ -92,6 +101,7 @@ struct Daemon::State {
     std::unique_ptr<Worker> worker;
     std::unique_ptr<UdpEndpoint> udp;
     ClientTable<Peer> clients;
+    ReplyPorts reply_ports;             // /reply/port: UDP senders whose replies go to another port
     std::unique_ptr<TcpEndpoint> tcp;
     // /notify subscribers: bounded, so no number of clients can make the server send without end.
     static constexpr std::size_t max_subscribers = 16;
@@ -145,6 +155,7 @@ struct Daemon::State {
     void answer_query(const Peer& to, const std::string& address, const std::string& name);
     void reply_version(const Peer& to);
     void set_notify(const Peer& to, bool on);
+    void set_reply_port(const Peer& sender, int port);
     void notify_subscribers();
     void send_meters();
     void apply_setting(const Command& c);
@@ -410,7 +421,8 @@ void Daemon::State::rebuild_scene(const Peer& sender, const std::string& address
 
 void Daemon::State::reply(const Peer& to, const std::string& address, const std::vector<protocol::OscArgument>& args) {
     const auto bytes = protocol::encode_message(address, args);
-    if (to.transport == Peer::Transport::udp) udp->send(bytes, to.udp);
+    // Every reply passes here, so a /reply/port redirect covers them all (/notify's, /notice, /synced).
+    if (to.transport == Peer::Transport::udp) udp->send(bytes, reply_ports.destination(to.udp));
     else if (tcp) tcp->send(to.tcp, bytes);
 }
 
@@ -506,6 +518,8 @@ void Daemon::State::answer_query(const Peer& to, const std::string& address, con
         reply(to, reply_address, {text(scene.name)});
     } else if (address == "/accuracy") {
         reply(to, reply_address, accuracy_reply(scene));
+    } else if (address == "/reply/port") {
+        reply(to, reply_address, {OscArgument::from_int(to.transport == Peer::Transport::udp ? reply_ports.port_of(to.udp) : 0)});
     } else if (address == "/notify") {
         const bool on = std::find(subscribers.begin(), subscribers.end(), to) != subscribers.end();
         reply(to, reply_address, {OscArgument::from_int(on ? 1 : 0)});
@@ -537,6 +551,25 @@ void Daemon::State::set_notify(const Peer& to, bool on) {
     }
     if (!on && found != subscribers.end()) subscribers.erase(found);
     reply(to, "/done", {protocol::OscArgument::from_string("/notify")});
+}
+
+// /reply/port PORT: this sender's later replies go to its IP address at PORT (0: its own port again).
+// The /done is the first reply to take the new way, so a patch knows its receiver hears the server.
+void Daemon::State::set_reply_port(const Peer& sender, int port) {
+    if (sender.transport != Peer::Transport::udp) {
+        reply(sender, "/fail", protocol::fail_arguments("/reply/port", "a TCP client's replies always come back on its connection"));
+        return;
+    }
+    if (port == 0) {
+        reply_ports.restore(sender.udp);
+    } else if (!reply_ports.redirect(sender.udp, static_cast<std::uint16_t>(port))) {
+        reply(sender, "/fail", protocol::fail_arguments("/reply/port", "too many redirected senders: at most " +
+                                                                           std::to_string(ReplyPorts::capacity) +
+                                                                           " (/reply/port 0 frees a sender's place)"));
+        return;
+    }
+    clients.index_of(sender);   // known from now on: it gets /notice like any client that sent a command
+    reply(sender, "/done", {protocol::OscArgument::from_string("/reply/port")});
 }
 
 // A TCP connection that closed: it is no one's subscriber any more.
@@ -586,6 +619,7 @@ void Daemon::State::on_packet(const unsigned char* data, std::size_t size, const
     const AudioClock clock = bridge->clock();
     for (const auto& [message, v] : packet.messages) {
         if (!v.ok) {
+            if (!protocol::find_address(message.address) && is_reply_address(message.address)) continue;   // never answer a reply
             reply(sender, "/fail", protocol::fail_arguments(message.address, v.reason));
             continue;
         }
@@ -643,6 +677,7 @@ void Daemon::State::on_packet(const unsigned char* data, std::size_t size, const
             case protocol::Action::query: answer_query(sender, v.request.query_address, v.request.query_text); break;
             case protocol::Action::notify: set_notify(sender, v.request.notify_on); break;
             case protocol::Action::version: reply_version(sender); break;
+            case protocol::Action::reply_port: set_reply_port(sender, v.request.reply_port); break;
         }
     }
 }

@@ -362,7 +362,7 @@ int run_render(const CommandWords& words, const CommandIo& io) {
     std::vector<Snapshot> snapshots;
     const double snapshot_times[] = {0.0, 1e-3, 3e-3, 10e-3, 30e-3};
     std::size_t next_snapshot = 0;
-    ProgressLine progress(io.err, !o.quiet && isatty(STDERR_FILENO) && &io.err == &std::cerr);
+    ProgressLine progress(io.err, !o.quiet && isatty(STDERR_FILENO) && &io.err == &std::cerr, o.rate);
     constexpr long block = 64;
     std::vector<float*> out(static_cast<std::size_t>(channels));
     for (long done = 0; done < total;) {

@@ -165,7 +165,7 @@ int run_render_scene(const RenderSceneOptions& o, const CommandIo& io) {
     std::vector<float*> out(static_cast<std::size_t>(channels));
     for (int c = 0; c < channels; ++c) out[static_cast<std::size_t>(c)] = planar[static_cast<std::size_t>(c)].data();
     std::vector<float> interleaved(static_cast<std::size_t>(block * channels));
-    ProgressLine progress(io.err, !o.quiet && isatty(STDERR_FILENO) && &io.err == &std::cerr);
+    ProgressLine progress(io.err, !o.quiet && isatty(STDERR_FILENO) && &io.err == &std::cerr, o.rate);
     double peak = 0.0;
     bool finite = true;
     for (long done = 0; done < total;) {

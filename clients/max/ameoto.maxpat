@@ -13,7 +13,7 @@
    100.0,
    100.0,
    760.0,
-   860.0
+   900.0
   ],
   "bglocked": 0,
   "openinpresentation": 0,
@@ -74,7 +74,7 @@
       420,
       22.0
      ],
-     "text": "Edit the host and port here to reach another machine (ameotod --bind ADDRESS).",
+     "text": "To reach another machine (ameotod --bind ADDRESS) edit the host above and click it: /reply/port 7771 follows.",
      "linecount": 2
     }
    },
@@ -553,8 +553,8 @@
       700,
       22.0
      ],
-     "text": "Replies: ameotod answers to the port a message came from, and [udpsend] does not listen there. [udpreceive] below hears what is sent to port 7771 (for example from a relay, or from ameotod once it can be told a reply port); see README.md.",
-     "linecount": 4
+     "text": "Replies: ameotod answers to the port a message came from, and [udpsend] does not listen there, so the patch sends /reply/port 7771 on load and whenever the host changes: from then on ameotod sends every reply for this [udpsend] to this machine's port 7771, where [udpreceive 7771] hears it. See README.md.",
+     "linecount": 3
     }
    },
    {
@@ -705,6 +705,142 @@
      ],
      "outlettype": [],
      "text": "print ameoto-other"
+    }
+   },
+   {
+    "box": {
+     "id": "obj-40",
+     "maxclass": "newobj",
+     "numinlets": 1,
+     "numoutlets": 1,
+     "patching_rect": [
+      20,
+      480,
+      60,
+      22.0
+     ],
+     "outlettype": [
+      "bang"
+     ],
+     "text": "loadbang"
+    }
+   },
+   {
+    "box": {
+     "id": "obj-41",
+     "maxclass": "message",
+     "numinlets": 2,
+     "numoutlets": 1,
+     "patching_rect": [
+      90,
+      480,
+      120,
+      22.0
+     ],
+     "outlettype": [
+      ""
+     ],
+     "text": "/reply/port 7771"
+    }
+   },
+   {
+    "box": {
+     "id": "obj-42",
+     "maxclass": "comment",
+     "numinlets": 1,
+     "numoutlets": 0,
+     "patching_rect": [
+      260,
+      480,
+      440,
+      22.0
+     ],
+     "text": "replies to [udpreceive 7771] below (on load, and after a host change); /reply/port 0 undoes it"
+    }
+   },
+   {
+    "box": {
+     "id": "obj-43",
+     "maxclass": "message",
+     "numinlets": 2,
+     "numoutlets": 1,
+     "patching_rect": [
+      20,
+      515,
+      120,
+      22.0
+     ],
+     "outlettype": [
+      ""
+     ],
+     "text": "host 127.0.0.1"
+    }
+   },
+   {
+    "box": {
+     "id": "obj-44",
+     "maxclass": "newobj",
+     "numinlets": 1,
+     "numoutlets": 2,
+     "patching_rect": [
+      150,
+      515,
+      50,
+      22.0
+     ],
+     "outlettype": [
+      "bang",
+      ""
+     ],
+     "text": "t b a"
+    }
+   },
+   {
+    "box": {
+     "id": "obj-45",
+     "maxclass": "comment",
+     "numinlets": 1,
+     "numoutlets": 0,
+     "patching_rect": [
+      260,
+      515,
+      440,
+      22.0
+     ],
+     "text": "connect: the host to [udpsend] first, then /reply/port 7771 (a trigger fires right to left)"
+    }
+   },
+   {
+    "box": {
+     "id": "obj-46",
+     "maxclass": "message",
+     "numinlets": 2,
+     "numoutlets": 1,
+     "patching_rect": [
+      20,
+      840,
+      120,
+      22.0
+     ],
+     "outlettype": [
+      ""
+     ],
+     "text": "/reply/port"
+    }
+   },
+   {
+    "box": {
+     "id": "obj-47",
+     "maxclass": "comment",
+     "numinlets": 1,
+     "numoutlets": 0,
+     "patching_rect": [
+      150,
+      840,
+      440,
+      22.0
+     ],
+     "text": "ask where replies go: /reply/port.reply 7771 prints as ameoto-other"
     }
    }
   ],
@@ -957,6 +1093,78 @@
      ],
      "destination": [
       "obj-39",
+      0
+     ]
+    }
+   },
+   {
+    "patchline": {
+     "source": [
+      "obj-40",
+      0
+     ],
+     "destination": [
+      "obj-41",
+      0
+     ]
+    }
+   },
+   {
+    "patchline": {
+     "source": [
+      "obj-41",
+      0
+     ],
+     "destination": [
+      "obj-2",
+      0
+     ]
+    }
+   },
+   {
+    "patchline": {
+     "source": [
+      "obj-43",
+      0
+     ],
+     "destination": [
+      "obj-44",
+      0
+     ]
+    }
+   },
+   {
+    "patchline": {
+     "source": [
+      "obj-44",
+      1
+     ],
+     "destination": [
+      "obj-2",
+      0
+     ]
+    }
+   },
+   {
+    "patchline": {
+     "source": [
+      "obj-44",
+      0
+     ],
+     "destination": [
+      "obj-41",
+      0
+     ]
+    }
+   },
+   {
+    "patchline": {
+     "source": [
+      "obj-46",
+      0
+     ],
+     "destination": [
+      "obj-2",
       0
      ]
     }

@@ -26,7 +26,7 @@ OscArgument s(const std::string& v) { return OscArgument::from_string(v); }
 TEST_CASE("every settable value has a query: the address with no value asks for what is in effect") {
     const ProtocolContext c;
     for (const char* address : {"/rain/rate", "/rain/wind", "/rain/dsd", "/listener", "/lod", "/material/liquid", "/scene",
-                                "/scene/load", "/notify"}) {
+                                "/scene/load", "/notify", "/reply/port"}) {
         INFO(address);
         const AddressSpec* spec = find_address(address);
         REQUIRE(spec);
@@ -57,7 +57,7 @@ TEST_CASE("the table's queries are exactly the settable addresses; actions that 
         const std::string a = spec.address;
         const bool settable_value = a == "/rain/rate" || a == "/rain/wind" || a == "/rain/dsd" || a == "/listener" || a == "/lod" ||
                                     a == "/material/liquid" || a == "/material/surface" || a == "/scene" || a == "/scene/load" ||
-                                    a == "/surface/set" || a == "/notify" || a == "/accuracy";
+                                    a == "/surface/set" || a == "/notify" || a == "/accuracy" || a == "/reply/port";
         if (!settable_value) {
             CHECK_FALSE(spec.query.available);
             continue;
@@ -100,4 +100,25 @@ TEST_CASE("/notify takes 1 or 0 only; /version and /surfaces take nothing") {
     CHECK(v.request.action == Action::query);
     CHECK(v.request.query_address == "/surfaces");
     CHECK_FALSE(validate(message("/surfaces", {s("x")}), c).ok);
+}
+
+TEST_CASE("/reply/port takes a UDP port 1..65535 or 0 (the sender's own); with no value it is its query") {
+    const ProtocolContext c;
+    auto v = validate(message("/reply/port", {i(7771)}), c);
+    REQUIRE(v.ok);
+    CHECK(v.request.action == Action::reply_port);
+    CHECK(v.request.reply_port == 7771);
+    v = validate(message("/reply/port", {f(0)}), c);
+    REQUIRE(v.ok);
+    CHECK(v.request.reply_port == 0);
+    CHECK(validate(message("/reply/port", {i(65535)}), c).request.reply_port == 65535);
+    CHECK(validate(message("/reply/port", {i(65536)}), c).reason.find("outside 0..65535") != std::string::npos);
+    CHECK(validate(message("/reply/port", {i(-1)}), c).reason.find("outside 0..65535") != std::string::npos);
+    CHECK(validate(message("/reply/port", {f(7771.5)}), c).reason.find("integer") != std::string::npos);
+    CHECK(validate(message("/reply/port", {s("7771")}), c).reason.find("expected a number") != std::string::npos);
+    CHECK(validate(message("/reply/port", {i(7771), i(1)}), c).reason.find("too many") != std::string::npos);
+    v = validate(message("/reply/port"), c);
+    REQUIRE(v.ok);
+    CHECK(v.request.action == Action::query);
+    CHECK(v.request.query_address == "/reply/port");
 }

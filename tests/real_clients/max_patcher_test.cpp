@@ -1,6 +1,6 @@
 // clients/max/ameoto.maxpat. Max does not run on Linux, so this checks what can be checked here: the
 // file is a well-formed patcher (JSON read by Python's json; boxes and patch lines consistent), it
-// has [udpsend] to ameotod's default port and [udpreceive], and every OSC address it sends is one
+// has [udpsend] to ameotod's default port and [udpreceive 7771], sends /reply/port 7771 on load, and every OSC address it sends is one
 // the server's protocol table knows.
 
 #include <doctest/doctest.h>
@@ -22,7 +22,9 @@ TEST_CASE("Max: ameoto.maxpat is a well-formed patcher whose every address is in
     INFO("maxpat_messages.py printed:\n" << run.out);
     REQUIRE(run.exit_code == 0);
     CHECK(run.out.find("object udpsend 127.0.0.1 7770\n") != std::string::npos);
-    CHECK(run.out.find("object udpreceive ") != std::string::npos);
+    CHECK(run.out.find("object udpreceive 7771\n") != std::string::npos);
+    // [udpsend] never listens: the patch asks for its replies on [udpreceive]'s port when it opens.
+    CHECK(run.out.find("on load /reply/port 7771\n") != std::string::npos);
     std::istringstream lines(run.out);
     int addresses = 0;
     for (std::string line; std::getline(lines, line);) {

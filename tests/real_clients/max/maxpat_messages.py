@@ -1,6 +1,7 @@
 """Reads a .maxpat (Max cannot run here) and prints what the C++ test checks:
    'object TEXT' for every object box, 'sends ADDRESS' for every OSC address a message box or a
-   [prepend /address] feeds towards [udpsend]. Exits 1 with the reason when the file is not a
+   [prepend /address] feeds towards [udpsend], 'on load TEXT' for every message box a [loadbang] feeds
+   (directly or through a [t ...]). Exits 1 with the reason when the file is not a
    well-formed patcher: JSON, boxes with unique ids, patch lines between existing boxes' existing
    inlets and outlets."""
 import json
@@ -29,3 +30,19 @@ for box in boxes.values():
             print("sends " + text.split()[1])
     elif box["maxclass"] == "message" and text.startswith("/"):
         print("sends " + text.split()[0])
+outlets = {}
+for entry in patcher["lines"]:
+    line = entry["patchline"]
+    outlets.setdefault(line["source"][0], []).append(line["destination"][0])
+for box in boxes.values():
+    if box["maxclass"] == "newobj" and box.get("text") == "loadbang":
+        pending, seen = list(outlets.get(box["id"], [])), set()
+        while pending:
+            target = boxes[pending.pop()]
+            if target["id"] in seen:
+                continue
+            seen.add(target["id"])
+            if target["maxclass"] == "message":
+                print("on load " + target.get("text", ""))
+            elif target.get("text", "").split()[:1] in (["t"], ["trigger"]):
+                pending.extend(outlets.get(target["id"], []))
