@@ -26,7 +26,8 @@
 // (texture_grains.hpp, docs/engine.md), so the broadband level difference is reported beside D.
 // Cost: CPU per drop, as `ameoto bench scene` measures it (bench_scene.hpp): the umbrella scene with
 // every rain drop forced into the tier against the same scene dry, thread CPU time, median of `runs`
-// pairs; full at 0.3 mm/h (as bench scene), template and texture at 200 mm/h (enough drops to
+// pairs; full at the error run's rate (bench scene's 0.3 mm/h fills the lattice pool when every
+// drop is forced full, and the drops it cannot take play as templates), template and texture at 200 mm/h (enough drops to
 // rise above the machine's noise). A cost under the noise is reported as measured (<= 0) and drawn at
 // the chart's floor.
 
@@ -59,6 +60,7 @@ struct TierRow {
     double level_db = 0;       // broadband level against the full tier's
     std::uint64_t drops = 0;   // in the error run
     std::uint64_t fallbacks = 0;   // drops the error run could not give this tier (full: the pool was full)
+    std::uint64_t cost_fallbacks = 0;   // the same, over the cost runs
 };
 
 struct TierOptions {
