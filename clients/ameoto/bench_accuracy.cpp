@@ -8,6 +8,7 @@
 
 #include "clients/ameoto/bench_accuracy_charts.hpp"
 #include "clients/ameoto/bench_accuracy_drop.hpp"
+#include "clients/ameoto/bench_accuracy_tiers.hpp"
 #include "clients/ameoto/bench_drive.hpp"
 #include "clients/ameoto/bench_timer.hpp"
 #include "clients/ameoto/exit_status.hpp"
@@ -131,14 +132,30 @@ bool write_file(const std::string& path, const std::string& content, const Comma
 }
 
 std::string csv(const std::vector<AccuracyRow>& rows) {
-    std::string s = "body,method,integrator,sub_steps,modes,ns_per_sample,core_percent_48k,ns_per_sample_quiet,ns_per_sample_contact,cents,lsd_db,front_cents,front_db\n";
+    std::string s = "body,method,integrator,sub_steps,modes,ns_per_sample,core_percent_48k,ns_per_sample_quiet,ns_per_sample_contact,cents,lsd_db,front_cents,front_db,ns_per_drop,level_db\n";
     for (const AccuracyRow& r : rows) {
         s += r.body + "," + method_label(r.method.setting) + "," + integrator_name(r.method.setting.integrator) + "," +
              std::to_string(r.errors.sub_steps) + "," + std::to_string(r.errors.modes_kept) + "," +
              number("%.1f", r.method.ns_per_sample) + "," + number("%.3f", r.core_percent()) + "," +
              number("%.1f", r.ns_quiet) + "," + number("%.1f", r.ns_contact) + "," + number("%.4g", r.method.cents) + "," + number("%.4g", r.method.decibels) + "," + (r.front_cents ? "yes" : "no") +
-             "," + (r.front_decibels ? "yes" : "no") + "\n";
+             "," + (r.front_decibels ? "yes" : "no") + ",,\n";
     }
+    return s;
+}
+
+// The drop tiers' cost is per drop (its whole life), not per sample: a column of its own, ns_per_drop.
+bool on_tier_front(const TierRow& r, const std::vector<TierRow>& rows) {
+    const auto cost = [](const TierRow& t) { return std::max(t.ns_per_drop, 0.0); };   // under the noise: 0
+    for (const TierRow& o : rows)
+        if (cost(o) <= cost(r) && o.lsd_db <= r.lsd_db && (cost(o) < cost(r) || o.lsd_db < r.lsd_db)) return false;
+    return true;
+}
+
+std::string tiers_csv(const std::vector<TierRow>& rows) {
+    std::string s;
+    for (const TierRow& r : rows)
+        s += "drop tiers," + r.name + ",level of detail,,,,,,,," + number("%.4g", r.lsd_db) + ",," + (on_tier_front(r, rows) ? "yes" : "no") +
+             "," + number("%.0f", r.ns_per_drop) + "," + number("%.3f", r.level_db) + "\n";
     return s;
 }
 
@@ -242,7 +259,10 @@ std::string accuracy_bench_usage() {
            "modal solution: the largest frequency error of the audible modes below 5 kHz (cents) and the\n"
            "log-spectral distance of the impulse response, 20 Hz..20 kHz (dB). Then a free 3 mm drop in\n"
            "explicit Verlet and symplectic Euler at 1x..8x its sub-steps (cost, cents). Then the stability map:\n"
-           "growth factor per step against omega_max T (0.1..10) on an 8-mass chain, with the bound.\n"
+           "growth factor per step against omega_max T (0.1..10) on an 8-mass chain, with the bound. Also the\n"
+           "scene's drop tiers (full, template, texture): CPU per drop against the dry scene, and the\n"
+           "third-octave long-term spectrum against the full tier's for the same rain (0.1 mm/h, 4 s);\n"
+           "tier costs: min(R, 5) pairs of 3 S of audio (at most 4 s), the median.\n"
            "\n"
            "Options:\n"
            "  --json                one JSON object per method, one per line\n"
@@ -324,17 +344,65 @@ int run_accuracy_bench(const CommandWords& words, const CommandIo& io) {
             }
         }
     }
+    // The scene's levels of detail (bench_accuracy_tiers.hpp): CPU per drop and the long-term spectrum
+    // against the full tier's for the same rain.
+    TierOptions tier_options;
+    // The template's and the texture's cost per drop is near the machine's noise (the dry scene's CPU
+    // varies by 10-20 % between runs here): long runs, the median of up to 5 pairs.
+    tier_options.cost_seconds = std::clamp(3.0 * o.seconds, 0.5, 4.0);
+    tier_options.runs = std::min(o.runs, 5);
+    io.err << "ameoto bench: the drop tiers (full, template, texture: the same rain at " << tier_options.error_rate_mm_per_h
+           << " mm/h for " << tier_options.error_seconds << " s, then each tier timed)\n" << std::flush;
+    const std::vector<TierRow> tiers = measure_tiers(tier_options);
+    if (!o.json)
+        io.out << "\ndrop tiers (umbrella scene, 48 kHz stereo): error = third-octave long-term spectrum 25 Hz..20 kHz against the\n"
+               << "full tier's for the same " << number("%.1f", tier_options.error_rate_mm_per_h) << " mm/h rain over "
+               << number("%.0f", tier_options.error_seconds) << " s (texture: statistics only, not waveforms);\n"
+               << "cost = CPU per drop over its life against the dry scene (full at " << number("%.1f", tier_options.error_rate_mm_per_h)
+               << " mm/h, the others at 200 mm/h)\n"
+               << "tier        CPU ns/drop    LSD dB  level dB   drops  not in tier (error run, cost runs)\n";
+    for (const TierRow& t : tiers) {
+        if (o.json) {
+            io.out << "{\"suite\":\"accuracy\",\"body\":\"drop tiers\",\"method\":" << json_string(t.name)
+                   << ",\"ns_per_drop\":" << json_number(t.ns_per_drop) << ",\"cost_rain_mm_per_h\":" << json_number(t.rate_mm_per_h)
+                   << ",\"lsd_db\":" << json_number(t.lsd_db) << ",\"level_db\":" << json_number(t.level_db)
+                   << ",\"drops\":" << t.drops << ",\"fallbacks\":" << t.fallbacks << ",\"cost_fallbacks\":" << t.cost_fallbacks
+                   << ",\"front_db\":" << (on_tier_front(t, tiers) ? "true" : "false") << "}\n";
+        } else {
+            char line[200];
+            std::snprintf(line, sizeof line, "%-10s %12.0f %9.3f %9.3f %7llu %7llu, %llu%s\n", t.name.c_str(), t.ns_per_drop, t.lsd_db,
+                          t.level_db, static_cast<unsigned long long>(t.drops), static_cast<unsigned long long>(t.fallbacks),
+                          static_cast<unsigned long long>(t.cost_fallbacks),
+                          t.ns_per_drop <= 0.0 ? "  (cost under the machine's noise)" : "");
+            io.out << line;
+        }
+    }
     bool written = true;
-    if (!o.csv.empty()) written &= write_file(o.csv, csv(rows) + drop_csv, io);
+    if (!o.csv.empty()) written &= write_file(o.csv, csv(rows) + drop_csv + tiers_csv(tiers), io);
     if (!o.table.empty()) written &= write_file(o.table, table_source(rows, cpu_model()), io);
     if (!o.svg.empty()) {
-        LogPanel cents{"largest frequency error of the audible modes below 5 kHz, cents", {}, 1e-3};
-        LogPanel db{"log-spectral distance of the impulse response, dB", {}, 1e-3};
+        LogPanel cents, db;
+        cents.y_label = "largest frequency error of the audible modes below 5 kHz, cents";
+        db.y_label = "log-spectral distance of the impulse response, dB";
         for (const AccuracyRow& r : rows) {
             cents.points.push_back({method_label(r.method.setting), r.method.ns_per_sample, r.method.cents, r.front_cents});
             db.points.push_back({method_label(r.method.setting), r.method.ns_per_sample, r.method.decibels, r.front_decibels});
         }
-        written &= write_file(o.svg, cost_error_chart("Umbrella panel (50 masses, nylon, 48 kHz): cost against error", {cents, db}), io);
+        cents.heading = "umbrella panel (50 masses, nylon): frequency";
+        db.heading = "umbrella panel (50 masses, nylon): spectrum";
+        // The tiers: cost per drop, error against the full tier (the reference, drawn at the floor).
+        LogPanel tier_panel;
+        tier_panel.y_label = "long-term spectrum against the full tier, dB (third octaves)";
+        tier_panel.floor = 1e-2;
+        tier_panel.x_label = "cost, CPU ns per drop over its life (log)";
+        tier_panel.floor_note = "at the floor with an arrow: full, the reference (0 by definition)";
+        tier_panel.heading = "drop tiers (umbrella scene): texture compared as statistics only";
+        constexpr double tier_cost_floor_ns = 10.0;   // a cost under the machine's noise is drawn here
+        for (const TierRow& t : tiers)
+            tier_panel.points.push_back({t.ns_per_drop > 0.0 ? t.name : t.name + " (cost < noise)", std::max(t.ns_per_drop, tier_cost_floor_ns),
+                                         t.lsd_db, on_tier_front(t, tiers)});
+        written &= write_file(o.svg, cost_error_chart("Cost against error: the umbrella panel's methods (48 kHz), and the scene's drop tiers",
+                                                      {cents, db, tier_panel}), io);
     }
     // The stability map.
     const std::vector<double> grid = omega_t_grid();

@@ -18,8 +18,10 @@
 // broad phase does while a lattice drop is near. Errors: bench_accuracy_errors.hpp.
 // Then the free drop (bench_accuracy_drop.hpp): explicit Verlet and symplectic Euler at 1x..8x the
 // sub-steps it needs, frequency error of its n = 2 oscillation and cost (CSV rows "free drop").
+// Then the scene's drop tiers (bench_accuracy_tiers.hpp): full, template, texture: CPU per drop, and the
+// long-term spectrum against the full tier's for the same rain (CSV rows "drop tiers", cost in ns_per_drop).
 // Outputs: a text table (or --json, one object per row), --csv FILE, --svg FILE (cost against error,
-// the Pareto front), --stability-svg FILE (the stability map) and --table FILE (the C++ source of
+// the Pareto front; a third panel for the tiers), --stability-svg FILE (the stability map) and --table FILE (the C++ source of
 // engine/core/method_table.cpp, the knob's data). docs/accuracy.md has the command that regenerates
 // everything committed.
 

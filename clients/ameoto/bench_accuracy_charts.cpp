@@ -86,7 +86,8 @@ std::string cost_error_chart(const std::string& title, const std::vector<LogPane
         if (!(cmax > 0) || !(emax > 0)) continue;
         const LogFrame f{left + p * (panel_w + 90), top, panel_w, panel_h, std::floor(std::log10(cmin)),
                          std::ceil(std::log10(cmax) + 0.05), std::floor(std::log10(emin)), std::ceil(std::log10(emax) + 0.05)};
-        s += f.draw("cost, ns per output sample of one panel (log)", panel.y_label + " (log)");
+        s += f.draw(panel.x_label, panel.y_label + " (log)");
+        if (!panel.heading.empty()) s += text(f.x + f.w / 2, f.y - 8, panel.heading, "middle", 12);
         // The front: cheapest first, a staircase (right, then down).
         std::vector<ChartPoint> front;
         for (const ChartPoint& c : panel.points)
@@ -144,11 +145,11 @@ std::string cost_error_chart(const std::string& title, const std::vector<LogPane
         }
         // Notes in the bottom-left corner: cheap and exact is where no method has been yet.
         const double note_y = f.y + f.h - 40;
-        s += text(f.x + 8, note_y, "at the floor with an arrow: error 0 (exact)", "start", 10, " fill=\"#555\"");
+        s += text(f.x + 8, note_y, panel.floor_note, "start", 10, " fill=\"#555\"");
         if (!omitted.empty()) {
             std::string list;
             for (const std::string& o : omitted) list += (list.empty() ? "" : ", ") + o;
-            s += text(f.x + 8, note_y + 14, "not drawn (modes left out, infinite error):", "start", 10, " fill=\"#555\"");
+            s += text(f.x + 8, note_y + 14, panel.omitted_note, "start", 10, " fill=\"#555\"");
             s += text(f.x + 8, note_y + 28, list, "start", 10, " fill=\"#555\"");
         }
     }

@@ -4,7 +4,7 @@
 //
 // Interface:
 //   LogPanel p{"frequency error (cents)", points};            // one point per method, labelled
-//   std::string svg = cost_error_chart(title, {p1, p2});      // side by side, cost (ns/sample) on x
+//   std::string svg = cost_error_chart(title, {p1, p2});      // side by side, cost (p.x_label) on x
 //   StabilitySeries s{"explicit Verlet", omega_t, measured, theory};
 //   std::string svg = stability_chart(title, {s, ...});       // growth per step against omega_max T
 //
@@ -31,6 +31,11 @@ struct LogPanel {
     std::string y_label;
     std::vector<ChartPoint> points;
     double floor = 1e-3;  // errors below are drawn here
+    // The drop tiers' panel measures cost per drop, not per sample, and its exact point is a reference.
+    std::string x_label = "cost, ns per output sample of one panel (log)";
+    std::string floor_note = "at the floor with an arrow: error 0 (exact)";
+    std::string omitted_note = "not drawn (modes left out, infinite error):";
+    std::string heading;   // drawn above the panel when set
 };
 
 struct StabilitySeries {
