@@ -28,14 +28,8 @@ using ameoto::test::OscTestClient;
 
 namespace {
 
-struct Daemon : ameoto::test::DaemonProcess {
-    explicit Daemon(std::vector<std::string> args)
-        : ameoto::test::DaemonProcess(std::move(args), {}, [] {
-              ameoto::test::DaemonOptions o;
-              o.listen_timeout = std::chrono::seconds(30);   // the scene is built first; this machine is shared
-              return o;
-          }()) {}
-};
+// ameotod ARGS --port 0 (DaemonOptions' start-up bound allows for a loaded machine).
+using Daemon = ameoto::test::DaemonProcess;
 
 OscArgument i(int v) { return OscArgument::from_int(v); }
 OscArgument f(double v) { return OscArgument::from_float(static_cast<float>(v)); }

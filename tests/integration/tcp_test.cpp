@@ -23,17 +23,8 @@
 using namespace std::chrono_literals;
 using ameoto::protocol::DecodedMessage;
 using ameoto::protocol::OscArgument;
-// ameotod ARGS --port 0; building the scene takes seconds of CPU, more on a loaded machine.
-namespace {
-struct Daemon : ameoto::test::DaemonProcess {
-    explicit Daemon(std::vector<std::string> args)
-        : ameoto::test::DaemonProcess(std::move(args), {}, [] {
-              ameoto::test::DaemonOptions o;
-              o.listen_timeout = std::chrono::seconds(30);
-              return o;
-          }()) {}
-};
-}  // namespace
+// ameotod ARGS --port 0 (DaemonOptions' start-up bound allows for a loaded machine).
+using Daemon = ameoto::test::DaemonProcess;
 
 namespace {
 

@@ -1,5 +1,7 @@
 #include "tests/real_clients/real_programs.hpp"
 
+#include "protocol/address_table.hpp"
+
 #include <doctest/doctest.h>
 #include <unistd.h>
 
@@ -59,6 +61,25 @@ DaemonOptions patient_daemon() {
     o.listen_timeout = std::chrono::seconds(20);
     o.running_timeout = std::chrono::seconds(20);
     return o;
+}
+
+void check_oscdump_messages(const std::string& seen, std::span<const char* const> expected) {
+    for (const char* line : expected) {
+        CAPTURE(line);
+        CHECK(seen.find(std::string(" ") + line + "\n") != std::string::npos);
+    }
+    std::istringstream lines(seen);
+    int messages = 0;
+    for (std::string line; std::getline(lines, line);) {
+        std::istringstream words(line);
+        std::string timetag, address;
+        words >> timetag >> address;
+        if (address.empty()) continue;
+        ++messages;
+        CAPTURE(address);
+        CHECK(ameoto::protocol::find_address(address) != nullptr);
+    }
+    CHECK(messages == static_cast<int>(expected.size()));
 }
 
 }  // namespace ameoto::test

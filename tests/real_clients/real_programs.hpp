@@ -13,6 +13,7 @@
 
 #include <map>
 #include <optional>
+#include <span>
 #include <string>
 
 #include "tests/support/daemon_process.hpp"
@@ -34,5 +35,9 @@ std::map<std::string, std::string> name_value_lines(const std::string& output, c
 // ameotod builds its scene before it says "running"; on a machine busy with builds that has taken
 // over 10 s (the default), so these tests, which run beside the other suites, wait up to 20 s.
 DaemonOptions patient_daemon();
+
+// oscdump's lines (`TIMETAG ADDRESS TYPES VALUES...`) hold every expected message, exactly as many
+// messages as expected, and every address is in the server's protocol table.
+void check_oscdump_messages(const std::string& seen, std::span<const char* const> expected);
 
 }  // namespace ameoto::test

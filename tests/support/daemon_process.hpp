@@ -9,7 +9,7 @@
 //   ~DaemonProcess       // SIGTERM, then SIGKILL (~ChildProcess)
 //
 //   DaemonOptions o;     // all optional:
-//   o.listen_timeout = 15s;        // for the listening line (default 10 s)
+//   o.listen_timeout = 15s;        // for the listening line (default 30 s)
 //   o.running_timeout = 10s;       // then for "running" (default 10 s)
 //   o.child.unset_env = {...};     // ChildOptions for the process
 //   DaemonProcess d(args, env, o);
@@ -28,7 +28,9 @@
 namespace ameoto::test {
 
 struct DaemonOptions {
-    std::chrono::milliseconds listen_timeout{10000};
+    // ameotod builds its scene (the impact templates: about 2.5 s of CPU) before it listens; on a
+    // shared, loaded machine that has taken up to 30 s of wall time.
+    std::chrono::milliseconds listen_timeout{30000};
     std::chrono::milliseconds running_timeout{10000};
     ChildOptions child;
 };
