@@ -82,21 +82,27 @@ TEST_CASE("drops in nested bundles land at their timetags to the sample, +/- 1")
         const double t = now + lead;
         return encode_bundle(Timetag::from_unix_seconds(t), {drop(), encode_bundle(Timetag::from_unix_seconds(t + b_after), {drop()})});
     });
-    const auto a_b_c = play("timing-abc.wav", [&](double now) {
-        const double t = now + lead;
-        const auto inner = encode_bundle(Timetag::from_unix_seconds(t + c_after), {drop()});
-        return encode_bundle(Timetag::from_unix_seconds(t), {drop(), encode_bundle(Timetag::from_unix_seconds(t + b_after), {drop(), inner})});
-    });
     const long long b_at = first_difference(a_only, a_b);
-    const long long b_again = first_difference(a_only, a_b_c);
+    // Each run reads its own clock and rounds each timetag to a frame on its own, so B may land 4800 in
+    // one run and 4801 in the next (both within +/- 1). C is found as the first difference from the
+    // A+B run, which needs B on the same sample: up to three runs to get one (each also checked +/- 1).
+    std::vector<float> a_b_c;
+    long long b_again = -1;
+    for (int attempt = 0; attempt < 3 && b_again != b_at; ++attempt) {
+        a_b_c = play("timing-abc.wav", [&](double now) {
+            const double t = now + lead;
+            const auto inner = encode_bundle(Timetag::from_unix_seconds(t + c_after), {drop()});
+            return encode_bundle(Timetag::from_unix_seconds(t), {drop(), encode_bundle(Timetag::from_unix_seconds(t + b_after), {drop(), inner})});
+        });
+        b_again = first_difference(a_only, a_b_c);
+        CHECK(b_again >= static_cast<long long>(b_after * rate) - 1);
+        CHECK(b_again <= static_cast<long long>(b_after * rate) + 1);
+    }
     const long long c_at = first_difference(a_b, a_b_c);
     INFO("B at " << b_at << " (again " << b_again << "), C at " << c_at << " samples after A");
     CHECK(b_at >= static_cast<long long>(b_after * rate) - 1);
     CHECK(b_at <= static_cast<long long>(b_after * rate) + 1);
-    // Each run reads its own clock, and each timetag becomes a frame by its own rounding, so the same
-    // packet shape lands B 4800 or 4801 samples after A from one run to the next: +/- 1 again.
-    CHECK(b_again >= static_cast<long long>(b_after * rate) - 1);
-    CHECK(b_again <= static_cast<long long>(b_after * rate) + 1);
+    REQUIRE(b_again == b_at);   // three runs in a row with B a sample apart would be a real drift
     CHECK(c_at >= static_cast<long long>(c_after * rate) - 1);
     CHECK(c_at <= static_cast<long long>(c_after * rate) + 1);
 }
