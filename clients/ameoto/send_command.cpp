@@ -11,6 +11,7 @@
 #include "clients/ameoto/reply_format.hpp"
 #include "clients/ameoto/reply_wait.hpp"
 #include "clients/ameoto/target_options.hpp"
+#include "clients/ameoto/open_and_send.hpp"
 #include "clients/ameoto/udp_client.hpp"
 #include "clients/ameoto/usage.hpp"
 
@@ -96,16 +97,9 @@ int run_send(const CommandWords& words, const CommandIo& io) {
         return exit_status::usage;
     }
 
-    std::string error;
-    auto client = UdpClient::open(o.target, error, o.tcp ? Transport::tcp : Transport::udp);
-    if (!client) {
-        io.err << prefix << error << "\n";
-        return exit_status::not_sent;
-    }
-    if (!client->send(protocol::encode_message(o.address, typed.arguments), error)) {
-        io.err << prefix << "cannot send to " << o.target.describe() << ": " << error << "\n";
-        return exit_status::not_sent;
-    }
+    auto client = open_and_send(o.target, o.tcp ? Transport::tcp : Transport::udp,
+                                protocol::encode_message(o.address, typed.arguments), io, prefix);
+    if (!client) return exit_status::not_sent;
     if (o.wait_s <= 0) return exit_status::ok;
 
     bool got_fail = false;

@@ -8,6 +8,7 @@
 #include "clients/ameoto/reply_wait.hpp"
 #include "clients/ameoto/status_report.hpp"
 #include "clients/ameoto/target_options.hpp"
+#include "clients/ameoto/open_and_send.hpp"
 #include "clients/ameoto/udp_client.hpp"
 #include "clients/ameoto/usage.hpp"
 
@@ -46,15 +47,8 @@ int run_status(const CommandWords& words, const CommandIo& io) {
     if (const auto rest = r.rest(); !rest.empty()) return usage_error(io, "unexpected argument '" + rest.front() + "'");
     const Target& target = target_options.target();
 
-    auto client = UdpClient::open(target, error);
-    if (!client) {
-        io.err << prefix << error << "\n";
-        return exit_status::not_sent;
-    }
-    if (!client->send(protocol::encode_message("/status", {}), error)) {
-        io.err << prefix << "cannot send to " << target.describe() << ": " << error << "\n";
-        return exit_status::not_sent;
-    }
+    auto client = open_and_send(target, Transport::udp, protocol::encode_message("/status", {}), io, prefix);
+    if (!client) return exit_status::not_sent;
 
     int result = exit_status::refused;
     const auto deadline = std::chrono::steady_clock::now() +

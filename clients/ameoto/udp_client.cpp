@@ -80,24 +80,32 @@ bool UdpClient::send(const std::vector<unsigned char>& packet, std::string& erro
     return true;
 }
 
+// One wait for the socket to become readable, bounded by the deadline: ready (read now), again (a
+// signal or a poll slice ended: check the deadline and wait again), or failed (r says timeout or error).
+UdpClient::Wait UdpClient::wait_readable(Deadline deadline, Received& r) const {
+    const auto left = std::chrono::ceil<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
+    if (left.count() <= 0) {
+        r.outcome = Received::Outcome::timeout;
+        return Wait::failed;
+    }
+    pollfd p{fd_, POLLIN, 0};
+    const int ready = ::poll(&p, 1, static_cast<int>(std::min<long long>(left.count(), 60'000)));
+    if (ready < 0 && errno == EINTR) return Wait::again;
+    if (ready < 0) {
+        r.outcome = Received::Outcome::error;
+        r.error = std::strerror(errno);
+        return Wait::failed;
+    }
+    return ready == 0 ? Wait::again : Wait::ready;
+}
+
 Received UdpClient::receive(Deadline deadline) {
     if (stream_) return receive_packet(deadline);
     Received r;
     for (;;) {
-        const auto left = std::chrono::ceil<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
-        if (left.count() <= 0) {
-            r.outcome = Received::Outcome::timeout;
-            return r;
-        }
-        pollfd p{fd_, POLLIN, 0};
-        const int ready = ::poll(&p, 1, static_cast<int>(std::min<long long>(left.count(), 60'000)));
-        if (ready < 0 && errno == EINTR) continue;
-        if (ready < 0) {
-            r.outcome = Received::Outcome::error;
-            r.error = std::strerror(errno);
-            return r;
-        }
-        if (ready == 0) continue;   // the loop re-checks the deadline
+        const Wait w = wait_readable(deadline, r);
+        if (w == Wait::again) continue;
+        if (w == Wait::failed) return r;
         // POLLERR (a pending ICMP error) also lands here: recv reports it as errno.
         r.bytes.resize(65536);
         const ssize_t n = ::recv(fd_, r.bytes.data(), r.bytes.size(), MSG_DONTWAIT);
@@ -127,20 +135,9 @@ Received UdpClient::receive_packet(Deadline deadline) {
                 return r;
             }
         }
-        const auto left = std::chrono::ceil<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
-        if (left.count() <= 0) {
-            r.outcome = Received::Outcome::timeout;
-            return r;
-        }
-        pollfd p{fd_, POLLIN, 0};
-        const int ready = ::poll(&p, 1, static_cast<int>(std::min<long long>(left.count(), 60'000)));
-        if (ready < 0 && errno == EINTR) continue;
-        if (ready < 0) {
-            r.outcome = Received::Outcome::error;
-            r.error = std::strerror(errno);
-            return r;
-        }
-        if (ready == 0) continue;
+        const Wait w = wait_readable(deadline, r);
+        if (w == Wait::again) continue;
+        if (w == Wait::failed) return r;
         unsigned char chunk[65536];
         const ssize_t n = ::recv(fd_, chunk, sizeof chunk, MSG_DONTWAIT);
         if (n > 0) {

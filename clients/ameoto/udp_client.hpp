@@ -51,6 +51,8 @@ public:
 
 private:
     UdpClient(int fd, bool stream) : fd_(fd), stream_(stream) {}
+    enum class Wait { ready, again, failed };
+    Wait wait_readable(Deadline deadline, Received& r) const;
     Received receive_packet(Deadline deadline);   // TCP: the next whole packet from the stream
     int fd_;
     bool stream_;

@@ -14,6 +14,7 @@
 #include "clients/ameoto/reply_format.hpp"
 #include "clients/ameoto/reply_wait.hpp"
 #include "clients/ameoto/target_options.hpp"
+#include "clients/ameoto/open_and_send.hpp"
 #include "clients/ameoto/udp_client.hpp"
 #include "clients/ameoto/watch_view.hpp"
 
@@ -103,16 +104,9 @@ int run_watch(const CommandWords& words, const CommandIo& io) {
     if (const auto rest = r.rest(); !rest.empty()) return usage_error(io, "unexpected argument '" + rest.front() + "'");
     const Target& target = target_options.target();
 
-    auto client = UdpClient::open(target, error);
-    if (!client) {
-        io.err << prefix << error << "\n";
-        return exit_status::not_sent;
-    }
     const auto subscribe = protocol::encode_message("/notify", {protocol::OscArgument::from_int(1)});
-    if (!client->send(subscribe, error)) {
-        io.err << prefix << "cannot send to " << target.describe() << ": " << error << "\n";
-        return exit_status::not_sent;
-    }
+    auto client = open_and_send(target, Transport::udp, subscribe, io, prefix);
+    if (!client) return exit_status::not_sent;
     const StopSignals signals;
     const bool screen = isatty(STDOUT_FILENO) && &io.out == &std::cout;
     WatchState state;
