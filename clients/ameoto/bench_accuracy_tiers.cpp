@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "clients/ameoto/bench_timer.hpp"
+#include "engine/core/fft.hpp"
 #include "engine/render/renderer.hpp"
 
 namespace ameoto::client {
@@ -46,28 +47,6 @@ RendererConfig forced(LodTier tier, double rate_mm_per_h, std::uint64_t seed) {
     return c;
 }
 
-// In-place radix-2 FFT (n a power of two).
-void fft(std::vector<std::complex<double>>& a) {
-    const std::size_t n = a.size();
-    for (std::size_t i = 1, j = 0; i < n; ++i) {
-        std::size_t bit = n >> 1;
-        for (; j & bit; bit >>= 1) j ^= bit;
-        j ^= bit;
-        if (i < j) std::swap(a[i], a[j]);
-    }
-    for (std::size_t len = 2; len <= n; len <<= 1) {
-        const std::complex<double> w(std::cos(-2 * kPi / static_cast<double>(len)), std::sin(-2 * kPi / static_cast<double>(len)));
-        for (std::size_t i = 0; i < n; i += len) {
-            std::complex<double> wk(1.0, 0.0);
-            for (std::size_t k = 0; k < len / 2; ++k) {
-                const std::complex<double> u = a[i + k], v = a[i + k + len / 2] * wk;
-                a[i + k] = u + v;
-                a[i + k + len / 2] = u - v;
-                wk *= w;
-            }
-        }
-    }
-}
 
 // Welch's PSD (Hann window, half overlap), unnormalised: only ratios between renders are used.
 std::vector<double> welch(const std::vector<float>& x) {
@@ -77,7 +56,7 @@ std::vector<double> welch(const std::vector<float>& x) {
     std::vector<std::complex<double>> a(welch_points);
     for (std::size_t start = 0; start + welch_points <= x.size(); start += welch_points / 2) {
         for (int i = 0; i < welch_points; ++i) a[static_cast<std::size_t>(i)] = x[start + static_cast<std::size_t>(i)] * window[static_cast<std::size_t>(i)];
-        fft(a);
+        fft_in_place(a);
         for (std::size_t k = 0; k < psd.size(); ++k) psd[k] += std::norm(a[k]);
     }
     return psd;

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <complex>
 
+#include "engine/core/fft.hpp"
 #include "engine/core/physical_constants.hpp"
 #include "engine/models/drop.hpp"
 
@@ -11,28 +12,6 @@ namespace ameoto {
 
 namespace {
 
-// In-place radix-2 FFT (n a power of two): for the calibration's spectral centroid, off the audio thread.
-void fft(std::vector<std::complex<double>>& a) {
-    const std::size_t n = a.size();
-    for (std::size_t i = 1, j = 0; i < n; ++i) {
-        std::size_t bit = n >> 1;
-        for (; j & bit; bit >>= 1) j ^= bit;
-        j ^= bit;
-        if (i < j) std::swap(a[i], a[j]);
-    }
-    for (std::size_t len = 2; len <= n; len <<= 1) {
-        const std::complex<double> w = std::polar(1.0, -2.0 * constants::pi / static_cast<double>(len));
-        for (std::size_t i = 0; i < n; i += len) {
-            std::complex<double> wk = 1.0;
-            for (std::size_t k = 0; k < len / 2; ++k) {
-                const auto u = a[i + k], v = a[i + k + len / 2] * wk;
-                a[i + k] = u + v;
-                a[i + k + len / 2] = u - v;
-                wk *= w;
-            }
-        }
-    }
-}
 
 // Linear interpolation in log D over an ascending grid, clamped at its ends.
 double interpolate(const std::vector<double>& d, const std::vector<double>& v, double diameter) {
@@ -88,7 +67,7 @@ TextureCalibration calibrate_texture(const DropOnCanopyConfig& scene, const Impa
         while (n < out.size()) n <<= 1;
         std::vector<std::complex<double>> spectrum(n);
         for (std::size_t i = 0; i < out.size(); ++i) spectrum[i] = out[i];
-        fft(spectrum);
+        fft_in_place(spectrum);
         double weighted = 0.0, total = 0.0;
         for (std::size_t b = 1; b < n / 2; ++b) {
             const double p = std::norm(spectrum[b]);

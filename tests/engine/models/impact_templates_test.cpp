@@ -7,6 +7,7 @@
 #include <complex>
 #include <vector>
 
+#include "engine/core/fft.hpp"
 #include "engine/models/drop.hpp"
 #include "tests/support/rt_probe_scope.hpp"
 
@@ -28,24 +29,7 @@ std::vector<double> band_powers(std::vector<double> x, double rate) {
     while (n < x.size()) n <<= 1;
     std::vector<std::complex<double>> a(n);
     for (std::size_t i = 0; i < x.size(); ++i) a[i] = x[i];
-    for (std::size_t i = 1, j = 0; i < n; ++i) {   // iterative Cooley-Tukey
-        std::size_t bit = n >> 1;
-        for (; j & bit; bit >>= 1) j ^= bit;
-        j ^= bit;
-        if (i < j) std::swap(a[i], a[j]);
-    }
-    for (std::size_t len = 2; len <= n; len <<= 1) {
-        const std::complex<double> w = std::polar(1.0, -2.0 * 3.14159265358979323846 / static_cast<double>(len));
-        for (std::size_t i = 0; i < n; i += len) {
-            std::complex<double> wk = 1.0;
-            for (std::size_t k = 0; k < len / 2; ++k) {
-                const auto u = a[i + k], v = a[i + k + len / 2] * wk;
-                a[i + k] = u + v;
-                a[i + k + len / 2] = u - v;
-                wk *= w;
-            }
-        }
-    }
+    fft_in_place(a);
     std::vector<double> bands;
     for (double centre = 100.0; centre <= 16000.0; centre *= std::pow(2.0, 1.0 / 3.0)) {
         const double lo = centre / std::pow(2.0, 1.0 / 6.0), hi = centre * std::pow(2.0, 1.0 / 6.0);

@@ -11,6 +11,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "engine/core/fft.hpp"
 #include "engine/core/random.hpp"
 #include "engine/scene/rain_spawner.hpp"
 #include "engine/scene/terminal_speed.hpp"
@@ -22,33 +23,13 @@ constexpr double kPi = 3.14159265358979323846;
 
 using ameoto::Entrainment;
 using ameoto::Random;
+using ameoto::fft_in_place;
 using ameoto::SplashClass;
 using ameoto::WaterSurface;
 using ameoto::WaterSurfaceConfig;
 
 double minnaert_hz(double a) { return std::sqrt(3.0 * 1.4 * 101325.0 / 998.0) / (2.0 * kPi * a); }
 
-// In-place radix-2 FFT (size a power of two).
-void fft(std::vector<std::complex<double>>& x) {
-    const std::size_t n = x.size();
-    for (std::size_t i = 1, j = 0; i < n; ++i) {
-        std::size_t bit = n >> 1;
-        for (; j & bit; bit >>= 1) j ^= bit;
-        j ^= bit;
-        if (i < j) std::swap(x[i], x[j]);
-    }
-    for (std::size_t len = 2; len <= n; len <<= 1) {
-        const std::complex<double> w = std::polar(1.0, -2.0 * kPi / static_cast<double>(len));
-        for (std::size_t i = 0; i < n; i += len) {
-            std::complex<double> wk = 1.0;
-            for (std::size_t k = 0; k < len / 2; ++k, wk *= w) {
-                const std::complex<double> u = x[i + k], v = x[i + k + len / 2] * wk;
-                x[i + k] = u + v;
-                x[i + k + len / 2] = u - v;
-            }
-        }
-    }
-}
 
 // Welch average power spectrum: Hann windows of `size`, half overlapping. Bin k is k fs / size.
 std::vector<double> welch(const std::vector<double>& x, std::size_t size) {
@@ -58,7 +39,7 @@ std::vector<double> welch(const std::vector<double>& x, std::size_t size) {
     int segments = 0;
     for (std::size_t start = 0; start + size <= x.size(); start += size / 2, ++segments) {
         for (std::size_t i = 0; i < size; ++i) buffer[i] = x[start + i] * window[i];
-        fft(buffer);
+        fft_in_place(buffer);
         for (std::size_t k = 0; k < power.size(); ++k) power[k] += std::norm(buffer[k]);
     }
     for (auto& p : power) p /= segments;
