@@ -20,6 +20,7 @@
 #include "protocol/receive.hpp"
 #include "server/backends/jack_backend.hpp"
 #include "server/backends/null_backend.hpp"
+#include "server/memory_return.hpp"
 #include "server/osc/client_table.hpp"
 #include "server/osc/peer.hpp"
 #include "server/osc/reply_ports.hpp"
@@ -684,6 +685,7 @@ void Daemon::State::on_packet(const unsigned char* data, std::size_t size, const
 
 void Daemon::State::poll() {
     RendererEvent e;
+    bool freed_scene = false;
     while (bridge->poll_event(e)) {
         const auto& to = clients.at(e.reply_to);
         if (e.kind == RendererEventKind::retired) {
@@ -691,6 +693,7 @@ void Daemon::State::poll() {
             if (e.object_type == RetiredObject::scene_surfaces) delete static_cast<SceneSurfaces*>(e.object);
             else if (e.object_type == RetiredObject::loaded_scene) delete static_cast<LoadedScene*>(e.object);
             else delete static_cast<UmbrellaScene*>(e.object);
+            freed_scene = true;
         } else if (e.kind == RendererEventKind::swapped) {
             const char* address = e.command == CommandKind::swap_surface  ? "/material/surface"
                                   : e.command == CommandKind::swap_liquid ? "/material/liquid"
@@ -715,6 +718,7 @@ void Daemon::State::poll() {
             reply(to, "/fail", protocol::fail_arguments(address, "busy: too many scheduled commands"));
         }
     }
+    if (freed_scene) return_free_memory();   // RSS follows what is held (memory_return.hpp)
     const AudioSnapshot s = bridge->snapshot();
     apply_due_settings(s.frames);
     send_meters();
