@@ -1,6 +1,7 @@
 #include "server/osc/tcp_endpoint.hpp"
 
 #include <boost/asio/ip/address.hpp>
+#include <boost/asio/post.hpp>
 #include <boost/asio/read.hpp>
 #include <boost/asio/write.hpp>
 
@@ -24,18 +25,22 @@ struct TcpEndpoint::Connection {
     bool open = true;
 };
 
-TcpEndpoint::TcpEndpoint(asio::io_context& io, const std::string& address, int port, TcpLimits limits, Receiver receiver,
-                         Closed closed)
-    : io_(io), acceptor_(io), limits_(limits), receiver_(std::move(receiver)), closed_(std::move(closed)) {
+TcpEndpoint::TcpEndpoint(const std::string& address, int port, TcpLimits limits, Receiver receiver, Closed closed)
+    : acceptor_(io_), limits_(limits), receiver_(std::move(receiver)), closed_(std::move(closed)) {
     const tcp::endpoint local(asio::ip::make_address(address), static_cast<unsigned short>(port));
     acceptor_.open(local.protocol());
     acceptor_.set_option(tcp::acceptor::reuse_address(true));
     acceptor_.bind(local);   // throws boost::system::system_error with the reason
     acceptor_.listen();
-    accept();
+    local_ = acceptor_.local_endpoint();
 }
 
 TcpEndpoint::~TcpEndpoint() { close(); }
+
+void TcpEndpoint::start() {
+    accept();
+    thread_ = std::thread([this] { io_.run(); });
+}
 
 void TcpEndpoint::accept() {
     acceptor_.async_accept([this](const boost::system::error_code& ec, tcp::socket socket) {
@@ -81,7 +86,11 @@ void TcpEndpoint::read_body(const std::shared_ptr<Connection>& c, std::size_t si
     });
 }
 
-void TcpEndpoint::send(std::uint64_t connection, const std::vector<unsigned char>& bytes) {
+void TcpEndpoint::send(std::uint64_t connection, std::vector<unsigned char> bytes) {
+    asio::post(io_, [this, connection, bytes = std::move(bytes)] { send_here(connection, bytes); });
+}
+
+void TcpEndpoint::send_here(std::uint64_t connection, const std::vector<unsigned char>& bytes) {
     const auto found = connections_.find(connection);
     if (found == connections_.end()) return;   // gone: not the server's problem
     const auto c = found->second;
@@ -123,6 +132,17 @@ void TcpEndpoint::drop(const std::shared_ptr<Connection>& c) {
 }
 
 void TcpEndpoint::close() {
+    if (thread_.joinable()) {
+        asio::post(io_, [this] {
+            close_here();
+            io_.stop();
+        });
+        thread_.join();
+    }
+    close_here();   // never started, or already closed: nothing left running
+}
+
+void TcpEndpoint::close_here() {
     boost::system::error_code ignored;
     acceptor_.close(ignored);
     while (!connections_.empty()) {
