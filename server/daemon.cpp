@@ -888,11 +888,13 @@ int Daemon::run() {
                     if (is_status_request(d, n)) {
                         s.tcp->send_here(connection, protocol::encode_message("/status.reply", s.status_arguments()));
                         asio::post(s.io, [&s, connection] { s.clients.index_of(Peer::over_tcp(connection)); });   // gets /notice
-                        return;
+                        return true;
                     }
                     asio::post(s.io, [&s, connection, bytes = std::vector<unsigned char>(d, d + n)] {
                         s.on_packet(bytes.data(), bytes.size(), Peer::over_tcp(connection));
+                        s.tcp->handled(connection);   // at most TcpLimits::max_unhandled wait per connection
                     });
+                    return false;
                 },
                 [&s](std::uint64_t connection) { asio::post(s.io, [&s, connection] { s.forget(Peer::over_tcp(connection)); }); });
             s.tcp->set_admit([&s](const boost::asio::ip::address& peer) {

@@ -1,6 +1,7 @@
 #include "server/osc/cheap_query.hpp"
 
 #include <cstring>
+#include <set>
 #include <string>
 
 #include "protocol/address_table.hpp"
@@ -19,6 +20,25 @@ std::size_t padded_string_length(const unsigned char* data, std::size_t size) {
     return padded <= size ? padded : 0;
 }
 
+// The addresses that, sent with no value, the table answers at once (status, version, a query),
+// found by validating each one so: a new address joins by its table row alone.
+const std::set<std::string>& answered_with_no_value() {
+    static const std::set<std::string> addresses = [] {
+        std::set<std::string> found;
+        const protocol::ProtocolContext context;
+        for (const protocol::AddressSpec& spec : protocol::address_table()) {
+            protocol::DecodedMessage message;
+            message.address = spec.address;
+            const protocol::Validation v = protocol::validate(message, context);
+            using protocol::Action;
+            if (v.ok && (v.request.action == Action::status || v.request.action == Action::version || v.request.action == Action::query))
+                found.insert(spec.address);
+        }
+        return found;
+    }();
+    return addresses;
+}
+
 }  // namespace
 
 bool is_cheap_query(const unsigned char* data, std::size_t size) {
@@ -27,10 +47,7 @@ bool is_cheap_query(const unsigned char* data, std::size_t size) {
     if (address_length == 0) return false;
     // The type tag string must be exactly "," (no arguments) and end the message.
     if (size != address_length + 4 || std::memcmp(data + address_length, ",\0\0\0", 4) != 0) return false;
-    const std::string address(reinterpret_cast<const char*>(data));
-    if (address == "/status" || address == "/version") return true;
-    const protocol::AddressSpec* spec = protocol::find_address(address);
-    return spec && spec->query.available && spec->query.arguments.empty();
+    return answered_with_no_value().count(reinterpret_cast<const char*>(data)) > 0;
 }
 
 bool is_status_request(const unsigned char* data, std::size_t size) {

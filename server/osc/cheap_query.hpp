@@ -7,9 +7,10 @@
 //   bool cheap = is_cheap_query(bytes, size);
 //   bool status = is_status_request(bytes, size);   // exactly /status with no arguments
 //
-// A well-formed OSC message (not a bundle) with an empty type tag string whose address is /status,
-// /version or an address of the table with a query form. Anything else, or anything malformed, is not
-// cheap: it waits its turn and is decoded, validated (and refused, if need be) then.
+// A well-formed OSC message (not a bundle) with an empty type tag string whose address the table
+// answers at once when sent with no value (/status, /version, /surfaces, every query form without a
+// name). Anything else, or anything malformed, is not cheap: it waits its turn and is decoded,
+// validated (and refused, if need be) then.
 
 #include <cstddef>
 

@@ -23,6 +23,8 @@ struct TcpEndpoint::Connection {
     std::size_t pending = 0;                           // their bytes
     bool writing = false;
     bool open = true;
+    std::size_t unhandled = 0;   // packets handed on by the receiver, not yet handled()
+    bool paused = false;         // not reading until some of them are
 };
 
 TcpEndpoint::TcpEndpoint(const std::string& address, int port, TcpLimits limits, Receiver receiver, Closed closed)
@@ -81,13 +83,28 @@ void TcpEndpoint::read_body(const std::shared_ptr<Connection>& c, std::size_t si
     c->body.resize(size);
     asio::async_read(c->socket, asio::buffer(c->body), [this, c](const boost::system::error_code& ec, std::size_t) {
         if (ec || !c->open) return drop(c);
-        receiver_(c->body.data(), c->body.size(), c->id);
-        if (c->open) read_size(c);
+        if (!receiver_(c->body.data(), c->body.size(), c->id)) ++c->unhandled;
+        if (!c->open) return;
+        if (c->unhandled >= limits_.max_unhandled) c->paused = true;
+        else read_size(c);
     });
 }
 
 void TcpEndpoint::send(std::uint64_t connection, std::vector<unsigned char> bytes) {
     asio::post(io_, [this, connection, bytes = std::move(bytes)] { send_here(connection, bytes); });
+}
+
+void TcpEndpoint::handled(std::uint64_t connection) {
+    asio::post(io_, [this, connection] {
+        const auto found = connections_.find(connection);
+        if (found == connections_.end()) return;   // closed meanwhile
+        const auto c = found->second;
+        if (c->unhandled > 0) --c->unhandled;
+        if (c->paused && c->open && c->unhandled < limits_.max_unhandled) {
+            c->paused = false;
+            read_size(c);
+        }
+    });
 }
 
 void TcpEndpoint::send_here(std::uint64_t connection, const std::vector<unsigned char>& bytes) {

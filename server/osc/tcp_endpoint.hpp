@@ -5,8 +5,9 @@
 //
 // Interface:
 //   TcpEndpoint tcp(address, port, limits, [](const unsigned char* data, std::size_t size,
-//                                             std::uint64_t connection) { ... },      // throws on bind error
+//                                             std::uint64_t connection) { ...; return done_now; },   // throws on bind error
 //                   [](std::uint64_t connection) { ... });                             // it closed
+//   tcp.handled(connection);       // any thread: a packet the receiver handed on (returned false) is done
 //   tcp.set_admit([](const address& peer) { return allowed; });   // --allow: others are closed at once
 //   tcp.start();                   // the endpoint's thread runs from here: callbacks run on it
 //   tcp.send(connection, bytes);   // from any thread; framed; ignored when that connection has gone
@@ -18,7 +19,9 @@
 // the CPU it can get, and the kernel lets it wait its turn behind every other busy thread; a thread
 // that sleeps until a request arrives is woken at once. The receiver runs on this thread: it may
 // answer what it can answer safely there (ameotod: /status, from atomics) and must hand the rest to
-// the control thread.
+// the control thread. What it hands on is bounded: once `max_unhandled` packets of a connection wait
+// for handled(), that connection is not read until they are done (TCP's flow control then slows the
+// client), so a client flooding over TCP cannot make the server's memory grow.
 //
 // Bounds, so that no client can make the server misbehave: at most `max_connections` at once (one
 // more is accepted and closed at once); a packet larger than `max_packet` closes its connection (the
@@ -44,11 +47,13 @@ struct TcpLimits {
     std::size_t max_connections = 16;
     std::size_t max_packet = 65536;          // the same bound as a UDP datagram
     std::size_t max_pending = 1 << 20;       // bytes of replies queued for one connection
+    std::size_t max_unhandled = 32;          // packets of one connection handed on and not yet handled
 };
 
 class TcpEndpoint {
 public:
-    using Receiver = std::function<void(const unsigned char*, std::size_t, std::uint64_t connection)>;
+    // Returns true when done with the packet, false when it was handed on (then handled() follows).
+    using Receiver = std::function<bool(const unsigned char*, std::size_t, std::uint64_t connection)>;
     using Closed = std::function<void(std::uint64_t connection)>;
     using Admit = std::function<bool(const boost::asio::ip::address& peer)>;
 
@@ -58,6 +63,7 @@ public:
     void start();
     void send(std::uint64_t connection, std::vector<unsigned char> bytes);
     void send_here(std::uint64_t connection, const std::vector<unsigned char>& bytes);
+    void handled(std::uint64_t connection);
     boost::asio::ip::tcp::endpoint local_endpoint() const { return local_; }
     void close();
 
