@@ -303,3 +303,54 @@ TEST_CASE("flood: a burst through the UDP backlog keeps each sender's order; ano
     CHECK(rate->args[0].number == doctest::Approx(1 + 599 % 40));   // exactly the last sent: a float of a small integer
     for (const auto& other : burst.others) CHECK(other.address != "/fail");
 }
+
+TEST_CASE("flood: a TCP flood is read no faster than it is handled (memory flat), and another TCP connection's /status is answered meanwhile") {
+    // One connection sends /rain/rate as fast as TCP takes it for 3 s; the server hands at most 32 of
+    // its packets at a time to the control thread (TcpLimits::max_unhandled), so TCP's flow control
+    // holds the rest in the client. RSS must not grow by 1 MiB, and a second connection's /status
+    // must still be answered every time.
+    ameoto::test::DaemonProcess d({"--backend", "null", "--output", "-", "--realtime", "--tcp-port", "0"});
+    const std::string& started = d.process().output();
+    const std::string tcp_line = "listening on osc.tcp://127.0.0.1:";
+    REQUIRE(started.find(tcp_line) != std::string::npos);
+    const int port = std::stoi(started.substr(started.find(tcp_line) + tcp_line.size()));
+    TcpMonitor monitor(port);
+    REQUIRE(monitor.status(2s));
+
+    const int fd = socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
+    sockaddr_in to{};
+    to.sin_family = AF_INET;
+    to.sin_port = htons(static_cast<std::uint16_t>(port));
+    to.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    REQUIRE(connect(fd, reinterpret_cast<sockaddr*>(&to), sizeof to) == 0);
+    std::vector<unsigned char> frames;
+    for (int i = 0; i < 64; ++i) {
+        const auto m = ameoto::protocol::encode_message("/rain/rate", {OscArgument::from_float(static_cast<float>(i % 50))});
+        frames.insert(frames.end(), {0, 0, 0, static_cast<unsigned char>(m.size())});
+        frames.insert(frames.end(), m.begin(), m.end());
+    }
+    const auto until = std::chrono::steady_clock::now() + 3s;
+    std::atomic<std::uint64_t> sent_bytes{0};
+    std::thread flooder([&] {
+        unsigned char sink[65536];
+        while (std::chrono::steady_clock::now() < until) {
+            const ssize_t n = send(fd, frames.data(), frames.size(), MSG_NOSIGNAL | MSG_DONTWAIT);
+            if (n > 0) sent_bytes += static_cast<std::uint64_t>(n);
+            while (recv(fd, sink, sizeof sink, MSG_DONTWAIT) > 0) {}   // its /fail busy, if any
+            if (n <= 0) std::this_thread::sleep_for(1ms);             // the server is not reading: flow control
+        }
+    });
+    Monitor status;
+    std::this_thread::sleep_for(500ms);
+    const long rss_start = rss_kib(d.process().pid());
+    status.run(until, 2000ms, [&](std::chrono::milliseconds t) { return monitor.status(t); });
+    flooder.join();
+    const long rss_end = rss_kib(d.process().pid());
+    close(fd);
+    MESSAGE("TCP flood: " << sent_bytes.load() / 1024 << " KiB sent in 3 s; /status on another connection: " << status.describe() << "; RSS "
+                          << rss_start << " -> " << rss_end << " KiB");
+    CHECK(sent_bytes.load() > 1024 * 1024);   // it was a flood
+    CHECK(status.lost == 0);
+    CHECK(rss_end - rss_start < 1024);
+    CHECK(d.process().stop(SIGTERM, 10s) == 0);
+}
