@@ -218,17 +218,18 @@ int main(int argc, char** argv) {
     }
     std::printf("flood of /rain/rate over loopback, each datagram decoded, validated and answered /fail busy; %.1f s per path, %d rounds\n",
                 seconds, rounds);
-    std::printf("%-5s %-11s %14s %18s\n", "round", "path", "datagrams/s", "per CPU second");
+    std::printf("%-5s %-11s %10s %14s %18s\n", "round", "path", "handled", "datagrams/s", "per CPU second");
     std::vector<double> old_wall, new_wall, old_cpu, new_cpu, aside_cpu;
     for (int round = 1; round <= rounds; ++round) {
         const Result a = run_one_by_one(seconds);
         const Result b = run_batched(seconds);
         const Result c = run_set_aside(seconds);
-        std::printf("%-5d %-11s %14.0f %18.0f\n", round, "one-by-one", a.per_wall_second(), a.per_cpu_second());
-        std::printf("%-5d %-11s %14.0f %18.0f   (batched / one-by-one: %.2f per second, %.2f per CPU second)\n", round, "batched",
-                    b.per_wall_second(), b.per_cpu_second(), b.per_wall_second() / a.per_wall_second(), b.per_cpu_second() / a.per_cpu_second());
-        std::printf("%-5d %-11s %14.0f %18.0f   (read and set aside, not handled: what reaches a /status behind the flood)\n", round,
-                    "set aside", c.per_wall_second(), c.per_cpu_second());
+        std::printf("%-5d %-11s %10llu %14.0f %18.0f\n", round, "one-by-one", static_cast<unsigned long long>(a.handled), a.per_wall_second(),
+                    a.per_cpu_second());
+        std::printf("%-5d %-11s %10llu %14.0f %18.0f   (batched / one-by-one: %.2f per second, %.2f per CPU second)\n", round, "batched",
+                    static_cast<unsigned long long>(b.handled), b.per_wall_second(), b.per_cpu_second(), b.per_wall_second() / a.per_wall_second(), b.per_cpu_second() / a.per_cpu_second());
+        std::printf("%-5d %-11s %10llu %14.0f %18.0f   (read and set aside, not handled: what reaches a /status behind the flood)\n", round,
+                    "set aside", static_cast<unsigned long long>(c.handled), c.per_wall_second(), c.per_cpu_second());
         aside_cpu.push_back(c.per_cpu_second());
         old_wall.push_back(a.per_wall_second());
         new_wall.push_back(b.per_wall_second());
