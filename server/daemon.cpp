@@ -718,7 +718,7 @@ void Daemon::State::on_udp_batch(std::span<const UdpEndpoint::Datagram> batch) {
             const std::string address = protocol::packet_address(d.data, d.size);
             if (address.empty() || is_reply_address(address)) continue;   // never answer a reply (nor what is no message)
             reply(sender, "/fail", protocol::fail_arguments(address, "busy: " + std::to_string(udp_backlog.size()) +
-                                                                         " datagrams waiting to be read"));
+                                                                         " datagrams waiting to be handled"));
         }
     }
     if (!udp_backlog.empty() && !backlog_posted) {
