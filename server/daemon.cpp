@@ -468,10 +468,10 @@ std::vector<protocol::OscArgument> Daemon::State::status_arguments() {
            OscArgument::from_int(s.active_grains),       // texture tier: noise grains
            OscArgument::from_int(saturate_int32(backend->xruns())),
            OscArgument::from_int(saturate_int32(late)),
-           OscArgument::from_float(static_cast<float>(backend->sample_rate())),
+           OscArgument::from_float(static_cast<float>(bridge->sample_rate())),
            OscArgument::from_int(backend->block_size()),
            // Seconds, as a float every OSC client reads (Pd 0.53 and sclang 3.13 cannot read int64).
-           OscArgument::from_float(static_cast<float>(static_cast<double>(s.frames) / backend->sample_rate())),
+           OscArgument::from_float(static_cast<float>(static_cast<double>(s.frames) / bridge->sample_rate())),
            OscArgument::from_float(static_cast<float>(s.rain_rate_mm_per_h)),
            OscArgument::from_string(backend->name())};
 }
