@@ -5,6 +5,7 @@
 #include <boost/asio/steady_timer.hpp>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <csignal>
 #include <cstdio>
@@ -15,6 +16,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <span>
 
 #include "protocol/address_table.hpp"
 #include "protocol/receive.hpp"
@@ -26,6 +28,8 @@
 #include "server/osc/reply_ports.hpp"
 #include "server/osc/tcp_endpoint.hpp"
 #include "server/osc/traffic_counters.hpp"
+#include "server/osc/cheap_query.hpp"
+#include "server/osc/datagram_backlog.hpp"
 #include "server/osc/udp_endpoint.hpp"
 #include "server/realtime/audio_bridge.hpp"
 #include "server/realtime/rt_probe.hpp"
@@ -101,6 +105,11 @@ struct Daemon::State {
     std::map<std::string, MembraneMaterial> custom_materials;
     std::unique_ptr<Worker> worker;
     std::unique_ptr<UdpEndpoint> udp;
+    // UDP datagrams read but not yet handled (docs/reliability.md, "Load"): 8192 is 80 ms of a
+    // 100 000/s flood; 2 MiB holds them with room for large bundles.
+    DatagramBacklog udp_backlog{8192, 2 << 20};
+    bool backlog_posted = false;
+    static constexpr int backlog_per_turn = 256;   // handled before timers, TCP and reading run again
     ClientTable<Peer> clients;
     ReplyPorts reply_ports;             // /reply/port: UDP senders whose replies go to another port
     std::unique_ptr<TcpEndpoint> tcp;
@@ -122,7 +131,7 @@ struct Daemon::State {
     bool stopping = false;
     bool jack_reported_lost = false;
     std::uint64_t watchdog_frames = 0;
-    double drops_per_second = 0.0;
+    std::atomic<double> drops_per_second{0.0};   // read by the TCP thread's /status too
     std::uint64_t rate_drops = 0, rate_frames = 0;
     std::uint64_t reconnect_ticks = 0;
     int exit_code = 0;
@@ -151,8 +160,11 @@ struct Daemon::State {
     void rebuild_scene(const Peer& sender, const std::string& address,
                        std::optional<MembraneMaterial> material, std::optional<Liquid> liquid);
     void on_packet(const unsigned char* data, std::size_t size, const Peer& sender);
+    void on_udp_batch(std::span<const UdpEndpoint::Datagram> batch);
+    void handle_backlog();
     void reply(const Peer& to, const std::string& address, const std::vector<protocol::OscArgument>& args);
     void reply_status(const Peer& to);
+    std::vector<protocol::OscArgument> status_arguments();   // any thread: atomics and constants only
     void answer_query(const Peer& to, const std::string& address, const std::string& name);
     void reply_version(const Peer& to);
     void set_notify(const Peer& to, bool on);
@@ -440,25 +452,29 @@ static std::vector<protocol::OscArgument> accuracy_reply(const SceneDescription&
             OscArgument::from_int(setting.modes), OscArgument::from_string(why)};
 }
 
-void Daemon::State::reply_status(const Peer& to) {
+void Daemon::State::reply_status(const Peer& to) { reply(to, "/status.reply", status_arguments()); }
+
+// /status.reply's fields. Called on the control thread and on the TCP endpoint's thread (which answers
+// /status itself, docs/reliability.md "Load"), so it reads only the audio bridge's atomics, the
+// backend's atomics and constants, and drops_per_second (atomic).
+std::vector<protocol::OscArgument> Daemon::State::status_arguments() {
     using protocol::OscArgument;
     const AudioSnapshot s = bridge->snapshot();
     const std::uint64_t late = s.late_commands;
-    reply(to, "/status.reply",
-          {OscArgument::from_float(static_cast<float>(s.cpu_average_percent)),
+    return {OscArgument::from_float(static_cast<float>(s.cpu_average_percent)),
            OscArgument::from_float(static_cast<float>(bridge->take_cpu_peak_percent())),
-           OscArgument::from_float(static_cast<float>(drops_per_second)),
+           OscArgument::from_float(static_cast<float>(drops_per_second.load())),
            OscArgument::from_int(s.active_full_drops),   // full tier: lattice drops
            OscArgument::from_int(s.active_impacts),      // template tier: recorded impacts replayed
            OscArgument::from_int(s.active_grains),       // texture tier: noise grains
            OscArgument::from_int(saturate_int32(backend->xruns())),
            OscArgument::from_int(saturate_int32(late)),
-           OscArgument::from_float(static_cast<float>(backend->sample_rate())),
+           OscArgument::from_float(static_cast<float>(bridge->sample_rate())),
            OscArgument::from_int(backend->block_size()),
            // Seconds, as a float every OSC client reads (Pd 0.53 and sclang 3.13 cannot read int64).
-           OscArgument::from_float(static_cast<float>(static_cast<double>(s.frames) / backend->sample_rate())),
+           OscArgument::from_float(static_cast<float>(static_cast<double>(s.frames) / bridge->sample_rate())),
            OscArgument::from_float(static_cast<float>(s.rain_rate_mm_per_h)),
-           OscArgument::from_string(backend->name())});
+           OscArgument::from_string(backend->name())};
 }
 
 // The scene record follows a rain, wind, listener or detail change the engine has (or is about to) apply.
@@ -683,6 +699,52 @@ void Daemon::State::on_packet(const unsigned char* data, std::size_t size, const
     }
 }
 
+// A batch of datagrams read together. Senders outside --allow are dropped before anything else is
+// looked at. A cheap query (/status, a query) is answered now, unless its sender has datagrams
+// waiting (a sender's messages keep their order); everything else waits its turn in the backlog, so
+// the socket is read as fast as the flood comes and the queries in it are not left behind. When the
+// backlog is full the datagram is refused /fail busy, by its address, without being decoded.
+void Daemon::State::on_udp_batch(std::span<const UdpEndpoint::Datagram> batch) {
+    for (const UdpEndpoint::Datagram& d : batch) {
+        if (!options.allow.allows(d.sender.address())) {
+            ++traffic.refused_senders;   // --allow: no reply, not even /fail
+            continue;
+        }
+        const Peer sender = Peer::over_udp(d.sender);
+        if (is_cheap_query(d.data, d.size) && (udp_backlog.empty() || !udp_backlog.holds_from(sender))) {
+            on_packet(d.data, d.size, sender);
+        } else if (!udp_backlog.push(d.data, d.size, sender)) {
+            ++traffic.busy;
+            ++traffic.unread;
+            const std::string address = protocol::packet_address(d.data, d.size);
+            if (address.empty() || is_reply_address(address)) continue;   // never answer a reply (nor what is no message)
+            reply(sender, "/fail", protocol::fail_arguments(address, "busy: " + std::to_string(udp_backlog.size()) +
+                                                                         " datagrams waiting to be handled"));
+        }
+    }
+    if (!udp_backlog.empty() && !backlog_posted) {
+        backlog_posted = true;
+        asio::post(io, [this] { handle_backlog(); });
+    }
+}
+
+// The oldest waiting datagrams, a bounded number per turn: then reading, timers and TCP run again.
+void Daemon::State::handle_backlog() {
+    backlog_posted = false;
+    if (stopping) return;
+    udp->hold_replies();
+    for (int n = 0; n < backlog_per_turn && !udp_backlog.empty(); ++n) {
+        const DatagramBacklog::Waiting& d = udp_backlog.front();
+        on_packet(d.data, d.size, d.sender);
+        udp_backlog.pop();
+    }
+    udp->release_replies();
+    if (!udp_backlog.empty()) {
+        backlog_posted = true;
+        asio::post(io, [this] { handle_backlog(); });
+    }
+}
+
 void Daemon::State::poll() {
     RendererEvent e;
     bool freed_scene = false;
@@ -815,26 +877,33 @@ int Daemon::run() {
     if (!s.build_scene()) return 1;
     try {
         s.udp = std::make_unique<UdpEndpoint>(s.io, s.options.bind, s.options.port,
-                                              [&s](const unsigned char* d, std::size_t n, const UdpEndpoint::Endpoint& from) {
-                                                  if (!s.options.allow.allows(from.address())) {
-                                                      ++s.traffic.refused_senders;   // --allow: no reply, not even /fail
-                                                      return;
-                                                  }
-                                                  s.on_packet(d, n, Peer::over_udp(from));
-                                              });
+                                              [&s](std::span<const UdpEndpoint::Datagram> batch) { s.on_udp_batch(batch); });
     } catch (const std::exception& e) {
         warn("cannot listen on " + s.options.bind + ":" + std::to_string(s.options.port) + ": " + e.what());
         return 1;
     }
     if (s.options.tcp_port) {
         try {
+            // The endpoint's callbacks run on its own thread: /status is answered there (from atomics);
+            // everything else, and anything that touches the control thread's state, is posted to it.
             s.tcp = std::make_unique<TcpEndpoint>(
-                s.io, s.options.bind, *s.options.tcp_port, TcpLimits{},
-                [&s](const unsigned char* d, std::size_t n, std::uint64_t connection) { s.on_packet(d, n, Peer::over_tcp(connection)); },
-                [&s](std::uint64_t connection) { s.forget(Peer::over_tcp(connection)); });
+                s.options.bind, *s.options.tcp_port, TcpLimits{},
+                [&s](const unsigned char* d, std::size_t n, std::uint64_t connection) {
+                    if (is_status_request(d, n)) {
+                        s.tcp->send_here(connection, protocol::encode_message("/status.reply", s.status_arguments()));
+                        asio::post(s.io, [&s, connection] { s.clients.index_of(Peer::over_tcp(connection)); });   // gets /notice
+                        return true;
+                    }
+                    asio::post(s.io, [&s, connection, bytes = std::vector<unsigned char>(d, d + n)] {
+                        s.on_packet(bytes.data(), bytes.size(), Peer::over_tcp(connection));
+                        s.tcp->handled(connection);   // at most TcpLimits::max_unhandled wait per connection
+                    });
+                    return false;
+                },
+                [&s](std::uint64_t connection) { asio::post(s.io, [&s, connection] { s.forget(Peer::over_tcp(connection)); }); });
             s.tcp->set_admit([&s](const boost::asio::ip::address& peer) {
                 if (s.options.allow.allows(peer)) return true;
-                ++s.traffic.refused_senders;   // --allow: closed at once, no reply
+                asio::post(s.io, [&s] { ++s.traffic.refused_senders; });   // --allow: closed at once, no reply
                 return false;
             });
         } catch (const std::exception& e) {
@@ -867,12 +936,14 @@ int Daemon::run() {
     wait_hup();
 
     s.backend->start(*s.bridge);
+    if (s.tcp) s.tcp->start();
     s.poll();
     s.measure_rate();
     s.notify_subscribers();
     if (s.systemd.watchdog_interval().count() > 0) s.feed_watchdog();
     s.io.run();
 
+    if (s.tcp) s.tcp->close();   // its thread reads the bridge and the backend: joined before they go
     s.backend->stop();
     if (s.traffic.busy > 0 || s.traffic.refused_senders > 0) say(s.traffic.report());
     if (s.null && s.null->wav()) say("wrote " + std::to_string(s.null->wav()->frames_written()) + " frames to " + s.null->wav()->path());

@@ -1,6 +1,7 @@
 #include "server/osc/tcp_endpoint.hpp"
 
 #include <boost/asio/ip/address.hpp>
+#include <boost/asio/post.hpp>
 #include <boost/asio/read.hpp>
 #include <boost/asio/write.hpp>
 
@@ -22,20 +23,26 @@ struct TcpEndpoint::Connection {
     std::size_t pending = 0;                           // their bytes
     bool writing = false;
     bool open = true;
+    std::size_t unhandled = 0;   // packets handed on by the receiver, not yet handled()
+    bool paused = false;         // not reading until some of them are
 };
 
-TcpEndpoint::TcpEndpoint(asio::io_context& io, const std::string& address, int port, TcpLimits limits, Receiver receiver,
-                         Closed closed)
-    : io_(io), acceptor_(io), limits_(limits), receiver_(std::move(receiver)), closed_(std::move(closed)) {
+TcpEndpoint::TcpEndpoint(const std::string& address, int port, TcpLimits limits, Receiver receiver, Closed closed)
+    : acceptor_(io_), limits_(limits), receiver_(std::move(receiver)), closed_(std::move(closed)) {
     const tcp::endpoint local(asio::ip::make_address(address), static_cast<unsigned short>(port));
     acceptor_.open(local.protocol());
     acceptor_.set_option(tcp::acceptor::reuse_address(true));
     acceptor_.bind(local);   // throws boost::system::system_error with the reason
     acceptor_.listen();
-    accept();
+    local_ = acceptor_.local_endpoint();
 }
 
 TcpEndpoint::~TcpEndpoint() { close(); }
+
+void TcpEndpoint::start() {
+    accept();
+    thread_ = std::thread([this] { io_.run(); });
+}
 
 void TcpEndpoint::accept() {
     acceptor_.async_accept([this](const boost::system::error_code& ec, tcp::socket socket) {
@@ -76,12 +83,31 @@ void TcpEndpoint::read_body(const std::shared_ptr<Connection>& c, std::size_t si
     c->body.resize(size);
     asio::async_read(c->socket, asio::buffer(c->body), [this, c](const boost::system::error_code& ec, std::size_t) {
         if (ec || !c->open) return drop(c);
-        receiver_(c->body.data(), c->body.size(), c->id);
-        if (c->open) read_size(c);
+        if (!receiver_(c->body.data(), c->body.size(), c->id)) ++c->unhandled;
+        if (!c->open) return;
+        if (c->unhandled >= limits_.max_unhandled) c->paused = true;
+        else read_size(c);
     });
 }
 
-void TcpEndpoint::send(std::uint64_t connection, const std::vector<unsigned char>& bytes) {
+void TcpEndpoint::send(std::uint64_t connection, std::vector<unsigned char> bytes) {
+    asio::post(io_, [this, connection, bytes = std::move(bytes)] { send_here(connection, bytes); });
+}
+
+void TcpEndpoint::handled(std::uint64_t connection) {
+    asio::post(io_, [this, connection] {
+        const auto found = connections_.find(connection);
+        if (found == connections_.end()) return;   // closed meanwhile
+        const auto c = found->second;
+        if (c->unhandled > 0) --c->unhandled;
+        if (c->paused && c->open && c->unhandled < limits_.max_unhandled) {
+            c->paused = false;
+            read_size(c);
+        }
+    });
+}
+
+void TcpEndpoint::send_here(std::uint64_t connection, const std::vector<unsigned char>& bytes) {
     const auto found = connections_.find(connection);
     if (found == connections_.end()) return;   // gone: not the server's problem
     const auto c = found->second;
@@ -123,6 +149,17 @@ void TcpEndpoint::drop(const std::shared_ptr<Connection>& c) {
 }
 
 void TcpEndpoint::close() {
+    if (thread_.joinable()) {
+        asio::post(io_, [this] {
+            close_here();
+            io_.stop();
+        });
+        thread_.join();
+    }
+    close_here();   // never started, or already closed: nothing left running
+}
+
+void TcpEndpoint::close_here() {
     boost::system::error_code ignored;
     acceptor_.close(ignored);
     while (!connections_.empty()) {

@@ -1,13 +1,15 @@
 // Load (issue 8): several clients flood ameotod with /rain/rate over loopback, aiming at 100 000
-// messages per second in all for 10 s, while another client asks /status every 100 ms. The audio
-// thread must never wait (no xrun, no real-time violation in the RT probe), the command queue's
-// overflow must be answered /fail busy and counted in the log, /status must keep answering, and
-// ameotod's RSS must stay flat. The rate actually reached is printed: on a small machine the senders
-// and ameotod share the CPUs, and the assertions do not depend on it. docs/reliability.md has figures.
+// messages per second in all for 10 s, while two monitors ask /status every 50 ms, one over UDP (the
+// flood's own port) and one over TCP (--tcp-port). The audio thread must never wait (no xrun, no
+// real-time violation in the RT probe), the command queue's overflow must be answered /fail busy and
+// counted in the log, the TCP monitor must get every answer, 97 % of them within 50 ms, the UDP
+// monitor must keep being answered, and ameotod's RSS must stay flat. The rates actually reached are
+// printed: on a small machine the senders and ameotod share the CPUs. docs/reliability.md has figures.
 
 #include <arpa/inet.h>
 #include <doctest/doctest.h>
 #include <netinet/in.h>
+#include <poll.h>
 #include <signal.h>
 #include <sys/socket.h>
 #include <unistd.h>
@@ -21,6 +23,7 @@
 #include <thread>
 #include <vector>
 
+#include "protocol/osc_codec.hpp"
 #include "tests/support/daemon_process.hpp"
 #include "tests/support/osc_test_client.hpp"
 #include "tests/support/temp_dir.hpp"
@@ -62,6 +65,99 @@ long kernel_drops(int port) {
     return -1;
 }
 
+// CPU seconds ameotod's control thread (the main thread: Daemon::run runs the io_context) has used,
+// from /proc/PID/task/PID/stat (utime + stime, in clock ticks).
+double control_thread_cpu_s(pid_t pid) {
+    std::ifstream in("/proc/" + std::to_string(pid) + "/task/" + std::to_string(pid) + "/stat");
+    std::string text((std::istreambuf_iterator<char>(in)), {});
+    const auto after_name = text.rfind(')');
+    if (after_name == std::string::npos) return -1.0;
+    std::istringstream fields(text.substr(after_name + 2));
+    std::string f;
+    for (int i = 3; i <= 13; ++i) fields >> f;   // state .. cmajflt
+    long utime = 0, stime = 0;
+    fields >> utime >> stime;
+    return static_cast<double>(utime + stime) / static_cast<double>(sysconf(_SC_CLK_TCK));
+}
+
+// A TCP OSC client (OSC 1.0 stream framing: each packet preceded by its size), for the monitor that
+// must get through the flood.
+class TcpMonitor {
+public:
+    explicit TcpMonitor(int port) {
+        fd_ = socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
+        sockaddr_in to{};
+        to.sin_family = AF_INET;
+        to.sin_port = htons(static_cast<std::uint16_t>(port));
+        to.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+        REQUIRE(fd_ >= 0);
+        REQUIRE(connect(fd_, reinterpret_cast<sockaddr*>(&to), sizeof to) == 0);
+    }
+    ~TcpMonitor() { close(fd_); }
+    TcpMonitor(const TcpMonitor&) = delete;
+    TcpMonitor& operator=(const TcpMonitor&) = delete;
+    // /status -> /status.reply, or false when none came within the timeout.
+    bool status(std::chrono::milliseconds timeout) {
+        const auto packet = ameoto::protocol::encode_message("/status", {});
+        std::vector<unsigned char> framed{0, 0, 0, static_cast<unsigned char>(packet.size())};
+        framed.insert(framed.end(), packet.begin(), packet.end());
+        if (::send(fd_, framed.data(), framed.size(), MSG_NOSIGNAL) != static_cast<ssize_t>(framed.size())) return false;
+        const auto end = std::chrono::steady_clock::now() + timeout;
+        for (;;) {
+            unsigned char size[4];
+            if (!read_exactly(size, 4, end)) return false;
+            std::vector<unsigned char> body((std::uint32_t{size[0]} << 24) | (std::uint32_t{size[1]} << 16) | (std::uint32_t{size[2]} << 8) | size[3]);
+            if (!read_exactly(body.data(), body.size(), end)) return false;
+            const auto p = ameoto::protocol::decode_packet(body.data(), body.size());
+            if (p.error.empty() && !p.messages.empty() && p.messages[0].address == "/status.reply") return true;
+        }
+    }
+
+private:
+    bool read_exactly(unsigned char* out, std::size_t n, std::chrono::steady_clock::time_point end) {
+        for (std::size_t got = 0; got < n;) {
+            const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(end - std::chrono::steady_clock::now());
+            pollfd p{fd_, POLLIN, 0};
+            if (left.count() <= 0 || poll(&p, 1, static_cast<int>(left.count())) <= 0) return false;
+            const ssize_t r = recv(fd_, out + got, n - got, 0);
+            if (r <= 0) return false;
+            got += static_cast<std::size_t>(r);
+        }
+        return true;
+    }
+    int fd_ = -1;
+};
+
+// One monitor's /status round trips during the flood: asked every 50 ms, each waited for up to
+// `timeout` (a request not answered by then is lost).
+struct Monitor {
+    std::vector<double> round_trips_ms;
+    int lost = 0;
+
+    template <typename Ask>
+    void run(std::chrono::steady_clock::time_point until, std::chrono::milliseconds timeout, Ask&& ask) {
+        while (std::chrono::steady_clock::now() < until) {
+            const auto asked = std::chrono::steady_clock::now();
+            if (ask(timeout)) round_trips_ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - asked).count());
+            else ++lost;
+            std::this_thread::sleep_until(asked + 50ms);
+        }
+        std::sort(round_trips_ms.begin(), round_trips_ms.end());
+    }
+    int asked() const { return static_cast<int>(round_trips_ms.size()) + lost; }
+    long within(double ms) const { return std::count_if(round_trips_ms.begin(), round_trips_ms.end(), [&](double t) { return t < ms; }); }
+    double percentile(double p) const {
+        return round_trips_ms.empty() ? -1.0 : round_trips_ms[static_cast<std::size_t>(p * static_cast<double>(round_trips_ms.size() - 1))];
+    }
+    std::string describe() const {
+        std::ostringstream out;
+        out << asked() << " asked, " << round_trips_ms.size() << " answered, " << within(50.0) << " within 50 ms, " << lost
+            << " lost; round trip median " << percentile(0.5) << " ms, 95th " << percentile(0.95) << " ms, 99th " << percentile(0.99)
+            << " ms, worst " << percentile(1.0) << " ms";
+        return out.str();
+    }
+};
+
 struct Sender {
     std::uint64_t sent = 0;
     std::uint64_t busy_replies = 0;
@@ -100,19 +196,26 @@ void flood(int port, double per_second, std::chrono::steady_clock::time_point un
 
 }  // namespace
 
-TEST_CASE("flood: 100 000 messages/s aimed from 4 clients for 10 s; no xrun, /fail busy counted, /status still answered, RSS flat") {
+TEST_CASE("flood: 100 000 messages/s aimed from 4 clients for 10 s; no xrun, /fail busy counted, /status over TCP every answer and 97 % within 50 ms, RSS flat") {
     const std::string report = ameoto::test::temp_path("flood-rt.txt");
     ameoto::test::DaemonOptions options;
     options.listen_timeout = 30s;
     options.running_timeout = 20s;
     // 4096-frame blocks (85 ms at 48 kHz): the 4096-command queue then holds 85 ms of commands, so a
     // flood faster than 48 000 commands/s overflows it between two blocks and must be refused, not waited for.
-    ameoto::test::DaemonProcess d({"--backend", "null", "--output", "-", "--realtime", "--block", "4096"},
+    ameoto::test::DaemonProcess d({"--backend", "null", "--output", "-", "--realtime", "--block", "4096", "--tcp-port", "0"},
                                   {"LD_PRELOAD=" AMEOTO_RT_INTERPOSER, "AMEOTO_RT_REPORT=" + report}, options);
+    const std::string& started = d.process().output();
+    const std::string tcp_line = "listening on osc.tcp://127.0.0.1:";
+    REQUIRE(started.find(tcp_line) != std::string::npos);
+    TcpMonitor tcp_monitor(std::stoi(started.substr(started.find(tcp_line) + tcp_line.size())));
     ameoto::test::OscTestClient status_client(d.port());
     const auto first = status_client.request("/status", {}, "/status.reply", 2s);
     REQUIRE(first);
+    REQUIRE(tcp_monitor.status(2s));
     const auto xruns_before = first->args[6].integer;
+    const long drops_before = kernel_drops(d.port());
+    const double cpu_before = control_thread_cpu_s(d.process().pid());
 
     constexpr int senders = 4;
     constexpr double total_per_second = 100000.0;
@@ -124,41 +227,33 @@ TEST_CASE("flood: 100 000 messages/s aimed from 4 clients for 10 s; no xrun, /fa
     for (int i = 0; i < senders; ++i)
         threads.emplace_back(flood, d.port(), total_per_second / senders, until, i, std::ref(results[static_cast<std::size_t>(i)]));
 
-    // /status every 50 ms throughout, each waited for up to 500 ms; RSS after the first second and at the end.
-    std::vector<double> round_trips_ms;
-    int unanswered = 0;
-    std::vector<int> answered_per_second(10, 0);
+    // Both monitors throughout; RSS after the first second and at the end. UDP waits up to 500 ms for
+    // each answer; TCP, which never loses one, up to 2 s (a later one would still count as lost).
+    Monitor udp, tcp;
+    std::thread tcp_thread([&] { tcp.run(until, 2000ms, [&](std::chrono::milliseconds t) { return tcp_monitor.status(t); }); });
     long rss_start = -1;
-    while (std::chrono::steady_clock::now() < until) {
-        const auto asked = std::chrono::steady_clock::now();
-        const auto reply = status_client.request("/status", {}, "/status.reply", 500ms);
-        if (reply) {
-            round_trips_ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - asked).count());
-            const auto second = std::chrono::duration_cast<std::chrono::seconds>(asked - start).count();
-            if (second >= 0 && second < 10) ++answered_per_second[static_cast<std::size_t>(second)];
-        } else {
-            ++unanswered;
-        }
-        if (rss_start < 0 && asked - start >= 1s) rss_start = rss_kib(d.process().pid());
-        std::this_thread::sleep_until(asked + 50ms);
-    }
+    std::thread rss_thread([&] {
+        std::this_thread::sleep_until(start + 1s);
+        rss_start = rss_kib(d.process().pid());
+    });
+    udp.run(until, 500ms, [&](std::chrono::milliseconds t) { return status_client.request("/status", {}, "/status.reply", t).has_value(); });
     for (auto& t : threads) t.join();
+    tcp_thread.join();
+    rss_thread.join();
     const long rss_end = rss_kib(d.process().pid());
-    const long dropped_by_kernel = kernel_drops(d.port());
-    const auto last = status_client.request("/status", {}, "/status.reply", 2s);
-    REQUIRE(last);
+    const long dropped_by_kernel = kernel_drops(d.port()) - drops_before;
+    const double control_cpu_s = control_thread_cpu_s(d.process().pid()) - cpu_before;
+    // Asked again if need be: right after the flood the receive buffer may still be full, and a
+    // datagram arriving then is dropped by the kernel, /status or not.
+    auto last = status_client.request("/status", {}, "/status.reply", 1s);
+    for (int again = 0; again < 4 && !last; ++again) last = status_client.request("/status", {}, "/status.reply", 1s);
+    REQUIRE_MESSAGE(last, "ameotod running: " << d.process().running() << "; its log:\n" << d.process().output());
 
     std::uint64_t sent = 0, busy_replies = 0;
     for (const auto& r : results) {
         sent += r.sent;
         busy_replies += r.busy_replies;
     }
-    std::sort(round_trips_ms.begin(), round_trips_ms.end());
-    auto percentile = [&](double p) {
-        return round_trips_ms.empty() ? -1.0 : round_trips_ms[static_cast<std::size_t>(p * static_cast<double>(round_trips_ms.size() - 1))];
-    };
-    const auto within_50ms = std::count_if(round_trips_ms.begin(), round_trips_ms.end(), [](double ms) { return ms < 50.0; });
-
     CHECK(d.process().stop(SIGTERM, 10s) == 0);
     const std::string log = d.process().output();
     const auto at = log.rfind("load: ");   // the last: the total at exit
@@ -166,23 +261,96 @@ TEST_CASE("flood: 100 000 messages/s aimed from 4 clients for 10 s; no xrun, /fa
     const std::uint64_t busy_counted = std::stoull(log.substr(at + 6));
     std::ifstream rt_in(report);
     const std::string rt((std::istreambuf_iterator<char>(rt_in)), {});
+    const double read = static_cast<double>(sent) - static_cast<double>(dropped_by_kernel);
 
-    MESSAGE("sent " << sent << " messages in " << std::chrono::duration<double>(flood_time).count() << " s ("
-                    << static_cast<double>(sent) / 10.0 << "/s of the 100000/s aimed at); /fail busy counted by ameotod "
-                    << busy_counted << ", received by the senders " << busy_replies << "; /status asked every 50 ms: " << round_trips_ms.size() << " answered ("
-                    << within_50ms << " within 50 ms; round trip median " << percentile(0.5) << " ms, 95th percentile " << percentile(0.95)
-                    << " ms, worst " << percentile(1.0) << " ms), " << unanswered << " lost, "
-                    << std::count(answered_per_second.begin(), answered_per_second.end(), 0) << " of the 10 seconds without an answer; the kernel dropped " << dropped_by_kernel << " datagrams at ameotod's full receive buffer; RSS " << rss_start << " -> " << rss_end << " KiB; xruns " << xruns_before << " -> "
-                    << last->args[6].integer);
+    MESSAGE("sent " << sent << " messages in 10 s (" << static_cast<double>(sent) / 10.0 << "/s of the 100000/s aimed at); the kernel dropped "
+                    << dropped_by_kernel << " at ameotod's full receive buffer, so ameotod read " << read / 10.0 << "/s, using "
+                    << control_cpu_s << " s of CPU on its control thread (" << (control_cpu_s > 0 ? read / control_cpu_s : 0.0)
+                    << " datagrams per CPU second); /fail busy counted by ameotod " << busy_counted << ", received by the senders " << busy_replies
+                    << "; /status over TCP: " << tcp.describe() << "; /status over UDP: " << udp.describe() << "; RSS " << rss_start << " -> "
+                    << rss_end << " KiB; xruns " << xruns_before << " -> " << last->args[6].integer);
     CHECK(rt.find("violations 0\n") != std::string::npos);   // the audio thread never locked, blocked or allocated
     CHECK(last->args[6].integer == xruns_before);             // and never missed its 85 ms deadline
     CHECK(busy_counted > 0);                                  // the queue overflowed and it was counted...
     CHECK(busy_replies > 0);                                  // ...and answered /fail busy
     CHECK(busy_replies <= busy_counted);
-    // /status keeps answering, but not every request: a datagram that finds ameotod's receive buffer full
-    // is dropped by the kernel, /status or not, when the flood outruns the control thread. How often that
-    // happens depends on the CPU the machine leaves ameotod (figures above and in docs/reliability.md), so
-    // the test only asks that the server never stops answering during the flood.
-    CHECK(!round_trips_ms.empty());
+    // The monitor that must get through a flood uses TCP (docs/reliability.md, "Load"): nothing is
+    // lost, and at least 97 % of the answers take less than 50 ms, the issue's bound. Not 100 %: the
+    // kernel may leave any thread waiting longer on 2 CPUs shared with the senders (and, here, other
+    // engineers' builds at load 12, where 98.3-100 % was measured; before the TCP endpoint had its
+    // own thread, 77-99 %).
+    CHECK(tcp.lost == 0);
+    CHECK(tcp.within(50.0) * 100 >= 97L * tcp.asked());
+    // Over UDP a /status that finds the receive buffer full is dropped by the kernel like any other
+    // datagram (when the machine leaves ameotod too little CPU to read the flood), so only this is
+    // asked: it keeps being answered.
+    CHECK(!udp.round_trips_ms.empty());
     CHECK(rss_end - rss_start < 1024);                        // flat: less than 1 MiB over the flood
+}
+
+TEST_CASE("flood: a burst through the UDP backlog keeps each sender's order; another sender's /status is answered meanwhile") {
+    // 600 /rain/rate from one socket at once (most of them wait in ameotod's backlog), then that
+    // socket's own query: it must see the burst's last value, so it cannot have been moved ahead of
+    // the burst. 600 stays under the 4096-command queue, so none is refused busy.
+    ameoto::test::DaemonProcess d({"--backend", "null", "--output", "-", "--realtime"});
+    ameoto::test::OscTestClient burst(d.port()), monitor(d.port());
+    REQUIRE(burst.request("/status", {}, "/status.reply", 2s));
+    for (int i = 0; i < 600; ++i) burst.send("/rain/rate", {OscArgument::from_float(static_cast<float>(1 + i % 40))});
+    burst.send("/rain/rate");
+    CHECK(monitor.request("/status", {}, "/status.reply", 2s));
+    const auto rate = burst.wait_for("/rain/rate.reply", 5s);
+    REQUIRE(rate);
+    CHECK(rate->args[0].number == doctest::Approx(1 + 599 % 40));   // exactly the last sent: a float of a small integer
+    for (const auto& other : burst.others) CHECK(other.address != "/fail");
+}
+
+TEST_CASE("flood: a TCP flood is read no faster than it is handled (memory flat), and another TCP connection's /status is answered meanwhile") {
+    // One connection sends /rain/rate as fast as TCP takes it for 3 s; the server hands at most 32 of
+    // its packets at a time to the control thread (TcpLimits::max_unhandled), so TCP's flow control
+    // holds the rest in the client. RSS must not grow by 1 MiB, and a second connection's /status
+    // must still be answered every time.
+    ameoto::test::DaemonProcess d({"--backend", "null", "--output", "-", "--realtime", "--tcp-port", "0"});
+    const std::string& started = d.process().output();
+    const std::string tcp_line = "listening on osc.tcp://127.0.0.1:";
+    REQUIRE(started.find(tcp_line) != std::string::npos);
+    const int port = std::stoi(started.substr(started.find(tcp_line) + tcp_line.size()));
+    TcpMonitor monitor(port);
+    REQUIRE(monitor.status(2s));
+
+    const int fd = socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
+    sockaddr_in to{};
+    to.sin_family = AF_INET;
+    to.sin_port = htons(static_cast<std::uint16_t>(port));
+    to.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    REQUIRE(connect(fd, reinterpret_cast<sockaddr*>(&to), sizeof to) == 0);
+    std::vector<unsigned char> frames;
+    for (int i = 0; i < 64; ++i) {
+        const auto m = ameoto::protocol::encode_message("/rain/rate", {OscArgument::from_float(static_cast<float>(i % 50))});
+        frames.insert(frames.end(), {0, 0, 0, static_cast<unsigned char>(m.size())});
+        frames.insert(frames.end(), m.begin(), m.end());
+    }
+    const auto until = std::chrono::steady_clock::now() + 3s;
+    std::atomic<std::uint64_t> sent_bytes{0};
+    std::thread flooder([&] {
+        unsigned char sink[65536];
+        while (std::chrono::steady_clock::now() < until) {
+            const ssize_t n = send(fd, frames.data(), frames.size(), MSG_NOSIGNAL | MSG_DONTWAIT);
+            if (n > 0) sent_bytes += static_cast<std::uint64_t>(n);
+            while (recv(fd, sink, sizeof sink, MSG_DONTWAIT) > 0) {}   // its /fail busy, if any
+            if (n <= 0) std::this_thread::sleep_for(1ms);             // the server is not reading: flow control
+        }
+    });
+    Monitor status;
+    std::this_thread::sleep_for(500ms);
+    const long rss_start = rss_kib(d.process().pid());
+    status.run(until, 2000ms, [&](std::chrono::milliseconds t) { return monitor.status(t); });
+    flooder.join();
+    const long rss_end = rss_kib(d.process().pid());
+    close(fd);
+    MESSAGE("TCP flood: " << sent_bytes.load() / 1024 << " KiB sent in 3 s; /status on another connection: " << status.describe() << "; RSS "
+                          << rss_start << " -> " << rss_end << " KiB");
+    CHECK(sent_bytes.load() > 1024 * 1024);   // it was a flood
+    CHECK(status.lost == 0);
+    CHECK(rss_end - rss_start < 1024);
+    CHECK(d.process().stop(SIGTERM, 10s) == 0);
 }
