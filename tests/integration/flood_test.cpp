@@ -26,24 +26,13 @@
 #include "protocol/osc_codec.hpp"
 #include "tests/support/daemon_process.hpp"
 #include "tests/support/osc_test_client.hpp"
+#include "tests/support/process_memory.hpp"
 #include "tests/support/temp_dir.hpp"
 
 using namespace std::chrono_literals;
 using ameoto::protocol::OscArgument;
 
 namespace {
-
-long rss_kib(pid_t pid) {
-    std::ifstream in("/proc/" + std::to_string(pid) + "/status");
-    std::string key;
-    long value = -1;
-    while (in >> key)
-        if (key == "VmRSS:") {
-            in >> value;
-            break;
-        }
-    return value;
-}
 
 // Datagrams the kernel dropped because the socket bound to `port` had a full receive buffer
 // (/proc/net/udp's last column), or -1 when not found.
@@ -234,13 +223,13 @@ TEST_CASE("flood: 100 000 messages/s aimed from 4 clients for 10 s; no xrun, /fa
     long rss_start = -1;
     std::thread rss_thread([&] {
         std::this_thread::sleep_until(start + 1s);
-        rss_start = rss_kib(d.process().pid());
+        rss_start = ameoto::test::resident_kib(d.process().pid());
     });
     udp.run(until, 500ms, [&](std::chrono::milliseconds t) { return status_client.request("/status", {}, "/status.reply", t).has_value(); });
     for (auto& t : threads) t.join();
     tcp_thread.join();
     rss_thread.join();
-    const long rss_end = rss_kib(d.process().pid());
+    const long rss_end = ameoto::test::resident_kib(d.process().pid());
     const long dropped_by_kernel = kernel_drops(d.port()) - drops_before;
     const double control_cpu_s = control_thread_cpu_s(d.process().pid()) - cpu_before;
     // Asked again if need be: right after the flood the receive buffer may still be full, and a
@@ -342,10 +331,10 @@ TEST_CASE("flood: a TCP flood is read no faster than it is handled (memory flat)
     });
     Monitor status;
     std::this_thread::sleep_for(500ms);
-    const long rss_start = rss_kib(d.process().pid());
+    const long rss_start = ameoto::test::resident_kib(d.process().pid());
     status.run(until, 2000ms, [&](std::chrono::milliseconds t) { return monitor.status(t); });
     flooder.join();
-    const long rss_end = rss_kib(d.process().pid());
+    const long rss_end = ameoto::test::resident_kib(d.process().pid());
     close(fd);
     MESSAGE("TCP flood: " << sent_bytes.load() / 1024 << " KiB sent in 3 s; /status on another connection: " << status.describe() << "; RSS "
                           << rss_start << " -> " << rss_end << " KiB");
