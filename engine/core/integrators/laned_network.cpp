@@ -21,6 +21,7 @@ struct LanedView {
 using LanedKernel = void (*)(const LanedView&);
 
 namespace baseline {
+constexpr std::size_t kVectorBytes = 16;   // SSE2, in every x86-64
 #include "engine/core/integrators/laned_kernels.inc"
 }  // namespace baseline
 
@@ -31,6 +32,7 @@ namespace baseline {
 #pragma GCC target("avx2")
 namespace {
 namespace avx2 {
+constexpr std::size_t kVectorBytes = 32;
 #include "engine/core/integrators/laned_kernels.inc"
 }  // namespace avx2
 }  // namespace
