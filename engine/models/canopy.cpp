@@ -163,8 +163,8 @@ void Canopy::velocities(double* out) const {
 // before the runtime guard resets it) never wins a comparison, so it is passed over; with no finite
 // node at all the range is empty (lowest +infinity, highest -infinity).
 DisplacementRange Canopy::displacement_range() const {
-    DisplacementRange r{std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
     if (laned_) return laned_displacement_range();
+    DisplacementRange r{std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
     double* const u_all = displacements_.data();
     for (const Membrane& p : panels_) {
         p.network.positions(u_all);   // position(i) for every node, one call

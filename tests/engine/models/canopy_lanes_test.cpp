@@ -137,7 +137,16 @@ Mismatches compare(int panels, Integrator integrator, int min_sub_steps, bool po
             int expected_resets = 0;
             for (auto& p : ref.panels) expected_resets += p.guard() ? 1 : 0;
             CHECK(canopy.reset_unstable() == expected_resets);
+            std::vector<double> u(static_cast<std::size_t>(nodes)), u_ref(u.size()), v(u.size()), v_ref(u.size());
             for (int k = 0; k < panels; ++k) {
+                canopy.panel_positions(k, u.data());
+                canopy.panel_velocities(k, v.data());
+                ref.panels[static_cast<std::size_t>(k)].positions(u_ref.data());
+                ref.panels[static_cast<std::size_t>(k)].velocities(v_ref.data());
+                for (std::size_t i = 0; i < u.size(); ++i) {
+                    m.check(u[i], u_ref[i]);
+                    m.check(v[i], v_ref[i]);
+                }
                 CHECK(canopy.panel_guard_resets(k) == ref.panels[static_cast<std::size_t>(k)].guard_resets());
                 CHECK(canopy.panel_finite(k) == ref.panels[static_cast<std::size_t>(k)].finite());
                 m.check(canopy.panel_energy(k), ref.panels[static_cast<std::size_t>(k)].kinetic_plus_potential_energy());
