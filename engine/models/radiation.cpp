@@ -106,9 +106,15 @@ void RayleighRadiator::read_inputs_at(const std::vector<std::int32_t>& index, in
 }
 
 void RayleighRadiator::process(const double* accelerations, double* out) {
-    const std::size_t n = static_cast<std::size_t>(elements_), inputs = input_.size();
+    const std::size_t inputs = input_.size();
     double* const input = input_.data();
     for (std::size_t e = 0; e < inputs; ++e) input[e] = std::isfinite(accelerations[e]) ? accelerations[e] : 0.0;
+    process_inputs(out);
+}
+
+void RayleighRadiator::process_inputs(double* out) {
+    const std::size_t n = static_cast<std::size_t>(elements_);
+    const double* const input = input_.data();
     // Scatter (header, "Delays"): this sample's a_i reaches its output floor(D) and floor(D) + 1
     // samples ahead; a tap with floor(D) = 0 adds into the current sample, which is read below.
     double* const current = pending_.data() + now_;
@@ -216,7 +222,6 @@ FarFieldRadiation::FarFieldRadiation(const Canopy& canopy, const ListenerLayout&
     radiator_.read_inputs_at(index, static_cast<int>(cells));
     velocity_.assign(cells, 0.0);
     previous_velocity_.assign(cells, 0.0);
-    acceleration_.assign(cells, 0.0);
     sums_.assign(layout.points.size() * static_cast<std::size_t>(panels_), 0.0);
     resets_seen_.assign(static_cast<std::size_t>(panels_), 0);
     for (int k = 0; k < panels_; ++k) resets_seen_[static_cast<std::size_t>(k)] = canopy.panel_guard_resets(k);
@@ -225,11 +230,14 @@ FarFieldRadiation::FarFieldRadiation(const Canopy& canopy, const ListenerLayout&
 
 namespace {
 
-// a = (v - v_prev) / T, v_prev = v, over the whole node-major array. Restrict parameters: vectorised.
+// a = (v - v_prev) / T, v_prev = v, over the whole node-major array, written straight into the
+// radiator's inputs with its rule (non-finite: 0), which saves process()'s copy. Restrict parameters:
+// vectorised.
 void accelerations(std::size_t cells, const double* __restrict v, double* __restrict previous, double inverse_dt,
                    double* __restrict a) {
     for (std::size_t c = 0; c < cells; ++c) {
-        a[c] = (v[c] - previous[c]) * inverse_dt;
+        const double acceleration = (v[c] - previous[c]) * inverse_dt;
+        a[c] = std::isfinite(acceleration) ? acceleration : 0.0;
         previous[c] = v[c];
     }
 }
@@ -253,8 +261,8 @@ void FarFieldRadiation::process(const Canopy& canopy, double* pressures_pa) {
     }
     // Every panel's velocities in one pass (the lanes' own layout), then every acceleration in another.
     canopy.velocities(velocity_.data());
-    accelerations(velocity_.size(), velocity_.data(), previous_velocity_.data(), inverse_dt_, acceleration_.data());
-    radiator_.process(acceleration_.data(), sums_.data());
+    accelerations(velocity_.size(), velocity_.data(), previous_velocity_.data(), inverse_dt_, radiator_.inputs());
+    radiator_.process_inputs(sums_.data());
     const int channels = layout_.channels();
     for (int c = 0; c < channels; ++c) {
         const double* row = sums_.data() + static_cast<std::size_t>(layout_.channel_point[static_cast<std::size_t>(c)] * panels_);

@@ -24,6 +24,8 @@
 //   r.read_inputs_at(index, length);                  // build phase: process() then reads element e's
 //                                                     // acceleration at accelerations[index[e]] of
 //                                                     // length (the canopy's node-major lanes)
+//   r.inputs(), r.process_inputs(out)                 // the same, the caller writing the (finite)
+//                                                     // inputs in place: no copy
 //
 // Far field (the seed's future work, section 6): the Rayleigh integral (Rayleigh's first integral;
 // Kinsler et al., Fundamentals of Acoustics, 4th ed., section 7.4) gives the pressure radiated into the
@@ -114,6 +116,11 @@ public:
     // Build phase (allocates): element e's input is accelerations[index[e]], 0 <= index[e] < length, the
     // entries no element reads being ignored; the taps, their order and the sums are unchanged.
     void read_inputs_at(const std::vector<std::int32_t>& index, int length);
+    // process() without its copy: the caller has written this sample's accelerations, every one finite
+    // (non-finite ones as 0), into inputs()[0 .. input_count()) in the input layout. Never allocates.
+    double* inputs() { return input_.data(); }
+    int input_count() const { return static_cast<int>(input_.size()); }
+    void process_inputs(double* out);
     void reset();   // clears the pending pressures: silence until the next non-zero input
 
     int element_count() const { return elements_; }
@@ -183,7 +190,7 @@ private:
     double inverse_dt_ = 0.0;
     int panels_ = 0, nodes_ = 0, lanes_ = 0;
     // The canopy's node-major layout (Canopy::velocities): [node * lanes_ + panel], padding lanes unread.
-    std::vector<double> velocity_, previous_velocity_, acceleration_, sums_;
+    std::vector<double> velocity_, previous_velocity_, sums_;
     std::vector<double> flat_gain_;                 // [channel * panels + panel]
     std::vector<std::uint64_t> resets_seen_;        // per panel: the guard's reset count at the last sample
 };
