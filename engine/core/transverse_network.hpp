@@ -20,6 +20,7 @@
 //   net.reset();                                            // all masses to rest
 //   net.position(m), net.velocity(m), net.kinetic_plus_potential_energy(), net.finite()
 //   net.positions(out), net.velocities(out)                 // every mass at once (out: mass_count())
+//   net.guard_resets(), net.guard_options()                 // the runtime guard's count and settings
 //
 // Integrators (integrators/*.hpp, docs/engine.md "Integrators and stability"): explicit Verlet (the
 // CORDIS scheme, default), symplectic Euler, trapezoidal (Newmark average acceleration), backward Euler,
@@ -89,6 +90,7 @@ public:
     Integrator integrator() const { return stability_.integrator; }
     std::uint64_t guard_resets() const { return guard_.resets(); }
     double guard_energy_limit() const { return guard_.energy_limit(); }
+    const GuardOptions& guard_options() const { return guard_.options(); }
     const NetworkArrays& arrays() const { return arrays_; }
     const Modal& modal() const { return modal_; }   // modes kept, resonators (modal only)
 

@@ -53,6 +53,11 @@ Canopy::Canopy(const CanopyGeometry& geometry, const MembraneMaterial& material,
     panels_.assign(static_cast<std::size_t>(geometry.panels), prototype);
     nodes_ = prototype.network.mass_count();
     displacements_.assign(static_cast<std::size_t>(nodes_), 0.0);
+    laned_ = LanedNetwork::supports(prototype.network.integrator());
+    lanes_ = (geometry.panels + 3) / 4 * 4;
+    if (laned_) lanes_state_.init(prototype.network, geometry.panels);
+    lane_low_.assign(static_cast<std::size_t>(lanes_), 0.0);
+    lane_high_.assign(static_cast<std::size_t>(lanes_), 0.0);
     const double sector = 2.0 * constants::pi / geometry.panels;
     for (int k = 0; k < geometry.panels; ++k) {
         cos_azimuth_.push_back(std::cos(panel_azimuth(k)));
@@ -110,17 +115,55 @@ Vec3 Canopy::node_position(int panel, int node) const {
 }
 
 double Canopy::displacement(int panel, int node) const {
+    if (laned_) return lanes_state_.position(panel, node);
     return panels_[static_cast<std::size_t>(panel)].network.position(node);
 }
 
 double Canopy::normal_velocity(int panel, int node) const {
+    if (laned_) return lanes_state_.velocity(panel, node);
     return panels_[static_cast<std::size_t>(panel)].network.velocity(node);
+}
+
+void Canopy::panel_positions(int panel, double* out) const {
+    if (laned_) return lanes_state_.positions(panel, out);
+    panels_[static_cast<std::size_t>(panel)].network.positions(out);
+}
+
+void Canopy::panel_velocities(int panel, double* out) const {
+    if (laned_) return lanes_state_.velocities(panel, out);
+    panels_[static_cast<std::size_t>(panel)].network.velocities(out);
+}
+
+bool Canopy::panel_finite(int panel) const {
+    return laned_ ? lanes_state_.finite(panel) : panels_[static_cast<std::size_t>(panel)].network.finite();
+}
+
+double Canopy::panel_energy(int panel) const {
+    return laned_ ? lanes_state_.energy(panel)
+                  : panels_[static_cast<std::size_t>(panel)].network.kinetic_plus_potential_energy();
+}
+
+std::uint64_t Canopy::panel_guard_resets(int panel) const {
+    return laned_ ? lanes_state_.guard_resets(panel) : panels_[static_cast<std::size_t>(panel)].network.guard_resets();
+}
+
+// Node-major, out[node * lanes_ + panel]: the lanes' own layout, one pass over the whole canopy.
+void Canopy::velocities(double* out) const {
+    if (laned_) return lanes_state_.velocities(out);
+    const auto stride = static_cast<std::size_t>(lanes_);
+    std::fill(out, out + stride * static_cast<std::size_t>(nodes_), 0.0);
+    double* const v = displacements_.data();
+    for (std::size_t k = 0; k < panels_.size(); ++k) {
+        panels_[k].network.velocities(v);
+        for (std::size_t i = 0; i < static_cast<std::size_t>(nodes_); ++i) out[i * stride + k] = v[i];
+    }
 }
 
 // The extremes of u over every node, as displacement() reads them. A NaN (a panel gone unstable,
 // before the runtime guard resets it) never wins a comparison, so it is passed over; with no finite
 // node at all the range is empty (lowest +infinity, highest -infinity).
 DisplacementRange Canopy::displacement_range() const {
+    if (laned_) return laned_displacement_range();
     DisplacementRange r{std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
     double* const u_all = displacements_.data();
     for (const Membrane& p : panels_) {
@@ -130,6 +173,41 @@ DisplacementRange Canopy::displacement_range() const {
             r.lowest = std::min(r.lowest, u);
             r.highest = std::max(r.highest, u);
         }
+    }
+    return r;
+}
+
+namespace {
+
+// Per lane, the extremes over the nodes in node order (std::min / std::max: a value replaces the
+// running one only when strictly beyond it, so NaN never wins). Restrict parameters: vectorised.
+void lane_extremes(std::size_t nodes, std::size_t lanes, const double* __restrict u, double* __restrict low,
+                   double* __restrict high) {
+    for (std::size_t j = 0; j < lanes; ++j) {
+        low[j] = std::numeric_limits<double>::infinity();
+        high[j] = -std::numeric_limits<double>::infinity();
+    }
+    for (std::size_t i = 0; i < nodes; ++i) {
+        const double* const row = u + i * lanes;
+        for (std::size_t j = 0; j < lanes; ++j) {
+            low[j] = std::min(low[j], row[j]);
+            high[j] = std::max(high[j], row[j]);
+        }
+    }
+}
+
+}  // namespace
+
+// The same extremes as the panel-by-panel scan, from the lanes in one pass: each lane keeps its own
+// first extreme in node order, and the panels are then taken in order, so among equal values (+0 and
+// -0) the same one wins as in the panel-major scan. Padding lanes are not read.
+DisplacementRange Canopy::laned_displacement_range() const {
+    lane_extremes(static_cast<std::size_t>(nodes_), static_cast<std::size_t>(lanes_), lanes_state_.positions(),
+                  lane_low_.data(), lane_high_.data());
+    DisplacementRange r{std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
+    for (std::size_t k = 0; k < panels_.size(); ++k) {
+        r.lowest = std::min(r.lowest, lane_low_[k]);
+        r.highest = std::max(r.highest, lane_high_[k]);
     }
     return r;
 }
@@ -206,16 +284,21 @@ Point2 Canopy::sample_point(Random& rng) const {
 
 void Canopy::apply_force(CanopyHit hit, double newtons) {
     if (hit.panel < 0) return;
+    if (laned_) return lanes_state_.apply_force(hit.panel, hit.node, newtons);
     panels_[static_cast<std::size_t>(hit.panel)].network.apply_force(hit.node, newtons);
 }
 
 void Canopy::step(double* panel_forces) {
+    if (laned_) return lanes_state_.step(panel_forces);
     for (std::size_t k = 0; k < panels_.size(); ++k) panel_forces[k] = panels_[k].network.step();
 }
 
 int Canopy::reset_unstable() {
     int resets = 0;
-    for (auto& p : panels_) resets += p.network.guard() ? 1 : 0;   // non-finite or runaway energy
+    for (int k = 0; k < panel_count(); ++k) {   // non-finite or runaway energy
+        const bool reset = laned_ ? lanes_state_.guard(k) : panels_[static_cast<std::size_t>(k)].network.guard();
+        resets += reset ? 1 : 0;
+    }
     return resets;
 }
 

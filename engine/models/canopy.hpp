@@ -21,6 +21,21 @@
 //   canopy.displacement_range()    // {lowest, highest} u over every node: bounds for a collision
 //                                  // broad phase (drop_on_canopy.cpp); no allocation
 //   canopy.rest_height(x, y), canopy.surface_normal(x, y)     // the rest surface over a plan point
+//   ---- per panel (the state lives in the lanes when laned(); panel(k).network then holds only the
+//        panel's arrays, stability report and options, its state stays at rest: read these instead) ----
+//   canopy.panel_positions(k, out), canopy.panel_velocities(k, out)   // u, du/dt of every node, out[node]
+//   canopy.panel_finite(k), canopy.panel_energy(k), canopy.panel_guard_resets(k)
+//   canopy.stability()             // every panel's StabilityReport (they are the same body)
+//   ---- every panel at once, node-major (the far field, the collision broad phase) ----
+//   canopy.lanes()                 // the layout's stride: panels rounded up to a multiple of 4
+//   canopy.velocities(out)         // out[node * lanes() + panel] (padding lanes: 0)
+//   canopy.laned(), canopy.set_portable_kernels(true), canopy.avx2_kernels()
+//
+// Stepping: the panels are identical networks, so with explicit Verlet or symplectic Euler (the default
+// and the cheap end of the accuracy chart) the canopy steps them together as SIMD lanes
+// (core/integrators/laned_network.hpp: one pass over the links for every panel, each panel's output
+// bit-identical to its own TransverseNetwork); with trapezoidal, backward Euler or modal it steps one
+// TransverseNetwork per panel. The runtime guard stays per panel either way.
 //
 // Geometry (seed section 5.1.2, Fig. 10-11): seen from above, panel k is the triangle between the
 // umbrella's centre and two neighbouring rib tips at plan radius R, centred on azimuth 2 pi k / N.
@@ -40,10 +55,12 @@
 // 3.3 % for Rc = 2 m, 15 % for Rc = 1 m, with R = 0.5 m). Valid while the slope stays small.
 
 #include <array>
+#include <cstdint>
 #include <limits>
 #include <vector>
 
 #include "engine/core/body3d_vec3.hpp"
+#include "engine/core/integrators/laned_network.hpp"
 #include "engine/core/random.hpp"
 #include "engine/models/membrane.hpp"
 
@@ -98,6 +115,18 @@ public:
     Vec3 surface_normal(double x, double y) const;
     bool flat() const { return !(geometry_.curvature_radius_m < std::numeric_limits<double>::infinity()); }
 
+    void panel_positions(int panel, double* out) const;
+    void panel_velocities(int panel, double* out) const;
+    bool panel_finite(int panel) const;
+    double panel_energy(int panel) const;   // J
+    std::uint64_t panel_guard_resets(int panel) const;
+    const StabilityReport& stability() const { return panels_.front().network.stability(); }
+    int lanes() const { return lanes_; }
+    void velocities(double* out) const;
+    bool laned() const { return laned_; }
+    void set_portable_kernels(bool on) { lanes_state_.set_portable_kernels(on); }
+    bool avx2_kernels() const { return laned_ && lanes_state_.avx2_kernels(); }
+
 private:
     // Local panel frame: hem along y = 0 from (-w, 0) to (w, 0), apex (the shaft) at (0, h).
     Point2 to_local(int panel, double x, double y) const;
@@ -105,6 +134,7 @@ private:
     int panel_at(double x, double y) const;          // locate's panel: the azimuth's nearest centre line
     int panel_by_atan2(double x, double y) const;    // the same by atan2 (the definition; the fallback)
     bool inside_outline(Point2 local) const;         // polygon_contains(outline_, local), precomputed
+    DisplacementRange laned_displacement_range() const;
     std::size_t index(int panel, int node) const {
         return static_cast<std::size_t>(panel) * static_cast<std::size_t>(nodes_) + static_cast<std::size_t>(node);
     }
@@ -113,6 +143,10 @@ private:
     int nodes_ = 0;
     std::vector<PolygonEdge> outline_;
     std::vector<Membrane> panels_;
+    bool laned_ = false;
+    int lanes_ = 4;
+    LanedNetwork lanes_state_;          // every panel's state when laned_
+    mutable std::vector<double> lane_low_, lane_high_;   // displacement_range()'s per-lane extremes
     std::vector<Vec3> rest_, normal_;   // per panel and node, panel-major
     mutable std::vector<double> displacements_;   // displacement_range()'s scratch: one panel's u
     // locate()'s tables, set by the constructor so that locate needs no trigonometry: per panel the

@@ -13,7 +13,7 @@ MassPickup::MassPickup(const Canopy& canopy, int panel, int node, double full_sc
     if (!std::isfinite(full_scale_m)) throw std::invalid_argument("pickup full scale must be a finite displacement");
     if (full_scale_m <= 0.0) {
         // K_ii: the node's anchors plus every link that touches it.
-        const NetworkArrays& a = canopy.panel(panel).network.arrays();
+        const NetworkArrays& a = canopy.panel(panel).network.arrays();   // the panel's arrays (not its state)
         double k = a.anchor_stiffness[static_cast<std::size_t>(node)];
         for (std::size_t l = 0; l < a.link_count(); ++l)
             if (a.link_a[l] == node || a.link_b[l] == node) k += a.link_stiffness[l];
@@ -97,10 +97,24 @@ RayleighRadiator::RayleighRadiator(std::vector<RadiatingElement> elements, std::
     pending_.assign(points_n * g * static_cast<std::size_t>(row_), 0.0);
 }
 
+void RayleighRadiator::read_inputs_at(const std::vector<std::int32_t>& index, int length) {
+    if (index.size() != static_cast<std::size_t>(elements_)) throw std::invalid_argument("one input index per element");
+    for (std::int32_t i : index)
+        if (i < 0 || i >= length) throw std::invalid_argument("input index out of range");
+    for (std::int32_t& s : source_) s = index[static_cast<std::size_t>(s)];
+    input_.assign(static_cast<std::size_t>(length), 0.0);
+}
+
 void RayleighRadiator::process(const double* accelerations, double* out) {
-    const std::size_t n = static_cast<std::size_t>(elements_);
+    const std::size_t inputs = input_.size();
     double* const input = input_.data();
-    for (std::size_t e = 0; e < n; ++e) input[e] = std::isfinite(accelerations[e]) ? accelerations[e] : 0.0;
+    for (std::size_t e = 0; e < inputs; ++e) input[e] = std::isfinite(accelerations[e]) ? accelerations[e] : 0.0;
+    process_inputs(out);
+}
+
+void RayleighRadiator::process_inputs(double* out) {
+    const std::size_t n = static_cast<std::size_t>(elements_);
+    const double* const input = input_.data();
     // Scatter (header, "Delays"): this sample's a_i reaches its output floor(D) and floor(D) + 1
     // samples ahead; a tap with floor(D) = 0 adds into the current sample, which is read below.
     double* const current = pending_.data() + now_;
@@ -198,41 +212,57 @@ FarFieldRadiation::FarFieldRadiation(const Canopy& canopy, const ListenerLayout&
         std::copy(layout.panel_gain[c].begin(), layout.panel_gain[c].end(),
                   flat_gain_.begin() + static_cast<std::ptrdiff_t>(c) * panels_);
     }
-    const std::size_t n = static_cast<std::size_t>(panels_ * nodes_);
-    previous_velocity_.assign(n, 0.0);
-    acceleration_.assign(n, 0.0);
+    // The radiator reads the canopy's node-major velocities' layout directly (element k * nodes + i, the
+    // order of canopy_elements, is input i * lanes + k): no per-panel copy each sample.
+    lanes_ = canopy.lanes();
+    std::vector<std::int32_t> index(static_cast<std::size_t>(panels_ * nodes_));
+    for (int k = 0; k < panels_; ++k)
+        for (int i = 0; i < nodes_; ++i) index[static_cast<std::size_t>(k * nodes_ + i)] = i * lanes_ + k;
+    const std::size_t cells = static_cast<std::size_t>(nodes_ * lanes_);
+    radiator_.read_inputs_at(index, static_cast<int>(cells));
+    velocity_.assign(cells, 0.0);
+    previous_velocity_.assign(cells, 0.0);
     sums_.assign(layout.points.size() * static_cast<std::size_t>(panels_), 0.0);
     resets_seen_.assign(static_cast<std::size_t>(panels_), 0);
-    for (int k = 0; k < panels_; ++k) {
-        resets_seen_[static_cast<std::size_t>(k)] = canopy.panel(k).network.guard_resets();
-        for (int i = 0; i < nodes_; ++i)
-            previous_velocity_[static_cast<std::size_t>(k * nodes_ + i)] = canopy.normal_velocity(k, i);
+    for (int k = 0; k < panels_; ++k) resets_seen_[static_cast<std::size_t>(k)] = canopy.panel_guard_resets(k);
+    canopy.velocities(previous_velocity_.data());
+}
+
+namespace {
+
+// a = (v - v_prev) / T, v_prev = v, over the whole node-major array, written straight into the
+// radiator's inputs with its rule (non-finite: 0), which saves process()'s copy. Restrict parameters:
+// vectorised.
+void accelerations(std::size_t cells, const double* __restrict v, double* __restrict previous, double inverse_dt,
+                   double* __restrict a) {
+    for (std::size_t c = 0; c < cells; ++c) {
+        const double acceleration = (v[c] - previous[c]) * inverse_dt;
+        a[c] = std::isfinite(acceleration) ? acceleration : 0.0;
+        previous[c] = v[c];
     }
 }
 
+}  // namespace
+
 void FarFieldRadiation::process(const Canopy& canopy, double* pressures_pa) {
-    if (canopy.panel_count() != panels_ || canopy.nodes_per_panel() != nodes_) {
+    if (canopy.panel_count() != panels_ || canopy.nodes_per_panel() != nodes_ || canopy.lanes() != lanes_) {
         for (int c = 0; c < layout_.channels(); ++c) pressures_pa[c] = 0.0;
         return;
     }
+    const std::size_t stride = static_cast<std::size_t>(lanes_);
     for (int k = 0; k < panels_; ++k) {
-        // A panel the runtime guard reset since the last sample restarted from rest (zero velocity).
-        const std::uint64_t resets = canopy.panel(k).network.guard_resets();
-        const bool restarted = resets != resets_seen_[static_cast<std::size_t>(k)];
+        // A panel the runtime guard reset since the last sample restarted from rest (zero velocity):
+        // its previous velocities read as 0 (v - 0.0, the bits the per-panel loop gave).
+        const std::uint64_t resets = canopy.panel_guard_resets(k);
+        if (resets != resets_seen_[static_cast<std::size_t>(k)])
+            for (std::size_t i = 0; i < static_cast<std::size_t>(nodes_); ++i)
+                previous_velocity_[i * stride + static_cast<std::size_t>(k)] = 0.0;
         resets_seen_[static_cast<std::size_t>(k)] = resets;
-        double* previous = previous_velocity_.data() + static_cast<std::size_t>(k * nodes_);
-        double* a = acceleration_.data() + static_cast<std::size_t>(k * nodes_);
-        // The panel's velocities as one array (TransverseNetwork::velocities: the values velocity(i)
-        // gives, without its call and switch per node), written into a and turned into accelerations
-        // in place.
-        canopy.panel(k).network.velocities(a);
-        for (int i = 0; i < nodes_; ++i) {
-            const double v = a[i];
-            a[i] = (v - (restarted ? 0.0 : previous[i])) * inverse_dt_;
-            previous[i] = v;
-        }
     }
-    radiator_.process(acceleration_.data(), sums_.data());
+    // Every panel's velocities in one pass (the lanes' own layout), then every acceleration in another.
+    canopy.velocities(velocity_.data());
+    accelerations(velocity_.size(), velocity_.data(), previous_velocity_.data(), inverse_dt_, radiator_.inputs());
+    radiator_.process_inputs(sums_.data());
     const int channels = layout_.channels();
     for (int c = 0; c < channels; ++c) {
         const double* row = sums_.data() + static_cast<std::size_t>(layout_.channel_point[static_cast<std::size_t>(c)] * panels_);

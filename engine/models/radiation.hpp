@@ -21,6 +21,11 @@
 //
 //   RayleighRadiator r(elements, points, groups, T);  // the sum itself, for any set of elements
 //   r.process(accelerations, out);                    // out[point * groups + group], Pa
+//   r.read_inputs_at(index, length);                  // build phase: process() then reads element e's
+//                                                     // acceleration at accelerations[index[e]] of
+//                                                     // length (the canopy's node-major lanes)
+//   r.inputs(), r.process_inputs(out)                 // the same, the caller writing the (finite)
+//                                                     // inputs in place: no copy
 //
 // Far field (the seed's future work, section 6): the Rayleigh integral (Rayleigh's first integral;
 // Kinsler et al., Fundamentals of Acoustics, 4th ed., section 7.4) gives the pressure radiated into the
@@ -108,6 +113,14 @@ public:
     // One sample: accelerations[e] (m/s^2, along element e's normal); out[point * groups + group] (Pa)
     // is overwritten. Non-finite accelerations count as 0.
     void process(const double* accelerations, double* out);
+    // Build phase (allocates): element e's input is accelerations[index[e]], 0 <= index[e] < length, the
+    // entries no element reads being ignored; the taps, their order and the sums are unchanged.
+    void read_inputs_at(const std::vector<std::int32_t>& index, int length);
+    // process() without its copy: the caller has written this sample's accelerations, every one finite
+    // (non-finite ones as 0), into inputs()[0 .. input_count()) in the input layout. Never allocates.
+    double* inputs() { return input_.data(); }
+    int input_count() const { return static_cast<int>(input_.size()); }
+    void process_inputs(double* out);
     void reset();   // clears the pending pressures: silence until the next non-zero input
 
     int element_count() const { return elements_; }
@@ -131,7 +144,8 @@ private:
     // one tap is one two-wide multiply-add on two adjacent doubles.
     std::vector<std::int32_t> source_, target_;
     std::vector<double> weights_;       // [2 (point * elements + t)], [... + 1]
-    std::vector<double> input_;         // this sample's accelerations, caller's order, non-finite: 0
+    std::vector<double> input_;         // this sample's accelerations, caller's order (or the layout
+                                        // read_inputs_at() gave), non-finite: 0
     // Future pressures, one row of row_ = 2 run_ + 8 samples per (point, group); now_ runs from 0 to
     // run_ - 1 and taps reach at most span_ (the longest floor(D) + 1 < run_) samples ahead, so they
     // stay inside the row without a wrap-around mask; when now_ reaches run_, the span_ samples ahead
@@ -174,8 +188,9 @@ private:
     ListenerLayout layout_;
     RayleighRadiator radiator_;
     double inverse_dt_ = 0.0;
-    int panels_ = 0, nodes_ = 0;
-    std::vector<double> previous_velocity_, acceleration_, sums_;
+    int panels_ = 0, nodes_ = 0, lanes_ = 0;
+    // The canopy's node-major layout (Canopy::velocities): [node * lanes_ + panel], padding lanes unread.
+    std::vector<double> velocity_, previous_velocity_, sums_;
     std::vector<double> flat_gain_;                 // [channel * panels + panel]
     std::vector<std::uint64_t> resets_seen_;        // per panel: the guard's reset count at the last sample
 };
