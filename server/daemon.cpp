@@ -874,7 +874,8 @@ int Daemon::run() {
     State& s = *state_;
     rt::init_probe();
     if (!s.choose_backend()) return 1;
-    if (!s.build_scene()) return 1;
+    // The ports first: a port in use is reported at once, not after the scene's seconds of building.
+    // Nothing is read from them before io.run(); what arrives meanwhile waits in the kernel's buffers.
     try {
         s.udp = std::make_unique<UdpEndpoint>(s.io, s.options.bind, s.options.port,
                                               [&s](std::span<const UdpEndpoint::Datagram> batch) { s.on_udp_batch(batch); });
@@ -911,6 +912,7 @@ int Daemon::run() {
             return 1;
         }
     }
+    if (!s.build_scene()) return 1;
     const auto local = s.udp->local_endpoint();
     if (!local.address().is_loopback())
         warn("listening on " + local.address().to_string() + ", reachable from other machines (--bind)");

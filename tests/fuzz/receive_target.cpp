@@ -102,7 +102,11 @@ void apply(ServerState& s, const DecodedMessage& m, const Request& r) {
             break;
         }
         case Action::status:
-        case Action::quit: break;
+        case Action::query:
+        case Action::notify:
+        case Action::version:
+        case Action::reply_port:
+        case Action::quit: break;   // they change no scene
     }
     // A message the server accepted keeps a valid scene valid: otherwise /scene/save and every later
     // scene edit would be refused for a reason the client never caused.
