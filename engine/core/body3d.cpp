@@ -122,6 +122,7 @@ void Body3D::clear() {
     event_count_ = 0;
     last_energy_ = 0.0;
     last_position_sum_ = 0.0;
+    lowest_z_ = -std::numeric_limits<double>::infinity();
     resets_ = 0;
     dropped_breaks_ = 0;
     sub_dt_ = 0.0;
@@ -216,6 +217,7 @@ const Body3DStability& Body3D::finalize(double time_step_s, int forced_sub_steps
     // Below 16 masses the kernels' fixed cost outweighs their gain (a 2 mm drop, 7 masses: 0.29 us
     // against the scalar 0.20 us); either step gives the same bits.
     use_avx2_ = !portable_kernels_ && n >= 16 && cpu_has_avx2();
+    lowest_z_ = -std::numeric_limits<double>::infinity();
     finalized_ = true;
     return stability_;
 }
@@ -295,6 +297,7 @@ void Body3D::set_position(int mass, Vec3 p) {
     py_[i] = p.y - sub_dt_ * v.y;
     pz_[i] = p.z - sub_dt_ * v.z;
     next_bound_fresh_ = false;   // the sparse pass measures its bound again (sub_step_avx2())
+    lowest_z_ = -std::numeric_limits<double>::infinity();   // unknown until the next step
 }
 
 void Body3D::set_velocity(int mass, Vec3 v) {
@@ -323,6 +326,7 @@ void Body3D::reset() {
     event_count_ = 0;
     last_energy_ = 0.0;
     last_position_sum_ = 0.0;
+    lowest_z_ = -std::numeric_limits<double>::infinity();
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -763,7 +767,7 @@ AMEOTO_INLINE double approach_bound2(const StepView& view) {
 // order. Adds the new coordinates to sum in mass order. Fixed points have 1/m = 0 and zero velocity,
 // so both schemes leave them in place.
 template <int Count, bool Track>
-AMEOTO_INLINE void update_group(const StepView& s, std::size_t i, v4d& sum, DisplacementRange4& range) {
+AMEOTO_INLINE void update_group(const StepView& s, std::size_t i, v4d& sum, v4d& lowest, DisplacementRange4& range) {
     v4d fx = loadn(s.fx + i, Count), fy = loadn(s.fy + i, Count), fz = loadn(s.fz + i, Count);
     if (s.slots) {
         v4d f0, f1, f2, f3;
@@ -809,28 +813,40 @@ AMEOTO_INLINE void update_group(const StepView& s, std::size_t i, v4d& sum, Disp
     // Lane k sums the masses i = k mod 4 (the scalar step's sum[i % 4]); the lanes past Count add
     // 0 + 0 + 0 = +0, which leaves a lane unchanged (a lane starts at +0 and never becomes -0).
     sum += nx + ny + nz;
+    // The lowest z (Body3D::lowest_z()): min is exact, so the scalar step's min gives the same value. The
+    // lanes past Count hold 0, not a mass: +infinity there.
+    if constexpr (Count == 4) {
+        lowest = _mm256_min_pd(lowest, nz);
+    } else {
+        const v4d inf = splat(std::numeric_limits<double>::infinity());
+        const v4d tail = {0.0, Count > 1 ? 0.0 : 1.0, Count > 2 ? 0.0 : 1.0, 1.0};   // 1: a lane past Count
+        lowest = _mm256_min_pd(lowest, tail != splat(0.0) ? inf : nz);
+    }
     // The sparse pass's next approach bound (approach_bound2() on the positions just written; the
     // tail's empty lanes are 0 - 0).
     if constexpr (Track)
         range.take(nx - loadn(s.listed_x + i, Count), ny - loadn(s.listed_y + i, Count), nz - loadn(s.listed_z + i, Count));
 }
 
-// Returns the coordinates' sum; with Track, also the approach bound of the positions written (bound2).
+// Returns the coordinates' sum and sets lowest_z (the lowest new z); with Track, also the approach bound
+// of the positions written (bound2).
 template <bool Track>
-AMEOTO_INLINE double update(const StepView& view, double& bound2) {
+AMEOTO_INLINE double update(const StepView& view, double& lowest_z, double& bound2) {
     const StepView s = view;
     v4d sum = splat(0.0);
+    v4d lowest = splat(std::numeric_limits<double>::infinity());
     DisplacementRange4 range;
     if constexpr (Track) range.clear();
     std::size_t i = 0;
-    for (; i + 4 <= s.n; i += 4) update_group<4, Track>(s, i, sum, range);
+    for (; i + 4 <= s.n; i += 4) update_group<4, Track>(s, i, sum, lowest, range);
     switch (s.n - i) {
-        case 3: update_group<3, Track>(s, i, sum, range); break;
-        case 2: update_group<2, Track>(s, i, sum, range); break;
-        case 1: update_group<1, Track>(s, i, sum, range); break;
+        case 3: update_group<3, Track>(s, i, sum, lowest, range); break;
+        case 2: update_group<2, Track>(s, i, sum, lowest, range); break;
+        case 1: update_group<1, Track>(s, i, sum, lowest, range); break;
         default: break;
     }
     if constexpr (Track) bound2 = range.bound2();
+    lowest_z = std::min(std::min(lowest[0], lowest[1]), std::min(lowest[2], lowest[3]));
     return ((sum[0] + sum[1]) + sum[2]) + sum[3];
 }
 
@@ -842,11 +858,13 @@ double dense_links_avx2(const StepView& s) { return dense_links(s); }
 double sparse_links_avx2(const StepView& s) { return sparse_links(s); }
 std::size_t list_candidates_avx2(const StepView& s) { return list_candidates(s); }
 double approach_bound2_avx2(const StepView& s) { return approach_bound2(s); }
-double update_avx2(const StepView& s) {
+double update_avx2(const StepView& s, double& lowest_z) {
     double unused = 0.0;
-    return update<false>(s, unused);
+    return update<false>(s, lowest_z, unused);
 }
-double update_tracking_avx2(const StepView& s, double& bound2) { return update<true>(s, bound2); }
+double update_tracking_avx2(const StepView& s, double& lowest_z, double& bound2) {
+    return update<true>(s, lowest_z, bound2);
+}
 
 }  // namespace
 
@@ -963,7 +981,7 @@ void Body3D::sub_step_avx2(int index) {
     }
     last_energy_ = s.energy ? 0.5 * (kinetic2 + elastic2) : 0.0;
     const bool sparse = uniform_cohesive_ && !s.slots;
-    last_position_sum_ = sparse ? update_tracking_avx2(s, next_bound2_) : update_avx2(s);
+    last_position_sum_ = sparse ? update_tracking_avx2(s, lowest_z_, next_bound2_) : update_avx2(s, lowest_z_);
     next_bound_fresh_ = sparse;
 }
 
@@ -1023,6 +1041,7 @@ void Body3D::sub_step_baseline(int index) {
     // 3. Update. Fixed points have 1/m = 0 and zero velocity, so both schemes leave them in place.
     // The coordinates' sum for the guard in four partial sums, sum[i % 4] (the AVX2 step's lanes).
     double sum[4] = {0.0, 0.0, 0.0, 0.0};
+    double lowest = std::numeric_limits<double>::infinity();
     if (cordis) {
         // Position Verlet: x[n+1] = 2 x[n] - x[n-1] + T^2 F / m.
         const double dt2 = dt * dt;
@@ -1037,6 +1056,7 @@ void Body3D::sub_step_baseline(int index) {
             y[i] = ny;
             z[i] = nz;
             sum[i % 4] += nx + ny + nz;
+            lowest = std::min(lowest, nz);
         }
     } else {
         // Symplectic Euler: v += T F / m, then x += T v with the new v.
@@ -1051,9 +1071,11 @@ void Body3D::sub_step_baseline(int index) {
             y[i] += dt * vy[i];
             z[i] += dt * vz[i];
             sum[i % 4] += x[i] + y[i] + z[i];
+            lowest = std::min(lowest, z[i]);
         }
     }
     last_position_sum_ = ((sum[0] + sum[1]) + sum[2]) + sum[3];
+    lowest_z_ = lowest;
 }
 
 double Body3D::uniform_cohesive_links(int index) {

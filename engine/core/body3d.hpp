@@ -27,6 +27,7 @@
 //   body.set_position(m, p); body.set_velocity(m, v); body.reset();
 //   body.position(m), velocity(m), momentum(), energy(), resets(), link_broken(l), stability(),
 //   body.positions()                                          // .x .y .z: every mass's coordinates
+//   body.lowest_z()                                           // the lowest mass's z after the last step
 //   linear_drag(m), quadratic_drag(m) ...
 //   body.set_portable_kernels(true);                          // the scalar step even on AVX2 (tests)
 //   body.avx2_kernels();                                      // which code finalize() picked
@@ -219,6 +220,11 @@ public:
         const double *x, *y, *z;
     };
     Coordinates positions() const { return {x_.data(), y_.data(), z_.data()}; }
+    // The lowest z of any mass (fixed points included) as the last step() left them, measured by its
+    // update (no pass of its own; the same value on either step), for a broad phase that skips a whole
+    // body at once (drop_on_canopy.cpp). -infinity (unknown: skip nothing) after finalize(), reset(),
+    // set_position(), or a step the guard reset.
+    double lowest_z() const { return lowest_z_; }
     double mass(int m) const { return mass_[idx(m)]; }   // 0 for a fixed point
     double linear_drag(int m) const { return linear_drag_[idx(m)]; }
     double quadratic_drag(int m) const { return quadratic_drag_[idx(m)]; }
@@ -307,6 +313,7 @@ private:
     double sub_dt_ = 0.0;
     double last_energy_ = 0.0;       // measured during the last sub-step, for the guard
     double last_position_sum_ = 0.0; // sum of all coordinates after the last sub-step (finite check)
+    double lowest_z_ = -std::numeric_limits<double>::infinity();   // lowest_z()
     long resets_ = 0;
     long dropped_breaks_ = 0;
     bool finalized_ = false;

@@ -200,22 +200,26 @@ void DropOnCanopy::collide() {
     double below = band_below;
     const double per_normal = (1.0 + 1e-9) / rim_normal_z_;   // vertical per normal distance, rounded up
     const double skin = collider_.options().skin_m, t = collider_.time_step();
-    const bool read = near_masses_ >= 16 || displaced_ || unread_steps_ >= 255;
     bool have_u = false;
     double u_max = 0.0, above = top_ + reach_;
+    if ((near_masses_ >= 16 || displaced_ || unread_steps_ >= 255) && !pool_.active().empty()) {
+        const DisplacementRange u = canopy_.displacement_range();
+        u_max = u.highest;
+        above = top_ + std::max(u_max, 0.0) * per_normal + 1e-12;
+        below = band_below - std::max(-u.lowest, 0.0) * per_normal;
+        displaced_ = !(std::max(u.highest, -u.lowest) <= 0.25 * 0.05);
+        have_u = true;
+    }
+    const double band_top = top_ + reach_;
+    // A mass higher than this is neither looked up (it is over `above`) nor counted as near (over the
+    // band): one comparison for most of a splash's masses in flight; a drop whose lowest mass is over it
+    // is skipped whole.
+    const double high = std::max(above, band_top);
     int near = 0;
     // One mass: the checks below, then collide_one. Called with the mass's position as the pool gives it.
     auto visit = [&](int d, int m, const Vec3 p) {
         if (p.x * p.x + p.y * p.y > r2_max) return;
-        if (read && !have_u) {
-            const DisplacementRange u = canopy_.displacement_range();
-            u_max = u.highest;
-            above = top_ + std::max(u_max, 0.0) * per_normal + 1e-12;
-            below = band_below - std::max(-u.lowest, 0.0) * per_normal;
-            displaced_ = !(std::max(u.highest, -u.lowest) <= 0.25 * 0.05);
-            have_u = true;
-        }
-        if (p.z <= top_ + reach_ && p.z >= band_below) ++near;
+        if (p.z <= band_top && p.z >= band_below) ++near;
         if (p.z > above) return;
         if (have_u) {
             const double a = flat ? p.z : (p.z - canopy_.rest_height(p.x, p.y)) * canopy_.surface_normal(p.x, p.y).z;
@@ -231,16 +235,21 @@ void DropOnCanopy::collide() {
         }
     };
     for (const int d : pool_.active()) {
+        if (pool_.lowest_z(d) > high) continue;   // Body3D::lowest_z(): measured by the drop's last step
         const int n = pool_.mass_count(d);
         if (pool_.dormant(d)) {   // its body holds the positions at spawn: the pool adds the shift
-            for (int m = 0; m < n; ++m) visit(d, m, pool_.position(d, m));
+            for (int m = 0; m < n; ++m) {
+                const Vec3 p = pool_.position(d, m);
+                if (!(p.z > high)) visit(d, m, p);
+            }
             continue;
         }
         // Awake: the body's coordinate arrays (pool_.position(d, m) is position(m) of this same body;
         // body() wakes only a dormant drop, and apply_force only adds to the external forces, so the
         // arrays stay valid through the loop). A call per mass cost about as much as the checks.
         const Body3D::Coordinates c = pool_.body(d).positions();
-        for (int m = 0; m < n; ++m) visit(d, m, Vec3{c.x[m], c.y[m], c.z[m]});
+        for (int m = 0; m < n; ++m)
+            if (!(c.z[m] > high)) visit(d, m, Vec3{c.x[m], c.y[m], c.z[m]});
     }
     near_masses_ = near;
     unread_steps_ = have_u ? 0 : std::min(unread_steps_ + 1, 255);
