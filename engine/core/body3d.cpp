@@ -282,6 +282,7 @@ bool Body3D::set_integrator(Integrator integrator) {
 
 void Body3D::apply_force(int mass, Vec3 f) {
     const auto i = idx(mass);
+    external_forces_ = true;
     ex_[i] += f.x;
     ey_[i] += f.y;
     ez_[i] += f.z;
@@ -1234,7 +1235,12 @@ bool Body3D::step() {
     event_count_ = 0;
     if (!finalized_) return false;   // built or changed since finalize(): nothing is sized to run
     for (int s = 0; s < stability_.sub_steps; ++s) sub_step(s);
-    for (auto* a : {&ex_, &ey_, &ez_}) std::fill(a->begin(), a->end(), 0.0);
+    // Held for this step only. Cleared only if apply_force() was called since the last clearing (collisions
+    // touch a drop for a few steps of its life): otherwise they are all +0.0 already.
+    if (external_forces_) {
+        for (auto* a : {&ex_, &ey_, &ez_}) std::fill(a->begin(), a->end(), 0.0);
+        external_forces_ = false;
+    }
     // The guard: a NaN or Inf anywhere reaches the position sum (or the energy); the limit catches a
     // blow-up before it overflows.
     if (!std::isfinite(last_position_sum_) || !std::isfinite(last_energy_) || last_energy_ > energy_limit_) {

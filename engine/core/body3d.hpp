@@ -314,6 +314,7 @@ private:
     double last_energy_ = 0.0;       // measured during the last sub-step, for the guard
     double last_position_sum_ = 0.0; // sum of all coordinates after the last sub-step (finite check)
     double lowest_z_ = -std::numeric_limits<double>::infinity();   // lowest_z()
+    bool external_forces_ = false;   // apply_force() since ex_, ey_, ez_ were last cleared
     long resets_ = 0;
     long dropped_breaks_ = 0;
     bool finalized_ = false;
