@@ -235,7 +235,10 @@ void DropOnCanopy::collide() {
         }
     };
     for (const int d : pool_.active()) {
-        if (pool_.lowest_z(d) > high) continue;   // Body3D::lowest_z(): measured by the drop's last step
+        if (pool_.lowest_z(d) > high) {   // Body3D::lowest_z(): measured by the drop's last step
+            ++drops_passed_over_;
+            continue;
+        }
         const int n = pool_.mass_count(d);
         if (pool_.dormant(d)) {   // its body holds the positions at spawn: the pool adds the shift
             for (int m = 0; m < n; ++m) {
@@ -284,6 +287,7 @@ DropOnCanopyStats DropOnCanopy::stats() const {
     s.breakups = p.breakups;
     s.link_breaks = p.link_breaks;
     s.collisions = collider_.collisions();
+    s.drops_passed_over = drops_passed_over_;
     s.canopy_resets = canopy_resets_;
     s.frames = frames_;
     return s;

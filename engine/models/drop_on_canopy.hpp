@@ -105,6 +105,7 @@ struct DropOnCanopyStats {
     long breakups = 0;              // pieces gained (DropPoolStats::breakups)
     long link_breaks = 0;
     std::uint64_t collisions = 0;   // drop mass / membrane mass collisions so far
+    std::uint64_t drops_passed_over = 0;   // drops the collision broad phase skipped whole (per step)
     long canopy_resets = 0;         // panels reset by the guard (never expected)
     std::uint64_t frames = 0;       // samples processed
 };
@@ -165,6 +166,7 @@ private:
     int near_masses_ = 0;         // masses in the band last step   } when collide() reads the
     int unread_steps_ = 0;        // steps since it read u           } membrane's displacement
     bool displaced_ = false;      // |u| beyond a quarter of the band at that reading
+    std::uint64_t drops_passed_over_ = 0;   // stats()
 };
 
 }  // namespace ameoto
