@@ -434,7 +434,10 @@ struct StepView {
 // 1. Velocities (CORDIS: backward difference) and mass-local forces: external, gravity, drag; for the
 // uniform pass also the mirror (position and velocity as one 64-byte row per mass: a link reads each
 // end with two loads). Adds m v^2 to kinetic2 in mass order.
-template <int Count>
+// External: apply_force() was called this step (s.ex set). Otherwise every external force is +0.0 and
+// +0.0 stands in for its load (0.0 + m g is still added, as the scalar step adds ex = +0.0: the same bits,
+// -0.0 included), which frees three of the loop's many pointers.
+template <int Count, bool External>
 AMEOTO_INLINE void forces_group(const StepView& s, std::size_t i, double& kinetic2) {
     v4d vx, vy, vz;
     if (s.cordis) {
@@ -453,9 +456,12 @@ AMEOTO_INLINE void forces_group(const StepView& s, std::size_t i, double& kineti
     const v4d v2 = vx * vx + vy * vy + vz * vz;
     const v4d drag = loadn(s.lin + i, Count) + loadn(s.quad + i, Count) * vsqrt(v2);   // -(c + b |v|) v
     const v4d m = loadn(s.m + i, Count);
-    storen(s.fx + i, loadn(s.ex + i, Count) + m * splat(s.gx) - drag * vx, Count);
-    storen(s.fy + i, loadn(s.ey + i, Count) + m * splat(s.gy) - drag * vy, Count);
-    storen(s.fz + i, loadn(s.ez + i, Count) + m * splat(s.gz) - drag * vz, Count);
+    const v4d ex = External ? loadn(s.ex + i, Count) : splat(0.0);
+    const v4d ey = External ? loadn(s.ey + i, Count) : splat(0.0);
+    const v4d ez = External ? loadn(s.ez + i, Count) : splat(0.0);
+    storen(s.fx + i, ex + m * splat(s.gx) - drag * vx, Count);
+    storen(s.fy + i, ey + m * splat(s.gy) - drag * vy, Count);
+    storen(s.fz + i, ez + m * splat(s.gz) - drag * vz, Count);
     if (s.energy) {
         const v4d mv2 = m * v2;
         for (int k = 0; k < Count; ++k) kinetic2 += mv2[k];
@@ -476,15 +482,16 @@ AMEOTO_INLINE void forces_group(const StepView& s, std::size_t i, double& kineti
     }
 }
 
+template <bool External>
 AMEOTO_INLINE double forces(const StepView& view) {
     const StepView s = view;
     double kinetic2 = 0.0;   // twice the kinetic energy
     std::size_t i = 0;
-    for (; i + 4 <= s.n; i += 4) forces_group<4>(s, i, kinetic2);
+    for (; i + 4 <= s.n; i += 4) forces_group<4, External>(s, i, kinetic2);
     switch (s.n - i) {
-        case 3: forces_group<3>(s, i, kinetic2); break;
-        case 2: forces_group<2>(s, i, kinetic2); break;
-        case 1: forces_group<1>(s, i, kinetic2); break;
+        case 3: forces_group<3, External>(s, i, kinetic2); break;
+        case 2: forces_group<2, External>(s, i, kinetic2); break;
+        case 1: forces_group<1, External>(s, i, kinetic2); break;
         default: break;
     }
     return kinetic2;
@@ -706,11 +713,9 @@ AMEOTO_INLINE std::size_t list_candidates(const StepView& view) {
         case 1: list_group<1>(s, l, count); break;
         default: break;
     }
-    for (std::size_t i = 0; i < s.n; ++i) {
-        s.listed_x[i] = s.x[i];
-        s.listed_y[i] = s.y[i];
-        s.listed_z[i] = s.z[i];
-    }
+    __builtin_memcpy(s.listed_x, s.x, s.n * sizeof(double));
+    __builtin_memcpy(s.listed_y, s.y, s.n * sizeof(double));
+    __builtin_memcpy(s.listed_z, s.z, s.n * sizeof(double));
     return count;
 }
 
@@ -854,7 +859,7 @@ AMEOTO_INLINE double update(const StepView& view, double& lowest_z, double& boun
 #undef AMEOTO_INLINE
 
 // The kernels as functions of their own (AVX2 code: called only where finalize() found AVX2).
-double forces_avx2(const StepView& s) { return forces(s); }
+double forces_avx2(const StepView& s) { return s.ex ? forces<true>(s) : forces<false>(s); }
 double dense_links_avx2(const StepView& s) { return dense_links(s); }
 double sparse_links_avx2(const StepView& s) { return sparse_links(s); }
 std::size_t list_candidates_avx2(const StepView& s) { return list_candidates(s); }
@@ -904,9 +909,10 @@ void Body3D::sub_step_avx2(int index) {
     s.fx = fx_.data();
     s.fy = fy_.data();
     s.fz = fz_.data();
-    s.ex = ex_.data();
-    s.ey = ey_.data();
-    s.ez = ez_.data();
+    // Null: no apply_force() this step, every external force is +0.0 (forces_group()).
+    s.ex = external_forces_ ? ex_.data() : nullptr;
+    s.ey = external_forces_ ? ey_.data() : nullptr;
+    s.ez = external_forces_ ? ez_.data() : nullptr;
     s.m = mass_.data();
     s.inv_m = inv_mass_.data();
     s.lin = linear_drag_.data();
