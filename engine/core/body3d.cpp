@@ -730,8 +730,10 @@ struct DisplacementRange4 {
         bad = v4m{0, 0, 0, 0};
     }
     // dx, dy, dz: displacements since listing (lanes past an array's tail: 0, a displacement of 0).
+    // Without NaN: the caller knows otherwise whether one was NaN (update(): see there).
+    template <bool NoteNaN = true>
     AMEOTO_INLINE void take(const v4d& dx, const v4d& dy, const v4d& dz) {
-        bad |= (dx != dx) | (dy != dy) | (dz != dz);
+        if constexpr (NoteNaN) bad |= (dx != dx) | (dy != dy) | (dz != dz);
         lo_x = _mm256_min_pd(lo_x, dx);
         lo_y = _mm256_min_pd(lo_y, dy);
         lo_z = _mm256_min_pd(lo_z, dz);
@@ -831,7 +833,8 @@ AMEOTO_INLINE void update_group(const StepView& s, std::size_t i, v4d& sum, v4d&
     // The sparse pass's next approach bound (approach_bound2() on the positions just written; the
     // tail's empty lanes are 0 - 0).
     if constexpr (Track)
-        range.take(nx - loadn(s.listed_x + i, Count), ny - loadn(s.listed_y + i, Count), nz - loadn(s.listed_z + i, Count));
+        range.template take<false>(nx - loadn(s.listed_x + i, Count), ny - loadn(s.listed_y + i, Count),
+                                   nz - loadn(s.listed_z + i, Count));
 }
 
 // Returns the coordinates' sum and sets lowest_z (the lowest new z); with Track, also the approach bound
@@ -851,9 +854,13 @@ AMEOTO_INLINE double update(const StepView& view, double& lowest_z, double& boun
         case 1: update_group<1, Track>(s, i, sum, lowest, range); break;
         default: break;
     }
-    if constexpr (Track) bound2 = range.bound2();
+    // A displacement is NaN only if a position written or listed is not finite, and a coordinate that is
+    // not finite never becomes finite again (x + T v, 2 x - x[n-1] + ...), so then the sum is not finite
+    // either: the sum stands for the NaN mask (fewer registers in the loop).
+    const double total = ((sum[0] + sum[1]) + sum[2]) + sum[3];
+    if constexpr (Track) bound2 = std::isfinite(total) ? range.bound2() : std::numeric_limits<double>::quiet_NaN();
     lowest_z = std::min(std::min(lowest[0], lowest[1]), std::min(lowest[2], lowest[3]));
-    return ((sum[0] + sum[1]) + sum[2]) + sum[3];
+    return total;
 }
 
 #undef AMEOTO_INLINE
