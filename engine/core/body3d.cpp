@@ -103,6 +103,7 @@ void Body3D::reserve(int masses, int links) {
     degree_.reserve(m);
     link_ends_.reserve(2 * l);
     candidates_.reserve(l);
+    near_links_.reserve(l);
     for (auto* a : {&listed_x_, &listed_y_, &listed_z_}) a->reserve(m);
 }
 
@@ -253,6 +254,9 @@ void Body3D::build_link_scratch() {
         link_ends_[2 * l + 1] = 8 * link_b_[l];
     }
     candidates_.assign(links, 0);
+    near_links_.assign(links, 0);
+    near_link_count_ = 0;
+    far_travel_ = 0.0;
     for (auto* a : {&listed_x_, &listed_y_, &listed_z_}) a->assign(n, 0.0);
     candidates_valid_ = false;
     next_bound_fresh_ = false;
@@ -418,6 +422,9 @@ struct StepView {
     const std::int32_t* slot_start;
     std::int32_t* candidates;       // the sparse pass's links
     std::size_t candidate_count;
+    std::int32_t* near_links;       // the links a partial listing looks at (list_candidates())
+    std::size_t* near_link_count;
+    double far;                     // ... a full listing leaves out broken links at least this long
     double near;                    // a broken link is listed if its masses are closer than this
     double *listed_x, *listed_y, *listed_z;   // positions when listed
     const std::int32_t *la, *lb;
@@ -688,30 +695,54 @@ AMEOTO_INLINE double sparse_links(const StepView& view) {
 
 // The sparse pass's candidates: the bonded links and the broken ones whose masses are closer than
 // s.near (core length + margin), in link order; and the positions they were listed at. Returns how many.
-template <int Count>
-AMEOTO_INLINE void list_group(const StepView& s, std::size_t first, std::size_t& count) {
-    const LaneLinks g = consecutive_links<Count>(first);
-    const int gone_lanes = gone_bits<Count>(s, g, true);
-    int keep = ~gone_lanes;
+// A full listing looks at every link and also keeps, in link order, the bonded links and the broken ones
+// closer than s.far (core length + a wider margin: s.near_links); a partial one looks at those only
+// (sub_step_avx2() says when a partial one suffices).
+template <int Count, bool Full>
+AMEOTO_INLINE void list_group(const StepView& s, const LaneLinks& g, std::size_t& count, std::size_t& near_count) {
+    const int gone_lanes = gone_bits<Count>(s, g, Full);   // a full listing's groups are consecutive links
+    int keep = ~gone_lanes, near = ~gone_lanes;
     if (gone_lanes != 0) {
         v4d dx, dy, dz;
         link_offsets<Count>(s, g, 0, dx, dy, dz);
-        keep |= lane_bits(~(dx * dx + dy * dy + dz * dz >= splat(s.near * s.near)));   // NaN: kept
+        const v4d length2 = dx * dx + dy * dy + dz * dz;
+        keep |= lane_bits(~(length2 >= splat(s.near * s.near)));   // NaN: kept
+        if constexpr (Full) near |= lane_bits(~(length2 >= splat(s.far * s.far)));
     }
     for (int k = 0; k < Count; ++k) {
-        if (keep & (1 << k)) s.candidates[count++] = static_cast<std::int32_t>(first + static_cast<std::size_t>(k));
+        if (keep & (1 << k)) s.candidates[count++] = static_cast<std::int32_t>(g.l[k]);
+    }
+    if constexpr (Full) {
+        for (int k = 0; k < Count; ++k) {
+            if (near & (1 << k)) s.near_links[near_count++] = static_cast<std::int32_t>(g.l[k]);
+        }
     }
 }
 
+template <bool Full>
 AMEOTO_INLINE std::size_t list_candidates(const StepView& view) {
     const StepView s = view;
-    std::size_t count = 0, l = 0;
-    for (; l + 4 <= s.links; l += 4) list_group<4>(s, l, count);
-    switch (s.links - l) {
-        case 3: list_group<3>(s, l, count); break;
-        case 2: list_group<2>(s, l, count); break;
-        case 1: list_group<1>(s, l, count); break;
-        default: break;
+    std::size_t count = 0, near_count = 0;
+    if constexpr (Full) {
+        std::size_t l = 0;
+        for (; l + 4 <= s.links; l += 4) list_group<4, true>(s, consecutive_links<4>(l), count, near_count);
+        switch (s.links - l) {
+            case 3: list_group<3, true>(s, consecutive_links<3>(l), count, near_count); break;
+            case 2: list_group<2, true>(s, consecutive_links<2>(l), count, near_count); break;
+            case 1: list_group<1, true>(s, consecutive_links<1>(l), count, near_count); break;
+            default: break;
+        }
+        *s.near_link_count = near_count;
+    } else {
+        const std::size_t links = *s.near_link_count;
+        std::size_t j = 0;
+        for (; j + 4 <= links; j += 4) list_group<4, false>(s, listed_links<4>(s.near_links + j), count, near_count);
+        switch (links - j) {
+            case 3: list_group<3, false>(s, listed_links<3>(s.near_links + j), count, near_count); break;
+            case 2: list_group<2, false>(s, listed_links<2>(s.near_links + j), count, near_count); break;
+            case 1: list_group<1, false>(s, listed_links<1>(s.near_links + j), count, near_count); break;
+            default: break;
+        }
     }
     __builtin_memcpy(s.listed_x, s.x, s.n * sizeof(double));
     __builtin_memcpy(s.listed_y, s.y, s.n * sizeof(double));
@@ -869,7 +900,9 @@ AMEOTO_INLINE double update(const StepView& view, double& lowest_z, double& boun
 double forces_avx2(const StepView& s) { return s.ex ? forces<true>(s) : forces<false>(s); }
 double dense_links_avx2(const StepView& s) { return dense_links(s); }
 double sparse_links_avx2(const StepView& s) { return sparse_links(s); }
-std::size_t list_candidates_avx2(const StepView& s) { return list_candidates(s); }
+std::size_t list_candidates_avx2(const StepView& s, bool full) {
+    return full ? list_candidates<true>(s) : list_candidates<false>(s);
+}
 double approach_bound2_avx2(const StepView& s) { return approach_bound2(s); }
 double update_avx2(const StepView& s, double& lowest_z) {
     double unused = 0.0;
@@ -947,6 +980,9 @@ void Body3D::sub_step_avx2(int index) {
         s.listed_y = listed_y_.data();
         s.listed_z = listed_z_.data();
         s.near = core_length_[0] + 8.0 * rest_[0];
+        s.far = core_length_[0] + far_margin * rest_[0];
+        s.near_links = near_links_.data();
+        s.near_link_count = &near_link_count_;
         s.slot_start = slot_start_.data();
         s.la = link_a_.data();
         s.lb = link_b_.data();
@@ -982,12 +1018,24 @@ void Body3D::sub_step_avx2(int index) {
         // (Margin and bound measured on a shattered 5 mm drop: lists again about every 9 steps.)
         // The bound of the positions now: the last sparse sub-step's update measured it (fused, no pass
         // of its own), unless something has moved a mass since (set_position, reset, finalize).
+        // A partial listing (the links a full one found closer than core length + far_margin h: the
+        // bonded and the nearby broken ones) suffices while the others are still 8 h clear of the core:
+        // each listing's bound (the approach since the listing before) adds to far_travel_, which bounds
+        // the approach since the last full listing (the triangle inequality), and the next listing comes
+        // before a further 4 h; so a full listing when far_travel_ passes far_margin h - 8 h, leaving
+        // every link left out at least 4 h clear of its core, as above.
+        bool full = !candidates_valid_;   // invalidated (dense, reset, finalize): list everything
         if (candidates_valid_) {
             const double bound2 = next_bound_fresh_ ? next_bound2_ : approach_bound2_avx2(s);
-            if (!(bound2 < 16.0 * rest_[0] * rest_[0])) candidates_valid_ = false;
+            if (!(bound2 < 16.0 * rest_[0] * rest_[0])) {
+                candidates_valid_ = false;
+                far_travel_ += std::sqrt(bound2);   // NaN: a full listing
+                full = !(far_travel_ <= (far_margin - 8.0) * rest_[0]);
+            }
         }
         if (!candidates_valid_) {
-            candidate_count_ = list_candidates_avx2(s);
+            candidate_count_ = list_candidates_avx2(s, full);
+            if (full) far_travel_ = 0.0;
             candidates_valid_ = true;
         }
         s.candidate_count = candidate_count_;

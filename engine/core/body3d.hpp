@@ -295,6 +295,10 @@ private:
     std::vector<std::int32_t> degree_;           // per mass, build_link_scratch()'s count
     std::vector<std::int32_t> link_ends_;        // per link 8 a, 8 b: its masses' rows in the mirror
     std::vector<std::int32_t> candidates_;       // the sparse pass's links, in order (sub_step_avx2())
+    std::vector<std::int32_t> near_links_;       // what a partial listing looks at, in order
+    std::size_t near_link_count_ = 0;
+    double far_travel_ = 0.0;                    // m, the approach bound since the last full listing
+    static constexpr double far_margin = 32.0;   // h: a full listing's near links (sub_step_avx2())
     std::vector<double> listed_x_, listed_y_, listed_z_;   // the positions they were listed at
     std::size_t candidate_count_ = 0;
     bool candidates_valid_ = false;
