@@ -71,7 +71,10 @@
 //      within core length + 8 h (h: the rest length) when listed; the list is made again once any two
 //      masses may have approached by 4 h (bounded by the range of the masses' displacements since,
 //      which the sparse step's update measures for the next sub-step as it writes the positions), so
-//      every link left out is one the scalar pass skips (broken, core not touching);
+//      every link left out is one the scalar pass skips (broken, core not touching). A full listing
+//      looks at every link and keeps aside those within core length + 32 h (and the bonded ones); the
+//      listings after it look at those only, until the sum of the listings' bounds (which bounds the
+//      approach since the full listing) passes 24 h;
 //   3. per mass, four at a time: the dense pass's link forces, then the update.
 // A 5 mm drop per 48 kHz step, scalar -> AVX2 (docs/engine.md, "The drop"): awake 5.6 -> 3.1 us,
 // shattered 1.8 -> 0.81 us.

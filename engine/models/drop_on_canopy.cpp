@@ -187,9 +187,17 @@ int DropOnCanopy::guard() {
 // Reading u is a pass over every node (a call each, 400 for the default canopy: about what 16 lookups
 // cost, measured), so collide() reads it when it pays, when 16 or more masses were in the band the step
 // before (an impact, several drops); and, to watch the band's bound, at least every 256 steps while
-// masses are inside the rim, and every step while the last reading found |u| beyond a quarter of the
-// band (12.5 mm; or no finite node). The canopy does not move during collide() (it steps afterwards),
-// so a reading holds for the whole step. A node gone NaN is passed over by it and never collides.
+// drops are active, and every step while the last reading found |u| beyond a quarter of the band
+// (12.5 mm; or no finite node). It reads at the start of the step, so that every mass and drop is tested
+// against the same bounds. The canopy does not move during collide() (it steps afterwards), so a reading
+// holds for the whole step. A node gone NaN is passed over by it and never collides.
+// Most masses of a splash are in flight, over both the band and `above`: one comparison with the higher
+// of the two (`high`) passes each of them over, before the checks above (the same masses skipped: a
+// mass over `above` is turned away, and one over the band is not counted as near); and a drop whose
+// lowest mass (DropPool::lowest_z: Body3D::lowest_z(), which the drop's last step measured in its update,
+// or the dormant drop's lowest at spawn plus its shift) is over `high` is passed over whole, without a
+// look at its masses (counted in stats().drops_passed_over; the test against collide_drops requires
+// some).
 void DropOnCanopy::collide() {
     collider_.begin_step();
     contact_force_ = Vec3{};

@@ -32,7 +32,8 @@
 // membrane this step are not looked up: off the rim's circle, above the membrane's highest node (when
 // collide() has read the membrane's extremes: after an impact, or while it is far displaced), beyond a
 // 5 cm band around the rest cap otherwise, or below it by more than the band plus their own travel
-// (drop_on_canopy.cpp, collide(), gives the argument).
+// (drop_on_canopy.cpp, collide(), gives the argument); a whole drop whose lowest mass is above is passed
+// over at once (DropPool::lowest_z).
 //
 // Placement: drop() puts the drop's lowest mass gap_m (0.5 mm) above the rest surface at (x, y)
 // (DropPool::underside), moving straight down at `speed`, so it reaches the membrane within a few
