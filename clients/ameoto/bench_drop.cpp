@@ -91,7 +91,8 @@ int run_drop_bench(const BenchOptions& options, const CommandIo& io) {
                   at_once >= 16.0 ? "met" : "not met");
     io.out << line;
     io.out << "limit: the canopy's scalar link pass (8 panels x 120 links, about 2 ns a link), then each drop's per-mass "
-              "passes (drag's square root, update) and the collision scan; see docs/bench.md, \"ameoto bench drop\"\n";
+              "passes (drag's square root, update: all 122 masses every step, most of them single-mass pieces in flight) "
+              "and its sparse link pass; see docs/bench.md, \"ameoto bench drop\"\n";
     return exit_status::ok;
 }
 

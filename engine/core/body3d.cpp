@@ -103,6 +103,7 @@ void Body3D::reserve(int masses, int links) {
     degree_.reserve(m);
     link_ends_.reserve(2 * l);
     candidates_.reserve(l);
+    near_links_.reserve(l);
     for (auto* a : {&listed_x_, &listed_y_, &listed_z_}) a->reserve(m);
 }
 
@@ -122,6 +123,7 @@ void Body3D::clear() {
     event_count_ = 0;
     last_energy_ = 0.0;
     last_position_sum_ = 0.0;
+    lowest_z_ = -std::numeric_limits<double>::infinity();
     resets_ = 0;
     dropped_breaks_ = 0;
     sub_dt_ = 0.0;
@@ -216,6 +218,7 @@ const Body3DStability& Body3D::finalize(double time_step_s, int forced_sub_steps
     // Below 16 masses the kernels' fixed cost outweighs their gain (a 2 mm drop, 7 masses: 0.29 us
     // against the scalar 0.20 us); either step gives the same bits.
     use_avx2_ = !portable_kernels_ && n >= 16 && cpu_has_avx2();
+    lowest_z_ = -std::numeric_limits<double>::infinity();
     finalized_ = true;
     return stability_;
 }
@@ -251,6 +254,9 @@ void Body3D::build_link_scratch() {
         link_ends_[2 * l + 1] = 8 * link_b_[l];
     }
     candidates_.assign(links, 0);
+    near_links_.assign(links, 0);
+    near_link_count_ = 0;
+    far_travel_ = 0.0;
     for (auto* a : {&listed_x_, &listed_y_, &listed_z_}) a->assign(n, 0.0);
     candidates_valid_ = false;
     next_bound_fresh_ = false;
@@ -280,6 +286,7 @@ bool Body3D::set_integrator(Integrator integrator) {
 
 void Body3D::apply_force(int mass, Vec3 f) {
     const auto i = idx(mass);
+    external_forces_ = true;
     ex_[i] += f.x;
     ey_[i] += f.y;
     ez_[i] += f.z;
@@ -295,6 +302,7 @@ void Body3D::set_position(int mass, Vec3 p) {
     py_[i] = p.y - sub_dt_ * v.y;
     pz_[i] = p.z - sub_dt_ * v.z;
     next_bound_fresh_ = false;   // the sparse pass measures its bound again (sub_step_avx2())
+    lowest_z_ = -std::numeric_limits<double>::infinity();   // unknown until the next step
 }
 
 void Body3D::set_velocity(int mass, Vec3 v) {
@@ -323,6 +331,7 @@ void Body3D::reset() {
     event_count_ = 0;
     last_energy_ = 0.0;
     last_position_sum_ = 0.0;
+    lowest_z_ = -std::numeric_limits<double>::infinity();
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -413,6 +422,9 @@ struct StepView {
     const std::int32_t* slot_start;
     std::int32_t* candidates;       // the sparse pass's links
     std::size_t candidate_count;
+    std::int32_t* near_links;       // the links a partial listing looks at (list_candidates())
+    std::size_t* near_link_count;
+    double far;                     // ... a full listing leaves out broken links at least this long
     double near;                    // a broken link is listed if its masses are closer than this
     double *listed_x, *listed_y, *listed_z;   // positions when listed
     const std::int32_t *la, *lb;
@@ -429,7 +441,10 @@ struct StepView {
 // 1. Velocities (CORDIS: backward difference) and mass-local forces: external, gravity, drag; for the
 // uniform pass also the mirror (position and velocity as one 64-byte row per mass: a link reads each
 // end with two loads). Adds m v^2 to kinetic2 in mass order.
-template <int Count>
+// External: apply_force() was called this step (s.ex set). Otherwise every external force is +0.0 and
+// +0.0 stands in for its load (0.0 + m g is still added, as the scalar step adds ex = +0.0: the same bits,
+// -0.0 included), which frees three of the loop's many pointers.
+template <int Count, bool External>
 AMEOTO_INLINE void forces_group(const StepView& s, std::size_t i, double& kinetic2) {
     v4d vx, vy, vz;
     if (s.cordis) {
@@ -448,9 +463,12 @@ AMEOTO_INLINE void forces_group(const StepView& s, std::size_t i, double& kineti
     const v4d v2 = vx * vx + vy * vy + vz * vz;
     const v4d drag = loadn(s.lin + i, Count) + loadn(s.quad + i, Count) * vsqrt(v2);   // -(c + b |v|) v
     const v4d m = loadn(s.m + i, Count);
-    storen(s.fx + i, loadn(s.ex + i, Count) + m * splat(s.gx) - drag * vx, Count);
-    storen(s.fy + i, loadn(s.ey + i, Count) + m * splat(s.gy) - drag * vy, Count);
-    storen(s.fz + i, loadn(s.ez + i, Count) + m * splat(s.gz) - drag * vz, Count);
+    const v4d ex = External ? loadn(s.ex + i, Count) : splat(0.0);
+    const v4d ey = External ? loadn(s.ey + i, Count) : splat(0.0);
+    const v4d ez = External ? loadn(s.ez + i, Count) : splat(0.0);
+    storen(s.fx + i, ex + m * splat(s.gx) - drag * vx, Count);
+    storen(s.fy + i, ey + m * splat(s.gy) - drag * vy, Count);
+    storen(s.fz + i, ez + m * splat(s.gz) - drag * vz, Count);
     if (s.energy) {
         const v4d mv2 = m * v2;
         for (int k = 0; k < Count; ++k) kinetic2 += mv2[k];
@@ -471,15 +489,16 @@ AMEOTO_INLINE void forces_group(const StepView& s, std::size_t i, double& kineti
     }
 }
 
+template <bool External>
 AMEOTO_INLINE double forces(const StepView& view) {
     const StepView s = view;
     double kinetic2 = 0.0;   // twice the kinetic energy
     std::size_t i = 0;
-    for (; i + 4 <= s.n; i += 4) forces_group<4>(s, i, kinetic2);
+    for (; i + 4 <= s.n; i += 4) forces_group<4, External>(s, i, kinetic2);
     switch (s.n - i) {
-        case 3: forces_group<3>(s, i, kinetic2); break;
-        case 2: forces_group<2>(s, i, kinetic2); break;
-        case 1: forces_group<1>(s, i, kinetic2); break;
+        case 3: forces_group<3, External>(s, i, kinetic2); break;
+        case 2: forces_group<2, External>(s, i, kinetic2); break;
+        case 1: forces_group<1, External>(s, i, kinetic2); break;
         default: break;
     }
     return kinetic2;
@@ -676,36 +695,58 @@ AMEOTO_INLINE double sparse_links(const StepView& view) {
 
 // The sparse pass's candidates: the bonded links and the broken ones whose masses are closer than
 // s.near (core length + margin), in link order; and the positions they were listed at. Returns how many.
-template <int Count>
-AMEOTO_INLINE void list_group(const StepView& s, std::size_t first, std::size_t& count) {
-    const LaneLinks g = consecutive_links<Count>(first);
-    const int gone_lanes = gone_bits<Count>(s, g, true);
-    int keep = ~gone_lanes;
+// A full listing looks at every link and also keeps, in link order, the bonded links and the broken ones
+// closer than s.far (core length + a wider margin: s.near_links); a partial one looks at those only
+// (sub_step_avx2() says when a partial one suffices).
+template <int Count, bool Full>
+AMEOTO_INLINE void list_group(const StepView& s, const LaneLinks& g, std::size_t& count, std::size_t& near_count) {
+    const int gone_lanes = gone_bits<Count>(s, g, Full);   // a full listing's groups are consecutive links
+    int keep = ~gone_lanes, near = ~gone_lanes;
     if (gone_lanes != 0) {
         v4d dx, dy, dz;
         link_offsets<Count>(s, g, 0, dx, dy, dz);
-        keep |= lane_bits(~(dx * dx + dy * dy + dz * dz >= splat(s.near * s.near)));   // NaN: kept
+        const v4d length2 = dx * dx + dy * dy + dz * dz;
+        keep |= lane_bits(~(length2 >= splat(s.near * s.near)));   // NaN: kept
+        if constexpr (Full) near |= lane_bits(~(length2 >= splat(s.far * s.far)));
     }
     for (int k = 0; k < Count; ++k) {
-        if (keep & (1 << k)) s.candidates[count++] = static_cast<std::int32_t>(first + static_cast<std::size_t>(k));
+        if (keep & (1 << k)) s.candidates[count++] = static_cast<std::int32_t>(g.l[k]);
+    }
+    if constexpr (Full) {
+        for (int k = 0; k < Count; ++k) {
+            if (near & (1 << k)) s.near_links[near_count++] = static_cast<std::int32_t>(g.l[k]);
+        }
     }
 }
 
+template <bool Full>
 AMEOTO_INLINE std::size_t list_candidates(const StepView& view) {
     const StepView s = view;
-    std::size_t count = 0, l = 0;
-    for (; l + 4 <= s.links; l += 4) list_group<4>(s, l, count);
-    switch (s.links - l) {
-        case 3: list_group<3>(s, l, count); break;
-        case 2: list_group<2>(s, l, count); break;
-        case 1: list_group<1>(s, l, count); break;
-        default: break;
+    std::size_t count = 0, near_count = 0;
+    if constexpr (Full) {
+        std::size_t l = 0;
+        for (; l + 4 <= s.links; l += 4) list_group<4, true>(s, consecutive_links<4>(l), count, near_count);
+        switch (s.links - l) {
+            case 3: list_group<3, true>(s, consecutive_links<3>(l), count, near_count); break;
+            case 2: list_group<2, true>(s, consecutive_links<2>(l), count, near_count); break;
+            case 1: list_group<1, true>(s, consecutive_links<1>(l), count, near_count); break;
+            default: break;
+        }
+        *s.near_link_count = near_count;
+    } else {
+        const std::size_t links = *s.near_link_count;
+        std::size_t j = 0;
+        for (; j + 4 <= links; j += 4) list_group<4, false>(s, listed_links<4>(s.near_links + j), count, near_count);
+        switch (links - j) {
+            case 3: list_group<3, false>(s, listed_links<3>(s.near_links + j), count, near_count); break;
+            case 2: list_group<2, false>(s, listed_links<2>(s.near_links + j), count, near_count); break;
+            case 1: list_group<1, false>(s, listed_links<1>(s.near_links + j), count, near_count); break;
+            default: break;
+        }
     }
-    for (std::size_t i = 0; i < s.n; ++i) {
-        s.listed_x[i] = s.x[i];
-        s.listed_y[i] = s.y[i];
-        s.listed_z[i] = s.z[i];
-    }
+    __builtin_memcpy(s.listed_x, s.x, s.n * sizeof(double));
+    __builtin_memcpy(s.listed_y, s.y, s.n * sizeof(double));
+    __builtin_memcpy(s.listed_z, s.z, s.n * sizeof(double));
     return count;
 }
 
@@ -720,8 +761,10 @@ struct DisplacementRange4 {
         bad = v4m{0, 0, 0, 0};
     }
     // dx, dy, dz: displacements since listing (lanes past an array's tail: 0, a displacement of 0).
+    // Without NaN: the caller knows otherwise whether one was NaN (update(): see there).
+    template <bool NoteNaN = true>
     AMEOTO_INLINE void take(const v4d& dx, const v4d& dy, const v4d& dz) {
-        bad |= (dx != dx) | (dy != dy) | (dz != dz);
+        if constexpr (NoteNaN) bad |= (dx != dx) | (dy != dy) | (dz != dz);
         lo_x = _mm256_min_pd(lo_x, dx);
         lo_y = _mm256_min_pd(lo_y, dy);
         lo_z = _mm256_min_pd(lo_z, dz);
@@ -763,7 +806,7 @@ AMEOTO_INLINE double approach_bound2(const StepView& view) {
 // order. Adds the new coordinates to sum in mass order. Fixed points have 1/m = 0 and zero velocity,
 // so both schemes leave them in place.
 template <int Count, bool Track>
-AMEOTO_INLINE void update_group(const StepView& s, std::size_t i, v4d& sum, DisplacementRange4& range) {
+AMEOTO_INLINE void update_group(const StepView& s, std::size_t i, v4d& sum, v4d& lowest, DisplacementRange4& range) {
     v4d fx = loadn(s.fx + i, Count), fy = loadn(s.fy + i, Count), fz = loadn(s.fz + i, Count);
     if (s.slots) {
         v4d f0, f1, f2, f3;
@@ -809,44 +852,65 @@ AMEOTO_INLINE void update_group(const StepView& s, std::size_t i, v4d& sum, Disp
     // Lane k sums the masses i = k mod 4 (the scalar step's sum[i % 4]); the lanes past Count add
     // 0 + 0 + 0 = +0, which leaves a lane unchanged (a lane starts at +0 and never becomes -0).
     sum += nx + ny + nz;
+    // The lowest z (Body3D::lowest_z()): min is exact, so the scalar step's min gives the same value. The
+    // lanes past Count hold 0, not a mass: +infinity there.
+    if constexpr (Count == 4) {
+        lowest = _mm256_min_pd(lowest, nz);
+    } else {
+        const v4d inf = splat(std::numeric_limits<double>::infinity());
+        const v4d tail = {0.0, Count > 1 ? 0.0 : 1.0, Count > 2 ? 0.0 : 1.0, 1.0};   // 1: a lane past Count
+        lowest = _mm256_min_pd(lowest, tail != splat(0.0) ? inf : nz);
+    }
     // The sparse pass's next approach bound (approach_bound2() on the positions just written; the
     // tail's empty lanes are 0 - 0).
     if constexpr (Track)
-        range.take(nx - loadn(s.listed_x + i, Count), ny - loadn(s.listed_y + i, Count), nz - loadn(s.listed_z + i, Count));
+        range.template take<false>(nx - loadn(s.listed_x + i, Count), ny - loadn(s.listed_y + i, Count),
+                                   nz - loadn(s.listed_z + i, Count));
 }
 
-// Returns the coordinates' sum; with Track, also the approach bound of the positions written (bound2).
+// Returns the coordinates' sum and sets lowest_z (the lowest new z); with Track, also the approach bound
+// of the positions written (bound2).
 template <bool Track>
-AMEOTO_INLINE double update(const StepView& view, double& bound2) {
+AMEOTO_INLINE double update(const StepView& view, double& lowest_z, double& bound2) {
     const StepView s = view;
     v4d sum = splat(0.0);
+    v4d lowest = splat(std::numeric_limits<double>::infinity());
     DisplacementRange4 range;
     if constexpr (Track) range.clear();
     std::size_t i = 0;
-    for (; i + 4 <= s.n; i += 4) update_group<4, Track>(s, i, sum, range);
+    for (; i + 4 <= s.n; i += 4) update_group<4, Track>(s, i, sum, lowest, range);
     switch (s.n - i) {
-        case 3: update_group<3, Track>(s, i, sum, range); break;
-        case 2: update_group<2, Track>(s, i, sum, range); break;
-        case 1: update_group<1, Track>(s, i, sum, range); break;
+        case 3: update_group<3, Track>(s, i, sum, lowest, range); break;
+        case 2: update_group<2, Track>(s, i, sum, lowest, range); break;
+        case 1: update_group<1, Track>(s, i, sum, lowest, range); break;
         default: break;
     }
-    if constexpr (Track) bound2 = range.bound2();
-    return ((sum[0] + sum[1]) + sum[2]) + sum[3];
+    // A displacement is NaN only if a position written or listed is not finite, and a coordinate that is
+    // not finite never becomes finite again (x + T v, 2 x - x[n-1] + ...), so then the sum is not finite
+    // either: the sum stands for the NaN mask (fewer registers in the loop).
+    const double total = ((sum[0] + sum[1]) + sum[2]) + sum[3];
+    if constexpr (Track) bound2 = std::isfinite(total) ? range.bound2() : std::numeric_limits<double>::quiet_NaN();
+    lowest_z = std::min(std::min(lowest[0], lowest[1]), std::min(lowest[2], lowest[3]));
+    return total;
 }
 
 #undef AMEOTO_INLINE
 
 // The kernels as functions of their own (AVX2 code: called only where finalize() found AVX2).
-double forces_avx2(const StepView& s) { return forces(s); }
+double forces_avx2(const StepView& s) { return s.ex ? forces<true>(s) : forces<false>(s); }
 double dense_links_avx2(const StepView& s) { return dense_links(s); }
 double sparse_links_avx2(const StepView& s) { return sparse_links(s); }
-std::size_t list_candidates_avx2(const StepView& s) { return list_candidates(s); }
-double approach_bound2_avx2(const StepView& s) { return approach_bound2(s); }
-double update_avx2(const StepView& s) {
-    double unused = 0.0;
-    return update<false>(s, unused);
+std::size_t list_candidates_avx2(const StepView& s, bool full) {
+    return full ? list_candidates<true>(s) : list_candidates<false>(s);
 }
-double update_tracking_avx2(const StepView& s, double& bound2) { return update<true>(s, bound2); }
+double approach_bound2_avx2(const StepView& s) { return approach_bound2(s); }
+double update_avx2(const StepView& s, double& lowest_z) {
+    double unused = 0.0;
+    return update<false>(s, lowest_z, unused);
+}
+double update_tracking_avx2(const StepView& s, double& lowest_z, double& bound2) {
+    return update<true>(s, lowest_z, bound2);
+}
 
 }  // namespace
 
@@ -885,9 +949,10 @@ void Body3D::sub_step_avx2(int index) {
     s.fx = fx_.data();
     s.fy = fy_.data();
     s.fz = fz_.data();
-    s.ex = ex_.data();
-    s.ey = ey_.data();
-    s.ez = ez_.data();
+    // Null: no apply_force() this step, every external force is +0.0 (forces_group()).
+    s.ex = external_forces_ ? ex_.data() : nullptr;
+    s.ey = external_forces_ ? ey_.data() : nullptr;
+    s.ez = external_forces_ ? ez_.data() : nullptr;
     s.m = mass_.data();
     s.inv_m = inv_mass_.data();
     s.lin = linear_drag_.data();
@@ -915,6 +980,9 @@ void Body3D::sub_step_avx2(int index) {
         s.listed_y = listed_y_.data();
         s.listed_z = listed_z_.data();
         s.near = core_length_[0] + 8.0 * rest_[0];
+        s.far = core_length_[0] + far_margin * rest_[0];
+        s.near_links = near_links_.data();
+        s.near_link_count = &near_link_count_;
         s.slot_start = slot_start_.data();
         s.la = link_a_.data();
         s.lb = link_b_.data();
@@ -950,12 +1018,24 @@ void Body3D::sub_step_avx2(int index) {
         // (Margin and bound measured on a shattered 5 mm drop: lists again about every 9 steps.)
         // The bound of the positions now: the last sparse sub-step's update measured it (fused, no pass
         // of its own), unless something has moved a mass since (set_position, reset, finalize).
+        // A partial listing (the links a full one found closer than core length + far_margin h: the
+        // bonded and the nearby broken ones) suffices while the others are still 8 h clear of the core:
+        // each listing's bound (the approach since the listing before) adds to far_travel_, which bounds
+        // the approach since the last full listing (the triangle inequality), and the next listing comes
+        // before a further 4 h; so a full listing when far_travel_ passes far_margin h - 8 h, leaving
+        // every link left out at least 4 h clear of its core, as above.
+        bool full = !candidates_valid_;   // invalidated (dense, reset, finalize): list everything
         if (candidates_valid_) {
             const double bound2 = next_bound_fresh_ ? next_bound2_ : approach_bound2_avx2(s);
-            if (!(bound2 < 16.0 * rest_[0] * rest_[0])) candidates_valid_ = false;
+            if (!(bound2 < 16.0 * rest_[0] * rest_[0])) {
+                candidates_valid_ = false;
+                far_travel_ += std::sqrt(bound2);   // NaN: a full listing
+                full = !(far_travel_ <= (far_margin - 8.0) * rest_[0]);
+            }
         }
         if (!candidates_valid_) {
-            candidate_count_ = list_candidates_avx2(s);
+            candidate_count_ = list_candidates_avx2(s, full);
+            if (full) far_travel_ = 0.0;
             candidates_valid_ = true;
         }
         s.candidate_count = candidate_count_;
@@ -963,7 +1043,7 @@ void Body3D::sub_step_avx2(int index) {
     }
     last_energy_ = s.energy ? 0.5 * (kinetic2 + elastic2) : 0.0;
     const bool sparse = uniform_cohesive_ && !s.slots;
-    last_position_sum_ = sparse ? update_tracking_avx2(s, next_bound2_) : update_avx2(s);
+    last_position_sum_ = sparse ? update_tracking_avx2(s, lowest_z_, next_bound2_) : update_avx2(s, lowest_z_);
     next_bound_fresh_ = sparse;
 }
 
@@ -1023,6 +1103,7 @@ void Body3D::sub_step_baseline(int index) {
     // 3. Update. Fixed points have 1/m = 0 and zero velocity, so both schemes leave them in place.
     // The coordinates' sum for the guard in four partial sums, sum[i % 4] (the AVX2 step's lanes).
     double sum[4] = {0.0, 0.0, 0.0, 0.0};
+    double lowest = std::numeric_limits<double>::infinity();
     if (cordis) {
         // Position Verlet: x[n+1] = 2 x[n] - x[n-1] + T^2 F / m.
         const double dt2 = dt * dt;
@@ -1037,6 +1118,7 @@ void Body3D::sub_step_baseline(int index) {
             y[i] = ny;
             z[i] = nz;
             sum[i % 4] += nx + ny + nz;
+            lowest = std::min(lowest, nz);
         }
     } else {
         // Symplectic Euler: v += T F / m, then x += T v with the new v.
@@ -1051,9 +1133,11 @@ void Body3D::sub_step_baseline(int index) {
             y[i] += dt * vy[i];
             z[i] += dt * vz[i];
             sum[i % 4] += x[i] + y[i] + z[i];
+            lowest = std::min(lowest, z[i]);
         }
     }
     last_position_sum_ = ((sum[0] + sum[1]) + sum[2]) + sum[3];
+    lowest_z_ = lowest;
 }
 
 double Body3D::uniform_cohesive_links(int index) {
@@ -1212,7 +1296,12 @@ bool Body3D::step() {
     event_count_ = 0;
     if (!finalized_) return false;   // built or changed since finalize(): nothing is sized to run
     for (int s = 0; s < stability_.sub_steps; ++s) sub_step(s);
-    for (auto* a : {&ex_, &ey_, &ez_}) std::fill(a->begin(), a->end(), 0.0);
+    // Held for this step only. Cleared only if apply_force() was called since the last clearing (collisions
+    // touch a drop for a few steps of its life): otherwise they are all +0.0 already.
+    if (external_forces_) {
+        for (auto* a : {&ex_, &ey_, &ez_}) std::fill(a->begin(), a->end(), 0.0);
+        external_forces_ = false;
+    }
     // The guard: a NaN or Inf anywhere reaches the position sum (or the energy); the limit catches a
     // blow-up before it overflows.
     if (!std::isfinite(last_position_sum_) || !std::isfinite(last_energy_) || last_energy_ > energy_limit_) {

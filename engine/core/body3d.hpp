@@ -27,6 +27,7 @@
 //   body.set_position(m, p); body.set_velocity(m, v); body.reset();
 //   body.position(m), velocity(m), momentum(), energy(), resets(), link_broken(l), stability(),
 //   body.positions()                                          // .x .y .z: every mass's coordinates
+//   body.lowest_z()                                           // the lowest mass's z after the last step
 //   linear_drag(m), quadratic_drag(m) ...
 //   body.set_portable_kernels(true);                          // the scalar step even on AVX2 (tests)
 //   body.avx2_kernels();                                      // which code finalize() picked
@@ -70,7 +71,10 @@
 //      within core length + 8 h (h: the rest length) when listed; the list is made again once any two
 //      masses may have approached by 4 h (bounded by the range of the masses' displacements since,
 //      which the sparse step's update measures for the next sub-step as it writes the positions), so
-//      every link left out is one the scalar pass skips (broken, core not touching);
+//      every link left out is one the scalar pass skips (broken, core not touching). A full listing
+//      looks at every link and keeps aside those within core length + 32 h (and the bonded ones); the
+//      listings after it look at those only, until the sum of the listings' bounds (which bounds the
+//      approach since the full listing) passes 24 h;
 //   3. per mass, four at a time: the dense pass's link forces, then the update.
 // A 5 mm drop per 48 kHz step, scalar -> AVX2 (docs/engine.md, "The drop"): awake 5.6 -> 3.1 us,
 // shattered 1.8 -> 0.81 us.
@@ -219,6 +223,11 @@ public:
         const double *x, *y, *z;
     };
     Coordinates positions() const { return {x_.data(), y_.data(), z_.data()}; }
+    // The lowest z of any mass (fixed points included) as the last step() left them, measured by its
+    // update (no pass of its own; the same value on either step), for a broad phase that skips a whole
+    // body at once (drop_on_canopy.cpp). -infinity (unknown: skip nothing) after finalize(), reset(),
+    // set_position(), or a step the guard reset.
+    double lowest_z() const { return lowest_z_; }
     double mass(int m) const { return mass_[idx(m)]; }   // 0 for a fixed point
     double linear_drag(int m) const { return linear_drag_[idx(m)]; }
     double quadratic_drag(int m) const { return quadratic_drag_[idx(m)]; }
@@ -289,6 +298,10 @@ private:
     std::vector<std::int32_t> degree_;           // per mass, build_link_scratch()'s count
     std::vector<std::int32_t> link_ends_;        // per link 8 a, 8 b: its masses' rows in the mirror
     std::vector<std::int32_t> candidates_;       // the sparse pass's links, in order (sub_step_avx2())
+    std::vector<std::int32_t> near_links_;       // what a partial listing looks at, in order
+    std::size_t near_link_count_ = 0;
+    double far_travel_ = 0.0;                    // m, the approach bound since the last full listing
+    static constexpr double far_margin = 32.0;   // h: a full listing's near links (sub_step_avx2())
     std::vector<double> listed_x_, listed_y_, listed_z_;   // the positions they were listed at
     std::size_t candidate_count_ = 0;
     bool candidates_valid_ = false;
@@ -307,6 +320,8 @@ private:
     double sub_dt_ = 0.0;
     double last_energy_ = 0.0;       // measured during the last sub-step, for the guard
     double last_position_sum_ = 0.0; // sum of all coordinates after the last sub-step (finite check)
+    double lowest_z_ = -std::numeric_limits<double>::infinity();   // lowest_z()
+    bool external_forces_ = false;   // apply_force() since ex_, ey_, ez_ were last cleared
     long resets_ = 0;
     long dropped_breaks_ = 0;
     bool finalized_ = false;

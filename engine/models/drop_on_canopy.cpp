@@ -187,9 +187,17 @@ int DropOnCanopy::guard() {
 // Reading u is a pass over every node (a call each, 400 for the default canopy: about what 16 lookups
 // cost, measured), so collide() reads it when it pays, when 16 or more masses were in the band the step
 // before (an impact, several drops); and, to watch the band's bound, at least every 256 steps while
-// masses are inside the rim, and every step while the last reading found |u| beyond a quarter of the
-// band (12.5 mm; or no finite node). The canopy does not move during collide() (it steps afterwards),
-// so a reading holds for the whole step. A node gone NaN is passed over by it and never collides.
+// drops are active, and every step while the last reading found |u| beyond a quarter of the band
+// (12.5 mm; or no finite node). It reads at the start of the step, so that every mass and drop is tested
+// against the same bounds. The canopy does not move during collide() (it steps afterwards), so a reading
+// holds for the whole step. A node gone NaN is passed over by it and never collides.
+// Most masses of a splash are in flight, over both the band and `above`: one comparison with the higher
+// of the two (`high`) passes each of them over, before the checks above (the same masses skipped: a
+// mass over `above` is turned away, and one over the band is not counted as near); and a drop whose
+// lowest mass (DropPool::lowest_z: Body3D::lowest_z(), which the drop's last step measured in its update,
+// or the dormant drop's lowest at spawn plus its shift) is over `high` is passed over whole, without a
+// look at its masses (counted in stats().drops_passed_over; the test against collide_drops requires
+// some).
 void DropOnCanopy::collide() {
     collider_.begin_step();
     contact_force_ = Vec3{};
@@ -200,22 +208,26 @@ void DropOnCanopy::collide() {
     double below = band_below;
     const double per_normal = (1.0 + 1e-9) / rim_normal_z_;   // vertical per normal distance, rounded up
     const double skin = collider_.options().skin_m, t = collider_.time_step();
-    const bool read = near_masses_ >= 16 || displaced_ || unread_steps_ >= 255;
     bool have_u = false;
     double u_max = 0.0, above = top_ + reach_;
+    if ((near_masses_ >= 16 || displaced_ || unread_steps_ >= 255) && !pool_.active().empty()) {
+        const DisplacementRange u = canopy_.displacement_range();
+        u_max = u.highest;
+        above = top_ + std::max(u_max, 0.0) * per_normal + 1e-12;
+        below = band_below - std::max(-u.lowest, 0.0) * per_normal;
+        displaced_ = !(std::max(u.highest, -u.lowest) <= 0.25 * 0.05);
+        have_u = true;
+    }
+    const double band_top = top_ + reach_;
+    // A mass higher than this is neither looked up (it is over `above`) nor counted as near (over the
+    // band): one comparison for most of a splash's masses in flight; a drop whose lowest mass is over it
+    // is skipped whole.
+    const double high = std::max(above, band_top);
     int near = 0;
     // One mass: the checks below, then collide_one. Called with the mass's position as the pool gives it.
     auto visit = [&](int d, int m, const Vec3 p) {
         if (p.x * p.x + p.y * p.y > r2_max) return;
-        if (read && !have_u) {
-            const DisplacementRange u = canopy_.displacement_range();
-            u_max = u.highest;
-            above = top_ + std::max(u_max, 0.0) * per_normal + 1e-12;
-            below = band_below - std::max(-u.lowest, 0.0) * per_normal;
-            displaced_ = !(std::max(u.highest, -u.lowest) <= 0.25 * 0.05);
-            have_u = true;
-        }
-        if (p.z <= top_ + reach_ && p.z >= band_below) ++near;
+        if (p.z <= band_top && p.z >= band_below) ++near;
         if (p.z > above) return;
         if (have_u) {
             const double a = flat ? p.z : (p.z - canopy_.rest_height(p.x, p.y)) * canopy_.surface_normal(p.x, p.y).z;
@@ -231,16 +243,24 @@ void DropOnCanopy::collide() {
         }
     };
     for (const int d : pool_.active()) {
+        if (pool_.lowest_z(d) > high) {   // Body3D::lowest_z(): measured by the drop's last step
+            ++drops_passed_over_;
+            continue;
+        }
         const int n = pool_.mass_count(d);
         if (pool_.dormant(d)) {   // its body holds the positions at spawn: the pool adds the shift
-            for (int m = 0; m < n; ++m) visit(d, m, pool_.position(d, m));
+            for (int m = 0; m < n; ++m) {
+                const Vec3 p = pool_.position(d, m);
+                if (!(p.z > high)) visit(d, m, p);
+            }
             continue;
         }
         // Awake: the body's coordinate arrays (pool_.position(d, m) is position(m) of this same body;
         // body() wakes only a dormant drop, and apply_force only adds to the external forces, so the
         // arrays stay valid through the loop). A call per mass cost about as much as the checks.
         const Body3D::Coordinates c = pool_.body(d).positions();
-        for (int m = 0; m < n; ++m) visit(d, m, Vec3{c.x[m], c.y[m], c.z[m]});
+        for (int m = 0; m < n; ++m)
+            if (!(c.z[m] > high)) visit(d, m, Vec3{c.x[m], c.y[m], c.z[m]});
     }
     near_masses_ = near;
     unread_steps_ = have_u ? 0 : std::min(unread_steps_ + 1, 255);
@@ -275,6 +295,7 @@ DropOnCanopyStats DropOnCanopy::stats() const {
     s.breakups = p.breakups;
     s.link_breaks = p.link_breaks;
     s.collisions = collider_.collisions();
+    s.drops_passed_over = drops_passed_over_;
     s.canopy_resets = canopy_resets_;
     s.frames = frames_;
     return s;

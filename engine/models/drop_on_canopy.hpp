@@ -32,7 +32,8 @@
 // membrane this step are not looked up: off the rim's circle, above the membrane's highest node (when
 // collide() has read the membrane's extremes: after an impact, or while it is far displaced), beyond a
 // 5 cm band around the rest cap otherwise, or below it by more than the band plus their own travel
-// (drop_on_canopy.cpp, collide(), gives the argument).
+// (drop_on_canopy.cpp, collide(), gives the argument); a whole drop whose lowest mass is above is passed
+// over at once (DropPool::lowest_z).
 //
 // Placement: drop() puts the drop's lowest mass gap_m (0.5 mm) above the rest surface at (x, y)
 // (DropPool::underside), moving straight down at `speed`, so it reaches the membrane within a few
@@ -105,6 +106,7 @@ struct DropOnCanopyStats {
     long breakups = 0;              // pieces gained (DropPoolStats::breakups)
     long link_breaks = 0;
     std::uint64_t collisions = 0;   // drop mass / membrane mass collisions so far
+    std::uint64_t drops_passed_over = 0;   // drops the collision broad phase skipped whole (per step)
     long canopy_resets = 0;         // panels reset by the guard (never expected)
     std::uint64_t frames = 0;       // samples processed
 };
@@ -165,6 +167,7 @@ private:
     int near_masses_ = 0;         // masses in the band last step   } when collide() reads the
     int unread_steps_ = 0;        // steps since it read u           } membrane's displacement
     bool displaced_ = false;      // |u| beyond a quarter of the band at that reading
+    std::uint64_t drops_passed_over_ = 0;   // stats()
 };
 
 }  // namespace ameoto

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -120,6 +121,8 @@ bool DropPool::spawn(double diameter, int liquid, Vec3 centre, Vec3 velocity, Dr
     s.dormant = true;   // whole, undeformed, one velocity
     s.shift = Vec3{};
     s.common = velocity;
+    s.spawn_lowest_z = std::numeric_limits<double>::infinity();
+    for (int m = 0; m < s.body.mass_count(); ++m) s.spawn_lowest_z = std::min(s.spawn_lowest_z, s.body.position(m).z);
     s.pieces = s.components.compute(s.body);
     s.steps = 0;
     s.serial = next_serial_++;

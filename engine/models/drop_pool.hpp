@@ -20,6 +20,7 @@
 //       }
 //   pool.pieces(d); pool.piece_of(d, m); pool.piece_size(d, p);   // what a drop has broken into
 //   pool.dormant(d);                                  // falling whole, not yet touched (see below)
+//   pool.lowest_z(d);                                 // m, no mass of the drop is lower (broad phase)
 //   pool.body(d); pool.calibration(d); pool.serial(d); // its Body3D (wakes it), calibration, spawn number
 //   pool.retire(d); pool.clear();
 //   pool.stats();                                     // spawned, refused, rejected, retired, breaks, breakups
@@ -120,6 +121,13 @@ public:
     Body3D& body(int drop) { return awake(drop); }
     const Body3D& body(int drop) const { return awake(drop); }
     bool dormant(int drop) const { return slot(drop).dormant; }
+    // m: no mass of the drop lies lower (a lower bound for a broad phase; -infinity when unknown: just
+    // woken or reset). Awake: Body3D::lowest_z(); dormant: the lowest mass at spawn plus the shift, which
+    // is exactly the lowest of position(drop, m) (rounding x + s is monotonic in x). Does not wake it.
+    double lowest_z(int drop) const {
+        const Slot& s = slot(drop);
+        return s.dormant ? s.spawn_lowest_z + s.shift.z : s.body.lowest_z();
+    }
     const DropCalibration& calibration(int drop) const { return slot(drop).calibration; }
     int liquid_of(int drop) const { return slot(drop).liquid; }
     std::uint64_t serial(int drop) const { return slot(drop).serial; }   // 1, 2, ... in spawn order
@@ -146,6 +154,7 @@ private:
         // those + shift, every mass moving at `common`.
         bool dormant = false;
         Vec3 shift{}, common{};
+        double spawn_lowest_z = 0.0;   // m, the body's lowest z as spawned (lowest_z())
         Body3D body;
         ConnectedComponents components;
         DropCalibration calibration;

@@ -353,6 +353,7 @@ TEST_CASE("drop_on_canopy: the collision broad phase skips only masses that cann
     };
     long above = 0, below = 0;
     double peak_u = 0.0;
+    std::uint64_t passed_over = 0;   // drops skipped whole (their lowest mass over the band)
     for (const Scenario& s : scenarios) {
         const std::string name = s.name;
         INFO(name);
@@ -370,8 +371,9 @@ TEST_CASE("drop_on_canopy: the collision broad phase skips only masses that cann
         const Render r = render(scene, frames);
         const std::vector<float> want = reference.render(frames);
         const auto stats = scene.stats();
+        passed_over += stats.drops_passed_over;
         MESSAGE(name, ": ", stats.masses_at_spawn, " masses, ", stats.collisions, " collisions, ", stats.pieces,
-                " pieces; of the masses inside the rim, ",
+                " pieces, ", stats.drops_passed_over, " drop-steps passed over whole; of the masses inside the rim, ",
                 reference.skippable_above, " over max u and ", reference.skippable_below,
                 " under the band (sampled every 16 steps); largest |u| seen ", reference.peak_u * 1e3, " mm");
         CHECK(stats.collisions > 0);
@@ -397,4 +399,5 @@ TEST_CASE("drop_on_canopy: the collision broad phase skips only masses that cann
     CHECK(above > 0);
     CHECK(below > 0);
     CHECK(peak_u > 0.0125);   // some scene made collide() read u every step (drop_on_canopy.cpp)
+    CHECK(passed_over > 0);   // and some drop was skipped whole, by Body3D::lowest_z()
 }

@@ -3,6 +3,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -165,6 +166,14 @@ TEST_CASE("drop_pool: a dormant drop falls exactly as the full lattice does, and
     CHECK(worst_p < 1e-12);
     CHECK(worst_v < 1e-9);
     CHECK(pool.velocity(a, 0).z < -2.5);   // it did fall, under gravity and drag
+    // lowest_z() (the collision broad phase's bound) is the lowest position, dormant or awake, without
+    // waking the drop.
+    for (const int d : {a, b}) {
+        double lowest = std::numeric_limits<double>::infinity();
+        for (int m = 0; m < pool.mass_count(d); ++m) lowest = std::min(lowest, pool.position(d, m).z);
+        CHECK(pool.lowest_z(d) == lowest);
+    }
+    CHECK(pool.dormant(a));
     // Touching it wakes it where it is.
     const Vec3 before = pool.position(a, 5);
     pool.apply_force(a, 5, Vec3{});
