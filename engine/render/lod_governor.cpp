@@ -16,6 +16,7 @@ constexpr double base_smoothing_s = 0.5;
 constexpr double mean_smoothing_s = 0.25;
 constexpr double event_memory_s = 10.0;
 constexpr double recent_smoothing_s = 0.1;
+constexpr double learning_s = 0.1;   // measured awake time after which a lattice drop's price counts as learned
 
 double one_pole(double block_seconds, double time_constant_s) { return 1.0 - std::exp(-block_seconds / time_constant_s); }
 }  // namespace
@@ -30,8 +31,9 @@ LodTier LodGovernor::choose(double diameter_m, double speed_m_per_s, double dist
     const double level = level_db(diameter_m, speed_m_per_s, distance_m);
     const double shed = 1.0 - detail_;
     if (full_active < settings_.max_full && level >= settings_.full_level_db + masking_db_ + 40.0 * shed) {
-        if (lattice_affordable()) {
+        if (lattice_admissible(full_active)) {
             ++counts_.full;
+            if (price_.known) since_full_s_ = 0.0;
             return LodTier::full;
         }
         ++counts_.priced_out;   // heard as a template instead
@@ -66,6 +68,8 @@ void LodGovernor::observe_load(double measured_load, const LatticeActivity& acti
         p.recent = measured_load;
     }
     p.recent += one_pole(block_seconds, recent_smoothing_s) * (measured_load - p.recent);
+    since_full_s_ += block_seconds;
+    if (activity.awake > 0 && base_seen_) measured_full_s_ += block_seconds;
     if (activity.awake <= 0) {
         if (!base_seen_) p.base = measured_load;
         base_seen_ = true;
@@ -79,6 +83,13 @@ void LodGovernor::observe_load(double measured_load, const LatticeActivity& acti
         }
     }
     p.event *= std::exp(-block_seconds / event_memory_s);
+}
+
+bool LodGovernor::lattice_admissible(int full_active) const {
+    if (!price_.known) return true;   // offline, or nothing measured yet: reproducible, no spacing
+    if (since_full_s_ < settings_.full_spacing_s) return false;
+    if (measured_full_s_ < learning_s && full_active > 0) return false;
+    return lattice_affordable();
 }
 
 bool LodGovernor::lattice_affordable() const {
