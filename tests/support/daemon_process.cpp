@@ -2,8 +2,6 @@
 
 #include <stdexcept>
 
-#include "tests/support/timing_scale.hpp"
-
 namespace ameoto::test {
 namespace {
 
@@ -19,18 +17,16 @@ std::string within(std::chrono::milliseconds t) { return "within " + std::to_str
 
 DaemonProcess::DaemonProcess(std::vector<std::string> arguments, const std::vector<std::string>& env, const DaemonOptions& options)
     : process_(command_line(std::move(arguments)), env, options.child) {
-    // A throw from here on destroys process_, which stops ameotod. Under the sanitizers the scene build
-    // takes several times as long (timing_scale.hpp).
-    const auto listen_timeout = scaled(options.listen_timeout), running_timeout = scaled(options.running_timeout);
-    const auto line = process_.wait_for_line("listening on osc.udp://", listen_timeout);
+    // A throw from here on destroys process_, which stops ameotod.
+    const auto line = process_.wait_for_line("listening on osc.udp://", options.listen_timeout);
     if (!line)
-        throw std::runtime_error("ameotod did not say where it listens " + within(listen_timeout) +
+        throw std::runtime_error("ameotod did not say where it listens " + within(options.listen_timeout) +
                                  "; it printed:\n" + process_.output() + process_.error_output());
     listening_line_ = *line;
     port_ = port_from_listening_line(*line);
     if (port_ <= 0) throw std::runtime_error("ameotod listens on no usable port: " + *line);
-    if (!process_.wait_for_line("running", running_timeout))
-        throw std::runtime_error("ameotod did not say \"running\" " + within(running_timeout) + "; it printed:\n" +
+    if (!process_.wait_for_line("running", options.running_timeout))
+        throw std::runtime_error("ameotod did not say \"running\" " + within(options.running_timeout) + "; it printed:\n" +
                                  process_.output() + process_.error_output());
 }
 

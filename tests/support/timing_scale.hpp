@@ -10,7 +10,8 @@
 //
 // Why 4: ameotod's start-up (the scene build: drop lattices, impact templates, texture calibration)
 // measured 2.3 s of CPU in the Release build and 15.5 s under ASan + UBSan at -O2 (about 6 times)
-// (docs/reliability.md, "Sanitizers", gives the command); 4 on a 30 s start-up bound gives 120 s, room for that and a CPU shared with another test. A test
+// (docs/reliability.md, "Sanitizers", gives the command); 4 on a 30 s start-up bound gives 120 s:
+// room for that and for a CPU shared with another test. A test
 // whose bound is the audio's real time (not a wait for a program) is not scaled: it is skipped under
 // the sanitizers with a printed reason, and listed in docs/reliability.md.
 // The switch is the compiler's own: gcc and clang define __SANITIZE_ADDRESS__ with -fsanitize=address,
