@@ -1,6 +1,11 @@
 #include "engine/models/impact_templates.hpp"
 
+#include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <exception>
+#include <future>
+#include <thread>
 
 #include "engine/models/drop.hpp"
 
@@ -22,13 +27,38 @@ int ImpactTemplateTable::nearest(double diameter_m) const {
     return lo;
 }
 
-ImpactTemplateTable record_impact_templates(const DropOnCanopyConfig& scene, const TemplateGrid& grid) {
+namespace {
+
+// One grid size: a fresh scene, one drop, `length` samples of the force the membrane takes, into
+// `forces` (length values). Returns the samples up to the last non-zero force. Touches nothing shared
+// but the process's lattice cache (drop.cpp, locked), so sizes can be recorded on several threads.
+int record_one(const DropOnCanopyConfig& c, double diameter_m, int length, double* forces) {
+    const double x = 0.5 * c.geometry.radius_m * std::cos(0.0), y = 0.0;
+    DropOnCanopy run(c);
+    run.drop(diameter_m, 0.0, x, y);
+    const Vec3 n = run.canopy().surface_normal(x, y);
+    float frame[1];
+    for (int i = 0; i < length; ++i) {
+        run.process_frame(frame);
+        // The membrane takes the opposite of what the drop masses took.
+        forces[i] = -dot(run.contact_force(), n);
+    }
+    int used = length;
+    while (used > 1 && forces[used - 1] == 0.0) --used;
+    return used;
+}
+
+}  // namespace
+
+ImpactTemplateTable record_impact_templates(const DropOnCanopyConfig& scene, const TemplateGrid& grid, int threads) {
     ImpactTemplateTable t;
     t.sample_rate = scene.sample_rate;
     t.density = scene.liquid.density;
     for (double d = grid.min_diameter_m; d <= grid.max_diameter_m * (1.0 + 1e-9); d *= grid.step_ratio) t.diameters_m.push_back(d);
     t.length = static_cast<int>(std::ceil(grid.seconds * scene.sample_rate));
     t.forces.assign(t.diameters_m.size() * static_cast<std::size_t>(t.length), 0.0);
+    t.used.assign(t.diameters_m.size(), 0);
+    for (const double d : t.diameters_m) t.speeds_m_per_s.push_back(arrival_speed(d, scene.liquid.density));
 
     DropOnCanopyConfig c = scene;
     c.output = SceneOutput::mass_pickup;   // the sound is not needed, only the contact force
@@ -36,23 +66,37 @@ ImpactTemplateTable record_impact_templates(const DropOnCanopyConfig& scene, con
     c.capacity = 1;
     c.max_diameter = grid.max_diameter_m * (1.0 + 1e-9);
     c.gap_m = 0.0;                         // striking in the first sample, as the server's /drop
-    const double x = 0.5 * scene.geometry.radius_m * std::cos(0.0), y = 0.0;
-    for (std::size_t k = 0; k < t.diameters_m.size(); ++k) {
-        DropOnCanopy run(c);
-        const double d = t.diameters_m[k];
-        t.speeds_m_per_s.push_back(arrival_speed(d, scene.liquid.density));
-        run.drop(d, 0.0, x, y);
-        const Vec3 n = run.canopy().surface_normal(x, y);
-        float frame[1];
-        for (int i = 0; i < t.length; ++i) {
-            run.process_frame(frame);
-            // The membrane takes the opposite of what the drop masses took.
-            t.forces[k * static_cast<std::size_t>(t.length) + static_cast<std::size_t>(i)] = -dot(run.contact_force(), n);
-        }
-        int used = t.length;
-        while (used > 1 && t.forces[k * static_cast<std::size_t>(t.length) + static_cast<std::size_t>(used - 1)] == 0.0) --used;
-        t.used.push_back(used);
+
+    // The sizes are independent runs, each writing only its own row: the table is the same whatever
+    // the number of threads or the order they finish in (tested). Sizes are handed out one at a time
+    // (an atomic counter): the large drops, with more masses, cost the most.
+    const int sizes = static_cast<int>(t.diameters_m.size());
+    if (threads <= 0) threads = static_cast<int>(std::max(1u, std::min(std::thread::hardware_concurrency(), 4u)));
+    threads = std::max(1, std::min(threads, sizes));
+    std::atomic<int> next{0};
+    auto work = [&] {
+        for (int k = next++; k < sizes; k = next++)
+            t.used[static_cast<std::size_t>(k)] = record_one(c, t.diameters_m[static_cast<std::size_t>(k)], t.length,
+                                                             &t.forces[static_cast<std::size_t>(k) * static_cast<std::size_t>(t.length)]);
+    };
+    std::vector<std::future<void>> helpers;
+    for (int i = 1; i < threads; ++i) helpers.push_back(std::async(std::launch::async, work));
+    std::exception_ptr failure;
+    try {
+        work();
+    } catch (...) {
+        failure = std::current_exception();
+        next = sizes;   // the helpers stop after their current size
     }
+    for (auto& h : helpers) {
+        try {
+            h.get();
+        } catch (...) {
+            if (!failure) failure = std::current_exception();
+            next = sizes;
+        }
+    }
+    if (failure) std::rethrow_exception(failure);
     return t;
 }
 

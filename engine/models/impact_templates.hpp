@@ -4,8 +4,11 @@
 // nearest membrane node for every drop of the rain: the full model's impact at a fraction of its cost.
 //
 // Interface:
-//   ImpactTemplateTable t = record_impact_templates(scene_config);   // off the audio thread (~0.2 s):
-//                                                                    // one full-model run per grid size
+//   ImpactTemplateTable t = record_impact_templates(scene_config);   // off the audio thread (~0.5 s of
+//                                                                    // CPU): one full-model run per grid
+//                                                                    // size, on up to 4 threads (one per
+//                                                                    // CPU); the same table on any number
+//   record_impact_templates(scene_config, grid, 1)                   // on the calling thread only
 //   t.diameters_m[k], t.speeds_m_per_s[k], t.force(k, n)             // the recording, N along the normal
 //   ---- audio thread: no allocation ----
 //   TemplatePool pool;                                               // fixed capacity
@@ -57,8 +60,10 @@ struct TemplateGrid {
     double seconds = 0.02;                   // recorded per size
 };
 
-// Throws what DropOnCanopy throws for a bad configuration.
-ImpactTemplateTable record_impact_templates(const DropOnCanopyConfig& scene, const TemplateGrid& grid = {});
+// Throws what DropOnCanopy throws for a bad configuration. threads <= 0: one per CPU, at most 4 (the
+// sizes are independent runs, so the table is identical whatever the count; the start-up of ameotod
+// waits for it, and that wait halves on two CPUs).
+ImpactTemplateTable record_impact_templates(const DropOnCanopyConfig& scene, const TemplateGrid& grid = {}, int threads = 0);
 
 class TemplatePool {
 public:

@@ -12,6 +12,8 @@
 #include <cstring>
 #include <stdexcept>
 
+#include "tests/support/timing_scale.hpp"
+
 extern char** environ;
 
 namespace ameoto::test {
@@ -151,8 +153,10 @@ bool ChildProcess::read_some(std::chrono::milliseconds timeout) {
     return got;
 }
 
+// The waits for a program (a line, its end) are the bounds that depend on the machine's speed: they
+// stretch under the sanitizers (timing_scale.hpp) and nowhere else.
 std::optional<std::string> ChildProcess::wait_for_line(const std::string& needle, std::chrono::milliseconds timeout) {
-    const auto deadline = Clock::now() + timeout;
+    const auto deadline = Clock::now() + scaled(timeout);
     for (;;) {
         std::size_t start = scanned_;
         std::size_t end;
@@ -201,7 +205,7 @@ void ChildProcess::signal(int sig) {
 }
 
 int ChildProcess::wait(std::chrono::milliseconds timeout) {
-    const auto deadline = Clock::now() + timeout;
+    const auto deadline = Clock::now() + scaled(timeout);
     while (running()) {
         if (Clock::now() > deadline) return -1;
         read_some(std::chrono::milliseconds(10));

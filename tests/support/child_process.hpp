@@ -7,6 +7,8 @@
 //   p.output();                 // everything read so far (reads what is there, never blocks)
 //   int status = p.stop(SIGTERM, 5s);   // signal, wait; SIGKILL after the timeout; returns exit code
 //   p.wait(10s)                 // for a program that ends by itself; -1 on timeout
+//                               // (wait_for_line, wait, stop and run_program wait timing_scale() times
+//                               // as long in the sanitized build: timing_scale.hpp)
 //   p.exit_status()             // the raw waitpid status once reaped (WIFEXITED...), -1 before
 //   p.output_fd(), p.output_closed()   // for a test that polls the output with other descriptors
 //   ~ChildProcess               // SIGTERM, then SIGKILL: a failed assertion never leaks a process

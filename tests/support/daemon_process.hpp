@@ -28,8 +28,9 @@
 namespace ameoto::test {
 
 struct DaemonOptions {
-    // ameotod builds its scene (the impact templates: about 2.5 s of CPU) before it listens; on a
-    // shared, loaded machine that has taken up to 30 s of wall time.
+    // ameotod builds its scene (about 2.5 s of CPU) before it listens; on a
+    // shared, loaded machine that has taken up to 30 s of wall time. Both waits stretch under the
+    // sanitizers (ChildProcess, timing_scale.hpp).
     std::chrono::milliseconds listen_timeout{30000};
     std::chrono::milliseconds running_timeout{10000};
     ChildOptions child;

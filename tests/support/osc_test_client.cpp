@@ -8,6 +8,8 @@
 
 #include <stdexcept>
 
+#include "tests/support/timing_scale.hpp"
+
 namespace ameoto::test {
 
 OscTestClient::OscTestClient(int server_port) : port_(server_port) {
@@ -45,8 +47,10 @@ std::optional<protocol::DecodedMessage> OscTestClient::receive(std::chrono::mill
     return packet.messages.front();
 }
 
+// A reply waited for comes after the server's work (a scene rebuilt for /material: several times
+// slower under the sanitizers), so this wait stretches there (timing_scale.hpp); receive() does not.
 std::optional<protocol::DecodedMessage> OscTestClient::wait_for(const std::string& reply_address, std::chrono::milliseconds timeout) {
-    const auto deadline = std::chrono::steady_clock::now() + timeout;
+    const auto deadline = std::chrono::steady_clock::now() + scaled(timeout);
     for (;;) {
         const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
         if (left.count() <= 0) return std::nullopt;

@@ -7,6 +7,8 @@
 //   c.send_raw(bytes);                                       // anything, for malformed input
 //   auto reply = c.receive(500ms);                           // next message, or nullopt
 //   auto r = c.request("/status", {}, "/status.reply", 2s);  // send, then wait for that address
+//                                                            // (request and wait_for wait 4 times as
+//                                                            // long under the sanitizers: timing_scale.hpp)
 //                                                            // (other replies are kept in c.others)
 
 #include <chrono>

@@ -24,6 +24,7 @@
 #include "tests/support/child_process.hpp"
 #include "tests/support/jack_server.hpp"
 #include "tests/support/temp_dir.hpp"
+#include "tests/support/timing_scale.hpp"
 
 namespace {
 
@@ -33,6 +34,7 @@ using namespace std::chrono_literals;
 using ameoto::test::ChildOptions;
 using ameoto::test::ChildProcess;
 using ameoto::test::TempDir;
+using ameoto::test::scaled;
 
 bool starts_with(const std::string& s, const std::string& prefix) { return s.compare(0, prefix.size(), prefix) == 0; }
 
@@ -183,7 +185,7 @@ TEST_CASE("ameotod tells systemd READY, STATUS, WATCHDOG and STOPPING at the rig
     INFO("what ameotod said so far:\n" << seen.transcript());
 
     // READY=1 only once the port is bound and the first audio block has run.
-    REQUIRE_MESSAGE(seen.wait_until([&] { return seen.has(Event::notify, "READY=1"); }, 10s), "no READY=1 within 10 s");
+    REQUIRE_MESSAGE(seen.wait_until([&] { return seen.has(Event::notify, "READY=1"); }, scaled(10s)), "no READY=1 within 10 s");
     const long ready = seen.find(Event::notify, "READY=1");
     const long listening = seen.find(Event::line, "ameotod: listening on osc.udp://127.0.0.1:");
     const long running = seen.find(Event::line, "ameotod: running");
@@ -229,7 +231,7 @@ TEST_CASE("without a watchdog in the environment ameotod sends no WATCHDOG=1") {
     Observer seen{socket, daemon, {}, 0, false};
     INFO("what ameotod said so far:\n" << seen.transcript());
 
-    REQUIRE_MESSAGE(seen.wait_until([&] { return seen.has(Event::notify, "READY=1"); }, 10s), "no READY=1 within 10 s");
+    REQUIRE_MESSAGE(seen.wait_until([&] { return seen.has(Event::notify, "READY=1"); }, scaled(10s)), "no READY=1 within 10 s");
     seen.watch_for(600ms);   // with the watchdog of the test above, this would hold 3 pings
     CHECK_FALSE(seen.has(Event::notify, "WATCHDOG="));
 

@@ -3,6 +3,7 @@
 
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <complex>
 #include <vector>
@@ -166,4 +167,35 @@ TEST_CASE("impact templates: replay never allocates and a full pool refuses") {
     CHECK(audit.violations() == 0);
     CHECK_FALSE(pool.add(CanopyHit{}, t, 2e-3, 0.0, 998.0));   // off the canopy
     CHECK_FALSE(TemplatePool{}.add(hit, ImpactTemplateTable{}, 2e-3, 0.0, 998.0));   // no table
+}
+
+TEST_CASE("impact templates: recorded on several threads, the table is the one recorded on one, bit for bit") {
+    // The sizes are independent runs (impact_templates.cpp): threads change only who records which row.
+    // A short grid keeps this quick: 9 sizes, 5 ms each.
+    TemplateGrid grid;
+    grid.min_diameter_m = 2e-3;
+    grid.max_diameter_m = 3e-3;
+    grid.seconds = 0.005;
+    const ImpactTemplateTable one = record_impact_templates(scene_config(), grid, 1);
+    const ImpactTemplateTable three = record_impact_templates(scene_config(), grid, 3);
+    REQUIRE(one.diameters_m.size() == 9u);
+    CHECK(three.diameters_m == one.diameters_m);
+    CHECK(three.speeds_m_per_s == one.speeds_m_per_s);
+    CHECK(three.used == one.used);
+    CHECK(three.length == one.length);
+    CHECK(three.forces == one.forces);   // exact: the same arithmetic in the same order per row
+    double largest = 0.0;
+    for (double f : one.forces) largest = std::max(largest, std::abs(f));
+    CHECK(largest > 0.0);   // the rows recorded something
+}
+
+TEST_CASE("impact templates: a configuration DropOnCanopy refuses is refused on any number of threads") {
+    DropOnCanopyConfig bad = scene_config();
+    bad.sample_rate = -1.0;
+    TemplateGrid grid;
+    grid.min_diameter_m = 2e-3;
+    grid.max_diameter_m = 3e-3;
+    grid.seconds = 0.005;
+    CHECK_THROWS(record_impact_templates(bad, grid, 1));
+    CHECK_THROWS(record_impact_templates(bad, grid, 3));
 }
