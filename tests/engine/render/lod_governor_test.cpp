@@ -112,3 +112,32 @@ TEST_CASE("lod: bad measured loads are ignored by the price") {
     CHECK_FALSE(g.lattice_price().known);
     CHECK(g.lattice_affordable());
 }
+
+TEST_CASE("lod: live, lattice drops are admitted 0.1 s apart, and one at a time until the price is learned") {
+    constexpr double block = 64.0 / 48000.0;   // 1.33 ms
+    LodGovernor g(LodSettings{.budget = 0.4, .max_full = 4, .peak_budget = 0.6});
+    // Offline (nothing measured): no spacing, the choice depends on the drops alone.
+    CHECK(g.choose(5e-3, 9.09, 0.4, 0) == LodTier::full);
+    CHECK(g.choose(5e-3, 9.09, 0.4, 1) == LodTier::full);
+    LodGovernor live(LodSettings{.budget = 0.4, .max_full = 4, .peak_budget = 0.6});
+    for (int i = 0; i < 750; ++i) live.observe_load(0.20, LatticeActivity{0, false}, block);   // base 20 %
+    // Learning: the first drop is admitted; while it is in the scene no second one, even 0.1 s later.
+    CHECK(live.choose(5e-3, 9.09, 0.4, 0) == LodTier::full);
+    for (int i = 0; i < 60; ++i) live.observe_load(0.25, LatticeActivity{1, i == 0}, block);   // 80 ms awake
+    CHECK(live.choose(5e-3, 9.09, 0.4, 1) == LodTier::template_);
+    CHECK(live.counts().priced_out == 1);
+    // The drop has gone (40 ms with none awake): the next one may teach; learning is 0.1 s of measured
+    // awake time in all, and 80 ms have been measured.
+    for (int i = 0; i < 30; ++i) live.observe_load(0.20, LatticeActivity{0, false}, block);
+    CHECK(live.choose(5e-3, 9.09, 0.4, 0) == LodTier::full);
+    for (int i = 0; i < 90; ++i) live.observe_load(0.25, LatticeActivity{1, false}, block);   // 200 ms in all
+    // Learned (event 0.05 above base, mean 0.05): a second drop while one is awake is admitted, but only
+    // once 0.1 s has passed since the last admission.
+    CHECK(live.choose(5e-3, 9.09, 0.4, 1) == LodTier::full);
+    CHECK(live.choose(5e-3, 9.09, 0.4, 2) == LodTier::template_);   // the same instant: too close
+    for (int i = 0; i < 70; ++i) live.observe_load(0.25, LatticeActivity{2, false}, block);   // 93 ms
+    CHECK(live.choose(5e-3, 9.09, 0.4, 2) == LodTier::template_);
+    for (int i = 0; i < 6; ++i) live.observe_load(0.25, LatticeActivity{2, false}, block);    // 101 ms
+    CHECK(live.choose(5e-3, 9.09, 0.4, 2) == LodTier::full);
+    CHECK(live.counts().priced_out == 3);
+}
