@@ -76,8 +76,10 @@ ImpactTemplateTable record_impact_templates(const DropOnCanopyConfig& scene, con
     std::atomic<int> next{0};
     auto work = [&] {
         for (int k = next++; k < sizes; k = next++)
+            // data() + offset, not &forces[offset]: with a refused configuration the length can be 0 and
+            // the table empty, and indexing an empty vector is undefined (UBSan caught it).
             t.used[static_cast<std::size_t>(k)] = record_one(c, t.diameters_m[static_cast<std::size_t>(k)], t.length,
-                                                             &t.forces[static_cast<std::size_t>(k) * static_cast<std::size_t>(t.length)]);
+                                                             t.forces.data() + static_cast<std::size_t>(k) * static_cast<std::size_t>(t.length));
     };
     std::vector<std::future<void>> helpers;
     for (int i = 1; i < threads; ++i) helpers.push_back(std::async(std::launch::async, work));
