@@ -27,6 +27,7 @@
 #include "tests/support/daemon_process.hpp"
 #include "tests/support/osc_test_client.hpp"
 #include "tests/support/process_memory.hpp"
+#include "tests/support/tcp_test_client.hpp"
 #include "tests/support/temp_dir.hpp"
 
 using namespace std::chrono_literals;
@@ -69,53 +70,10 @@ double control_thread_cpu_s(pid_t pid) {
     return static_cast<double>(utime + stime) / static_cast<double>(sysconf(_SC_CLK_TCK));
 }
 
-// A TCP OSC client (OSC 1.0 stream framing: each packet preceded by its size), for the monitor that
-// must get through the flood.
-class TcpMonitor {
-public:
-    explicit TcpMonitor(int port) {
-        fd_ = socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
-        sockaddr_in to{};
-        to.sin_family = AF_INET;
-        to.sin_port = htons(static_cast<std::uint16_t>(port));
-        to.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-        REQUIRE(fd_ >= 0);
-        REQUIRE(connect(fd_, reinterpret_cast<sockaddr*>(&to), sizeof to) == 0);
-    }
-    ~TcpMonitor() { close(fd_); }
-    TcpMonitor(const TcpMonitor&) = delete;
-    TcpMonitor& operator=(const TcpMonitor&) = delete;
-    // /status -> /status.reply, or false when none came within the timeout.
-    bool status(std::chrono::milliseconds timeout) {
-        const auto packet = ameoto::protocol::encode_message("/status", {});
-        std::vector<unsigned char> framed{0, 0, 0, static_cast<unsigned char>(packet.size())};
-        framed.insert(framed.end(), packet.begin(), packet.end());
-        if (::send(fd_, framed.data(), framed.size(), MSG_NOSIGNAL) != static_cast<ssize_t>(framed.size())) return false;
-        const auto end = std::chrono::steady_clock::now() + timeout;
-        for (;;) {
-            unsigned char size[4];
-            if (!read_exactly(size, 4, end)) return false;
-            std::vector<unsigned char> body((std::uint32_t{size[0]} << 24) | (std::uint32_t{size[1]} << 16) | (std::uint32_t{size[2]} << 8) | size[3]);
-            if (!read_exactly(body.data(), body.size(), end)) return false;
-            const auto p = ameoto::protocol::decode_packet(body.data(), body.size());
-            if (p.error.empty() && !p.messages.empty() && p.messages[0].address == "/status.reply") return true;
-        }
-    }
-
-private:
-    bool read_exactly(unsigned char* out, std::size_t n, std::chrono::steady_clock::time_point end) {
-        for (std::size_t got = 0; got < n;) {
-            const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(end - std::chrono::steady_clock::now());
-            pollfd p{fd_, POLLIN, 0};
-            if (left.count() <= 0 || poll(&p, 1, static_cast<int>(left.count())) <= 0) return false;
-            const ssize_t r = recv(fd_, out + got, n - got, 0);
-            if (r <= 0) return false;
-            got += static_cast<std::size_t>(r);
-        }
-        return true;
-    }
-    int fd_ = -1;
-};
+// The monitor that must get through the flood: /status over TCP, true when /status.reply came in time.
+bool tcp_status(ameoto::test::TcpTestClient& monitor, std::chrono::milliseconds timeout) {
+    return monitor.request("/status", {}, "/status.reply", timeout).has_value();
+}
 
 // One monitor's /status round trips during the flood: asked every 50 ms, each waited for up to
 // `timeout` (a request not answered by then is lost).
@@ -197,11 +155,11 @@ TEST_CASE("flood: 100 000 messages/s aimed from 4 clients for 10 s; no xrun, /fa
     const std::string& started = d.process().output();
     const std::string tcp_line = "listening on osc.tcp://127.0.0.1:";
     REQUIRE(started.find(tcp_line) != std::string::npos);
-    TcpMonitor tcp_monitor(std::stoi(started.substr(started.find(tcp_line) + tcp_line.size())));
+    ameoto::test::TcpTestClient tcp_monitor(std::stoi(started.substr(started.find(tcp_line) + tcp_line.size())));
     ameoto::test::OscTestClient status_client(d.port());
     const auto first = status_client.request("/status", {}, "/status.reply", 2s);
     REQUIRE(first);
-    REQUIRE(tcp_monitor.status(2s));
+    REQUIRE(tcp_status(tcp_monitor, 2s));
     const auto xruns_before = first->args[6].integer;
     const long drops_before = kernel_drops(d.port());
     const double cpu_before = control_thread_cpu_s(d.process().pid());
@@ -219,7 +177,7 @@ TEST_CASE("flood: 100 000 messages/s aimed from 4 clients for 10 s; no xrun, /fa
     // Both monitors throughout; RSS after the first second and at the end. UDP waits up to 500 ms for
     // each answer; TCP, which never loses one, up to 2 s (a later one would still count as lost).
     Monitor udp, tcp;
-    std::thread tcp_thread([&] { tcp.run(until, 2000ms, [&](std::chrono::milliseconds t) { return tcp_monitor.status(t); }); });
+    std::thread tcp_thread([&] { tcp.run(until, 2000ms, [&](std::chrono::milliseconds t) { return tcp_status(tcp_monitor, t); }); });
     long rss_start = -1;
     std::thread rss_thread([&] {
         std::this_thread::sleep_until(start + 1s);
@@ -303,8 +261,8 @@ TEST_CASE("flood: a TCP flood is read no faster than it is handled (memory flat)
     const std::string tcp_line = "listening on osc.tcp://127.0.0.1:";
     REQUIRE(started.find(tcp_line) != std::string::npos);
     const int port = std::stoi(started.substr(started.find(tcp_line) + tcp_line.size()));
-    TcpMonitor monitor(port);
-    REQUIRE(monitor.status(2s));
+    ameoto::test::TcpTestClient monitor(port);
+    REQUIRE(tcp_status(monitor, 2s));
 
     const int fd = socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
     sockaddr_in to{};
@@ -332,7 +290,7 @@ TEST_CASE("flood: a TCP flood is read no faster than it is handled (memory flat)
     Monitor status;
     std::this_thread::sleep_for(500ms);
     const long rss_start = ameoto::test::resident_kib(d.process().pid());
-    status.run(until, 2000ms, [&](std::chrono::milliseconds t) { return monitor.status(t); });
+    status.run(until, 2000ms, [&](std::chrono::milliseconds t) { return tcp_status(monitor, t); });
     flooder.join();
     const long rss_end = ameoto::test::resident_kib(d.process().pid());
     close(fd);

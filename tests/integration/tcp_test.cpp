@@ -19,12 +19,14 @@
 #include "tests/support/child_process.hpp"
 #include "tests/support/daemon_process.hpp"
 #include "tests/support/osc_test_client.hpp"
+#include "tests/support/tcp_test_client.hpp"
 
 using namespace std::chrono_literals;
 using ameoto::protocol::DecodedMessage;
 using ameoto::protocol::OscArgument;
 // ameotod ARGS --port 0 (DaemonOptions' start-up bound allows for a loaded machine).
 using Daemon = ameoto::test::DaemonProcess;
+using TcpClient = ameoto::test::TcpTestClient;
 
 namespace {
 
@@ -41,81 +43,6 @@ int tcp_port(Daemon& d) {
     return std::stoi(out.substr(at + needle.size()));
 }
 
-// A TCP OSC client: size-prefixed packets, every wait bounded.
-class TcpClient {
-public:
-    explicit TcpClient(int port) {
-        fd_ = socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
-        sockaddr_in to{};
-        to.sin_family = AF_INET;
-        to.sin_port = htons(static_cast<std::uint16_t>(port));
-        to.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-        if (fd_ < 0 || connect(fd_, reinterpret_cast<sockaddr*>(&to), sizeof to) != 0) throw std::runtime_error("connect");
-    }
-    ~TcpClient() { close(fd_); }
-    void send_bytes(const std::vector<unsigned char>& bytes) { ::send(fd_, bytes.data(), bytes.size(), MSG_NOSIGNAL); }
-    static std::vector<unsigned char> framed(const std::vector<unsigned char>& packet) {
-        const auto n = static_cast<std::uint32_t>(packet.size());
-        std::vector<unsigned char> out{static_cast<unsigned char>(n >> 24), static_cast<unsigned char>(n >> 16),
-                                       static_cast<unsigned char>(n >> 8), static_cast<unsigned char>(n)};
-        out.insert(out.end(), packet.begin(), packet.end());
-        return out;
-    }
-    void send(const std::string& address, const std::vector<OscArgument>& args = {}) {
-        send_bytes(framed(ameoto::protocol::encode_message(address, args)));
-    }
-    // The next packet's first message; nullopt on timeout or when the server closed the connection.
-    std::optional<DecodedMessage> receive(std::chrono::milliseconds timeout) {
-        unsigned char size[4];
-        if (!read_exactly(size, 4, timeout)) return std::nullopt;
-        const std::uint32_t n = (std::uint32_t{size[0]} << 24) | (std::uint32_t{size[1]} << 16) | (std::uint32_t{size[2]} << 8) | size[3];
-        std::vector<unsigned char> body(n);
-        if (!read_exactly(body.data(), n, timeout)) return std::nullopt;
-        auto p = ameoto::protocol::decode_packet(body.data(), body.size());
-        if (!p.error.empty() || p.messages.empty()) return std::nullopt;
-        return p.messages.front();
-    }
-    std::optional<DecodedMessage> request(const std::string& address, const std::vector<OscArgument>& args, const std::string& reply,
-                                          std::chrono::milliseconds timeout = 2s) {
-        send(address, args);
-        const auto end = std::chrono::steady_clock::now() + timeout;
-        while (std::chrono::steady_clock::now() < end) {
-            auto m = receive(std::chrono::duration_cast<std::chrono::milliseconds>(end - std::chrono::steady_clock::now()));
-            if (!m) return std::nullopt;
-            if (m->address == reply) return m;
-        }
-        return std::nullopt;
-    }
-    // True when the server has closed this connection (end of stream) within the timeout.
-    bool closed_by_server(std::chrono::milliseconds timeout) {
-        const auto end = std::chrono::steady_clock::now() + timeout;
-        unsigned char sink[4096];
-        for (;;) {
-            const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(end - std::chrono::steady_clock::now());
-            if (left.count() <= 0) return false;
-            pollfd p{fd_, POLLIN, 0};
-            if (poll(&p, 1, static_cast<int>(left.count())) <= 0) return false;
-            const ssize_t n = recv(fd_, sink, sizeof sink, 0);
-            if (n <= 0) return true;
-        }
-    }
-
-private:
-    bool read_exactly(unsigned char* out, std::size_t n, std::chrono::milliseconds timeout) {
-        const auto end = std::chrono::steady_clock::now() + timeout;
-        std::size_t got = 0;
-        while (got < n) {
-            const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(end - std::chrono::steady_clock::now());
-            pollfd p{fd_, POLLIN, 0};
-            if (left.count() <= 0 || poll(&p, 1, static_cast<int>(left.count())) <= 0) return false;
-            const ssize_t r = recv(fd_, out + got, n - got, 0);
-            if (r <= 0) return false;
-            got += static_cast<std::size_t>(r);
-        }
-        return true;
-    }
-    int fd_ = -1;
-};
 
 }  // namespace
 
