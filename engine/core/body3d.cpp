@@ -81,30 +81,46 @@ int Body3D::add_cohesive(int a, int b, double k, double z, double rest_length, d
     return l;
 }
 
+// reserve() for the render phase: the capacity is also written once (resize, then clear), so its pages
+// are resident before the audio thread first fills them. A reserved but untouched page is faulted in by
+// the kernel on its first write, which would be on the audio thread, when a pooled drop first uses it
+// (a page fault is a trip into the kernel that can wait for memory); and RSS would then creep with each
+// slot the rain happens to use (the soak's RSS readings varied by 20 MB with it). Contents and size are
+// kept, as reserve() keeps them.
+namespace {
+template <typename Vector>
+void reserve_touched(Vector& v, std::size_t n) {
+    const std::size_t size = v.size();
+    if (n <= size) return;
+    v.resize(n);
+    v.resize(size);   // shrinking keeps the capacity
+}
+}  // namespace
+
 void Body3D::reserve(int masses, int links) {
     if (masses < 0 || links < 0) throw std::invalid_argument("capacity must be >= 0");
     const auto m = idx(masses), l = idx(links);
     for (auto* a : {&x_, &y_, &z_, &px_, &py_, &pz_, &vx_, &vy_, &vz_, &fx_, &fy_, &fz_, &ex_, &ey_, &ez_, &x0_, &y0_,
                     &z0_, &mass_, &inv_mass_, &linear_drag_, &quadratic_drag_, &k_sum_, &z_sum_})
-        a->reserve(m);
-    fixed_.reserve(m);
-    link_a_.reserve(l);
-    link_b_.reserve(l);
-    for (auto* a : {&stiffness_, &damping_, &rest_, &break_force_, &core_length_, &core_stiffness_}) a->reserve(l);
-    kind_.reserve(l);
-    broken_.reserve(l);
-    events_.reserve(std::max<std::size_t>(l, 1));
+        reserve_touched(*a, m);
+    reserve_touched(fixed_, m);
+    reserve_touched(link_a_, l);
+    reserve_touched(link_b_, l);
+    for (auto* a : {&stiffness_, &damping_, &rest_, &break_force_, &core_length_, &core_stiffness_}) reserve_touched(*a, l);
+    reserve_touched(kind_, l);
+    reserve_touched(broken_, l);
+    reserve_touched(events_, std::max<std::size_t>(l, 1));
     // The uniform pass's scratch (build_link_scratch()): groups of 4 masses hold 4 x (their largest
     // degree) slots, at most 4 x (the sum of their degrees), so at most 8 per link.
-    mirror_.reserve(8 * m + 8);
-    contribution_.reserve(4 * (2 * l + 1) + 8);
-    slots_.reserve(8 * l);
-    slot_start_.reserve(m / 4 + 2);
-    degree_.reserve(m);
-    link_ends_.reserve(2 * l);
-    candidates_.reserve(l);
-    near_links_.reserve(l);
-    for (auto* a : {&listed_x_, &listed_y_, &listed_z_}) a->reserve(m);
+    reserve_touched(mirror_, 8 * m + 8);
+    reserve_touched(contribution_, 4 * (2 * l + 1) + 8);
+    reserve_touched(slots_, 8 * l);
+    reserve_touched(slot_start_, m / 4 + 2);
+    reserve_touched(degree_, m);
+    reserve_touched(link_ends_, 2 * l);
+    reserve_touched(candidates_, l);
+    reserve_touched(near_links_, l);
+    for (auto* a : {&listed_x_, &listed_y_, &listed_z_}) reserve_touched(*a, m);
 }
 
 void Body3D::clear() {
