@@ -6,11 +6,9 @@
 #include <immintrin.h>
 #include <stdexcept>
 
-namespace ameoto {
+#include "engine/core/cpu_features.hpp"
 
-namespace {
-bool cpu_has_avx2();   // with the kernels, below
-}  // namespace
+namespace ameoto {
 
 double Body3DStability::margin() const {
     const double dt = time_step / sub_steps;
@@ -931,15 +929,6 @@ double update_tracking_avx2(const StepView& s, double& lowest_z, double& bound2)
 }  // namespace
 
 #pragma GCC pop_options
-
-namespace {
-
-bool cpu_has_avx2() {
-    __builtin_cpu_init();
-    return __builtin_cpu_supports("avx2");
-}
-
-}  // namespace
 
 void Body3D::sub_step(int index) {
     if (use_avx2_) {

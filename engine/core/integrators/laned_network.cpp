@@ -4,6 +4,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "engine/core/cpu_features.hpp"
+
 namespace ameoto {
 namespace {
 
@@ -39,11 +41,6 @@ constexpr std::size_t kVectorBytes = 32;
 #pragma GCC pop_options
 
 namespace {
-
-bool cpu_has_avx2() {
-    __builtin_cpu_init();
-    return __builtin_cpu_supports("avx2");
-}
 
 LanedKernel pick_kernel(bool avx2, bool verlet, std::size_t lanes) {
     return avx2 ? avx2::pick(verlet, lanes) : baseline::pick(verlet, lanes);
