@@ -27,11 +27,8 @@ TEST_CASE("ameoto send --tcp: replies and refusals come back on the connection")
     ameoto::test::DaemonOptions o;
     o.listen_timeout = 30s;
     ameoto::test::DaemonProcess d({"--backend", "null", "--output", "-", "--tcp-port", "0"}, {}, o);
-    const std::string& out = d.process().output();
-    const std::string needle = "listening on osc.tcp://127.0.0.1:";
-    const auto at = out.find(needle);
-    REQUIRE(at != std::string::npos);
-    const std::string port = std::to_string(std::stoi(out.substr(at + needle.size())));
+    REQUIRE(d.tcp_port() > 0);
+    const std::string port = std::to_string(d.tcp_port());
 
     auto r = send({"--port", port, "--tcp", "/sync", "5"});
     INFO(r.err);

@@ -9,7 +9,6 @@
 #include <arpa/inet.h>
 #include <doctest/doctest.h>
 #include <netinet/in.h>
-#include <poll.h>
 #include <signal.h>
 #include <sys/socket.h>
 #include <unistd.h>
@@ -152,10 +151,8 @@ TEST_CASE("flood: 100 000 messages/s aimed from 4 clients for 10 s; no xrun, /fa
     // flood faster than 48 000 commands/s overflows it between two blocks and must be refused, not waited for.
     ameoto::test::DaemonProcess d({"--backend", "null", "--output", "-", "--realtime", "--block", "4096", "--tcp-port", "0"},
                                   {"LD_PRELOAD=" AMEOTO_RT_INTERPOSER, "AMEOTO_RT_REPORT=" + report}, options);
-    const std::string& started = d.process().output();
-    const std::string tcp_line = "listening on osc.tcp://127.0.0.1:";
-    REQUIRE(started.find(tcp_line) != std::string::npos);
-    ameoto::test::TcpTestClient tcp_monitor(std::stoi(started.substr(started.find(tcp_line) + tcp_line.size())));
+    REQUIRE(d.tcp_port() > 0);
+    ameoto::test::TcpTestClient tcp_monitor(d.tcp_port());
     ameoto::test::OscTestClient status_client(d.port());
     const auto first = status_client.request("/status", {}, "/status.reply", 2s);
     REQUIRE(first);
@@ -257,34 +254,25 @@ TEST_CASE("flood: a TCP flood is read no faster than it is handled (memory flat)
     // holds the rest in the client. RSS must not grow by 1 MiB, and a second connection's /status
     // must still be answered every time.
     ameoto::test::DaemonProcess d({"--backend", "null", "--output", "-", "--realtime", "--tcp-port", "0"});
-    const std::string& started = d.process().output();
-    const std::string tcp_line = "listening on osc.tcp://127.0.0.1:";
-    REQUIRE(started.find(tcp_line) != std::string::npos);
-    const int port = std::stoi(started.substr(started.find(tcp_line) + tcp_line.size()));
-    ameoto::test::TcpTestClient monitor(port);
+    REQUIRE(d.tcp_port() > 0);
+    ameoto::test::TcpTestClient monitor(d.tcp_port());
     REQUIRE(tcp_status(monitor, 2s));
 
-    const int fd = socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
-    sockaddr_in to{};
-    to.sin_family = AF_INET;
-    to.sin_port = htons(static_cast<std::uint16_t>(port));
-    to.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-    REQUIRE(connect(fd, reinterpret_cast<sockaddr*>(&to), sizeof to) == 0);
+    ameoto::test::TcpTestClient flooding(d.tcp_port());
     std::vector<unsigned char> frames;
     for (int i = 0; i < 64; ++i) {
-        const auto m = ameoto::protocol::encode_message("/rain/rate", {OscArgument::from_float(static_cast<float>(i % 50))});
-        frames.insert(frames.end(), {0, 0, 0, static_cast<unsigned char>(m.size())});
+        const auto m = ameoto::test::TcpTestClient::framed(
+            ameoto::protocol::encode_message("/rain/rate", {OscArgument::from_float(static_cast<float>(i % 50))}));
         frames.insert(frames.end(), m.begin(), m.end());
     }
     const auto until = std::chrono::steady_clock::now() + 3s;
     std::atomic<std::uint64_t> sent_bytes{0};
     std::thread flooder([&] {
-        unsigned char sink[65536];
         while (std::chrono::steady_clock::now() < until) {
-            const ssize_t n = send(fd, frames.data(), frames.size(), MSG_NOSIGNAL | MSG_DONTWAIT);
-            if (n > 0) sent_bytes += static_cast<std::uint64_t>(n);
-            while (recv(fd, sink, sizeof sink, MSG_DONTWAIT) > 0) {}   // its /fail busy, if any
-            if (n <= 0) std::this_thread::sleep_for(1ms);             // the server is not reading: flow control
+            const std::size_t n = flooding.offer_bytes(frames);
+            sent_bytes += n;
+            flooding.discard_received();                      // its /fail busy, if any
+            if (n == 0) std::this_thread::sleep_for(1ms);     // the server is not reading: flow control
         }
     });
     Monitor status;
@@ -293,7 +281,6 @@ TEST_CASE("flood: a TCP flood is read no faster than it is handled (memory flat)
     status.run(until, 2000ms, [&](std::chrono::milliseconds t) { return tcp_status(monitor, t); });
     flooder.join();
     const long rss_end = ameoto::test::resident_kib(d.process().pid());
-    close(fd);
     MESSAGE("TCP flood: " << sent_bytes.load() / 1024 << " KiB sent in 3 s; /status on another connection: " << status.describe() << "; RSS "
                           << rss_start << " -> " << rss_end << " KiB");
     CHECK(sent_bytes.load() > 1024 * 1024);   // it was a flood

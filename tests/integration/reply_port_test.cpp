@@ -20,6 +20,7 @@
 #include "protocol/osc_codec.hpp"
 #include "tests/support/daemon_process.hpp"
 #include "tests/support/osc_test_client.hpp"
+#include "tests/support/tcp_test_client.hpp"
 
 using namespace std::chrono_literals;
 using ameoto::protocol::DecodedMessage;
@@ -184,40 +185,15 @@ TEST_CASE("a /notify subscriber that redirected gets its periodic /status.reply 
 
 TEST_CASE("a TCP client gets /fail for /reply/port: its replies always come back on its connection") {
     Daemon d({"--backend", "null", "--output", "-", "--tcp-port", "0"});
-    const std::string& out = d.process().output();
-    const std::string needle = "listening on osc.tcp://127.0.0.1:";
-    const auto at = out.find(needle);
-    REQUIRE(at != std::string::npos);
-    const int tcp_port = std::stoi(out.substr(at + needle.size()));
-
-    const int fd = socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
-    sockaddr_in to{};
-    to.sin_family = AF_INET;
-    to.sin_port = htons(static_cast<std::uint16_t>(tcp_port));
-    to.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-    REQUIRE(connect(fd, reinterpret_cast<sockaddr*>(&to), sizeof to) == 0);
-    const auto packet = ameoto::protocol::encode_message("/reply/port", {i(7771)});
-    const auto n = static_cast<std::uint32_t>(packet.size());
-    std::vector<unsigned char> framed{static_cast<unsigned char>(n >> 24), static_cast<unsigned char>(n >> 16),
-                                      static_cast<unsigned char>(n >> 8), static_cast<unsigned char>(n)};   // OSC 1.0 stream framing
-    framed.insert(framed.end(), packet.begin(), packet.end());
-    REQUIRE(::send(fd, framed.data(), framed.size(), MSG_NOSIGNAL) == static_cast<ssize_t>(framed.size()));
-    std::vector<unsigned char> got;
-    while (got.size() < 4 || got.size() < 4 + ((std::size_t{got[0]} << 24) | (std::size_t{got[1]} << 16) | (std::size_t{got[2]} << 8) | got[3])) {
-        pollfd p{fd, POLLIN, 0};
-        REQUIRE_MESSAGE(poll(&p, 1, 2000) > 0, "no reply over TCP");
-        unsigned char buffer[4096];
-        const ssize_t r = recv(fd, buffer, sizeof buffer, 0);
-        REQUIRE(r > 0);
-        got.insert(got.end(), buffer, buffer + r);
-    }
-    close(fd);
-    const auto reply = ameoto::protocol::decode_packet(got.data() + 4, got.size() - 4);
-    REQUIRE(reply.error.empty());
-    REQUIRE(!reply.messages.empty());
-    CHECK(reply.messages.front().address == "/fail");
-    CHECK(reply.messages.front().args[0].text == "/reply/port");
-    CHECK(reply.messages.front().args[1].text.find("TCP") != std::string::npos);
+    REQUIRE(d.tcp_port() > 0);
+    ameoto::test::TcpTestClient c(d.tcp_port());
+    c.send("/reply/port", {i(7771)});
+    const auto reply = c.receive(2s);   // the first packet back on the connection, whole and well formed
+    REQUIRE_MESSAGE(reply, "no reply over TCP");
+    REQUIRE(reply->args.size() == 2);
+    CHECK(reply->address == "/fail");
+    CHECK(reply->args[0].text == "/reply/port");
+    CHECK(reply->args[1].text.find("TCP") != std::string::npos);
 }
 
 TEST_CASE("a reply sent to the server is never answered, so a redirect aimed at a server's own port cannot loop") {

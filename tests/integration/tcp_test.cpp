@@ -33,14 +33,10 @@ namespace {
 OscArgument i(int v) { return OscArgument::from_int(v); }
 OscArgument f(double v) { return OscArgument::from_float(static_cast<float>(v)); }
 
-// The TCP port from "ameotod: listening on osc.tcp://127.0.0.1:PORT/".
+// The TCP port from "ameotod: listening on osc.tcp://127.0.0.1:PORT/", which must be there.
 int tcp_port(Daemon& d) {
-    // Printed right after the UDP line, before "running": already read when the daemon is up.
-    const std::string& out = d.process().output();
-    const std::string needle = "listening on osc.tcp://127.0.0.1:";
-    const auto at = out.find(needle);
-    REQUIRE(at != std::string::npos);
-    return std::stoi(out.substr(at + needle.size()));
+    REQUIRE(d.tcp_port() > 0);
+    return d.tcp_port();
 }
 
 

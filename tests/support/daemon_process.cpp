@@ -28,6 +28,10 @@ DaemonProcess::DaemonProcess(std::vector<std::string> arguments, const std::vect
     if (!process_.wait_for_line("running", options.running_timeout))
         throw std::runtime_error("ameotod did not say \"running\" " + within(options.running_timeout) + "; it printed:\n" +
                                  process_.output() + process_.error_output());
+    // The TCP line comes right after the UDP one, before "running": already read here.
+    const std::string tcp = "listening on osc.tcp://";
+    const std::string& out = process_.output();
+    if (const auto at = out.find(tcp); at != std::string::npos) tcp_port_ = port_from_listening_line(out.substr(at, out.find('\n', at) - at));
 }
 
 int port_from_listening_line(const std::string& line) {

@@ -5,6 +5,7 @@
 //   DaemonProcess d({"--backend", "null", "--output", "-"}, {"ENV=value"});   // AMEOTO_BIN_DIR/ameotod ARGS --port 0
 //   d.port()             // from "ameotod: listening on osc.udp://ADDRESS:PORT/"
 //   d.listening_line()   // that whole line
+//   d.tcp_port()         // from "ameotod: listening on osc.tcp://ADDRESS:PORT/" (given --tcp-port); -1 without
 //   d.process()          // its ChildProcess: stop, wait, signal, wait_for_line, output
 //   ~DaemonProcess       // SIGTERM, then SIGKILL (~ChildProcess)
 //
@@ -45,12 +46,14 @@ public:
 
     int port() const { return port_; }
     const std::string& listening_line() const { return listening_line_; }
+    int tcp_port() const { return tcp_port_; }
     ChildProcess& process() { return process_; }
 
 private:
     ChildProcess process_;
     std::string listening_line_;
     int port_ = -1;
+    int tcp_port_ = -1;
 };
 
 // The port in a line "ameotod: listening on osc.udp://127.0.0.1:PORT/"; -1 without one.

@@ -35,6 +35,16 @@ std::vector<unsigned char> TcpTestClient::framed(const std::vector<unsigned char
 
 void TcpTestClient::send_bytes(const std::vector<unsigned char>& bytes) { ::send(fd_, bytes.data(), bytes.size(), MSG_NOSIGNAL); }
 
+std::size_t TcpTestClient::offer_bytes(const std::vector<unsigned char>& bytes) {
+    const ssize_t n = ::send(fd_, bytes.data(), bytes.size(), MSG_NOSIGNAL | MSG_DONTWAIT);
+    return n > 0 ? static_cast<std::size_t>(n) : 0;   // EAGAIN: the send buffer is full, the server not reading
+}
+
+void TcpTestClient::discard_received() {
+    unsigned char sink[65536];
+    while (recv(fd_, sink, sizeof sink, MSG_DONTWAIT) > 0) {}
+}
+
 void TcpTestClient::send(const std::string& address, const std::vector<protocol::OscArgument>& args) {
     send_bytes(framed(protocol::encode_message(address, args)));
 }

@@ -6,6 +6,9 @@
 //   TcpTestClient c(port);                                   // throws std::runtime_error if it cannot connect
 //   c.send("/status");                                       // one framed message
 //   c.send_bytes(TcpTestClient::framed(packet));             // anything, for malformed or split input
+//   std::size_t n = c.offer_bytes(bytes);                    // what the socket takes now, without waiting: 0 when
+//                                                            // the server's flow control holds it back (a flood)
+//   c.discard_received();                                    // whatever has arrived, dropped without waiting
 //   auto m = c.receive(500ms);                               // the next packet's first message, or nullopt
 //                                                            // (timeout, or the server closed the connection)
 //   auto r = c.request("/status", {}, "/status.reply", 2s);  // send, then wait for that address (default 2 s)
@@ -30,6 +33,8 @@ public:
 
     static std::vector<unsigned char> framed(const std::vector<unsigned char>& packet);
     void send_bytes(const std::vector<unsigned char>& bytes);
+    std::size_t offer_bytes(const std::vector<unsigned char>& bytes);
+    void discard_received();
     void send(const std::string& address, const std::vector<protocol::OscArgument>& args = {});
     std::optional<protocol::DecodedMessage> receive(std::chrono::milliseconds timeout);
     std::optional<protocol::DecodedMessage> request(const std::string& address, const std::vector<protocol::OscArgument>& args,
