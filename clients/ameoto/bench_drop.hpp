@@ -6,7 +6,7 @@
 // Interface:
 //   int status = run_drop_bench(options, io);   // prints a table, or one JSON object per line (--json)
 //
-// Measurements (thread CPU time, median of --runs runs, each over --seconds of audio-time budget):
+// Measurements (thread CPU time, median of --runs runs, each over the same 0.1 s of audio):
 //   canopy        the scene with no drop: canopy, collider, far field (the baseline)
 //   1 drop        one 5 mm drop, timed over the first 0.1 s after it is placed (impact and breakup:
 //                 the expensive part; afterwards most pieces are in the air and cheap)

@@ -2,6 +2,7 @@
 
 #include "clients/ameoto/number_text.hpp"
 #include "clients/ameoto/option_reader.hpp"
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -16,6 +17,14 @@ std::optional<long> parse_integer(const std::string& text) {
     const long v = std::strtol(text.c_str(), &end, 10);
     if (errno != 0 || end != text.c_str() + text.size()) return std::nullopt;
     return v;
+}
+
+// The options each suite reads (bench_command.cpp's usage lines); one given to a suite that would
+// ignore it is refused rather than silently dropped, so no one reads a figure as measured with it.
+std::vector<std::string> options_of(const std::string& suite) {
+    if (suite == "drop") return {"--json", "--runs"};
+    if (suite == "scene") return {"--json", "--seconds"};
+    return {"--json", "--seconds", "--sizes", "--runs", "--no-faust"};
 }
 
 }  // namespace
@@ -37,6 +46,7 @@ std::optional<std::vector<int>> parse_sizes(const std::string& text) {
 
 BenchParse parse_bench_options(const CommandWords& words, BenchOptions& options, std::string& error) {
     OptionReader reader(words);
+    std::vector<std::string> given;   // the options named, for the suite's check at the end
     for (auto kind = reader.next_word(); kind != OptionReader::Word::end; kind = reader.next_word()) {
         // The word as typed for the messages below: the option's name, or the positional word.
         const std::string word = kind == OptionReader::Word::positional ? reader.positional() : reader.name();
@@ -44,6 +54,7 @@ BenchParse parse_bench_options(const CommandWords& words, BenchOptions& options,
         std::string value;
         auto take_value = [&] { return reader.value_into(value, error); };
         auto no_value = [&] { return reader.flag_into(error); };
+        if (kind != OptionReader::Word::positional) given.push_back(name);
         if (name == "--help" || name == "-h") {
             return BenchParse::help;
         } else if (name == "--json") {
@@ -92,6 +103,14 @@ BenchParse parse_bench_options(const CommandWords& words, BenchOptions& options,
     }
     if (options.suite != "engine" && options.suite != "drop" && options.suite != "scene") {
         error = "unknown suite '" + options.suite + "' (the suites: engine, drop, scene)";
+        return BenchParse::error;
+    }
+    const auto accepted = options_of(options.suite);
+    for (const std::string& option : given) {
+        if (std::find(accepted.begin(), accepted.end(), option) != accepted.end()) continue;
+        error = option + " does not apply to bench " + options.suite + " (it takes";
+        for (const auto& a : accepted) error += " " + a;
+        error += ")";
         return BenchParse::error;
     }
     return BenchParse::run;

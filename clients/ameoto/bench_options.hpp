@@ -8,7 +8,8 @@
 //   parse_sizes("55,1000,10000")   // -> {55, 1000, 10000}; nullopt if malformed
 //
 // Grammar: ameoto bench SUITE [--json] [--seconds S] [--sizes N,N,...] [--runs R] [--no-faust]
-// SUITE is "engine" or "drop" (--sizes and --no-faust apply to engine). Options may come before or after the suite.
+// SUITE is "engine", "drop" or "scene". Options may come before or after the suite. Each suite takes
+// only the options it reads (drop: --json, --runs; scene: --json, --seconds); another is an error.
 // Limits: seconds 0.01..600 per measurement; sizes 1..200000 masses each, at most 16 of them;
 // runs 1..101.
 
@@ -21,7 +22,7 @@
 namespace ameoto::client {
 
 struct BenchOptions {
-    std::string suite;                    // "engine" or "drop"
+    std::string suite;                    // "engine", "drop" or "scene"
     bool json = false;                    // one JSON object per measurement
     double seconds = 0.5;                 // time spent measuring each method at each size
     std::vector<int> sizes{55, 1000, 10000};   // target masses of the canopy panels

@@ -85,6 +85,12 @@ TEST_CASE("bench options: the drop suite, and a suite that does not exist") {
     const Parsed scene = parse({"scene", "--json", "--seconds", "0.5"});
     REQUIRE(scene.result == BenchParse::run);
     CHECK(scene.options.suite == "scene");
+    // An option the suite would ignore is refused, wherever it stands: no figure is read as measured with it.
+    CHECK(parse({"drop", "--seconds", "1"}).error == "--seconds does not apply to bench drop (it takes --json --runs)");
+    CHECK(parse({"--sizes", "55", "drop"}).error == "--sizes does not apply to bench drop (it takes --json --runs)");
+    CHECK(parse({"drop", "--no-faust"}).result == BenchParse::error);
+    CHECK(parse({"scene", "--runs", "3"}).error == "--runs does not apply to bench scene (it takes --json --seconds)");
+    CHECK(parse({"scene", "--sizes=55"}).result == BenchParse::error);
     const Parsed bad = parse({"rain"});
     CHECK(bad.result == BenchParse::error);
     CHECK(bad.error.find("engine, drop, scene") != std::string::npos);
