@@ -37,7 +37,7 @@ const std::vector<std::string> ameoto_variables{"AMEOTO_HOST", "AMEOTO_PORT"};
 // ameotod on the null backend, --port 0: it said where it listens (within 5 s) and that it runs.
 DaemonProcess start_server() {
     ameoto::test::DaemonOptions o;
-    o.listen_timeout = 5s;
+    o.listen_timeout = 30s;   // the scene takes seconds to build (5.6 s at load 12.6): as watch_test
     o.child.unset_env = ameoto_variables;
     return DaemonProcess({"--backend", "null", "--output", "-", "--realtime"}, {}, o);
 }
