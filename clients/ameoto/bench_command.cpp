@@ -32,7 +32,7 @@ std::string bench_usage() {
            "Prints ns per sample, per mass update and per link update, % of one core and the\n"
            "realtime factor at 48 kHz. Progress goes to stderr.\n"
            "\n"
-           "Options:\n"
+           "Options (each suite takes only those in its usage line above; another is refused):\n"
            "  --json              one JSON object per measurement, one per line (fields: docs/bench.md)\n"
            "  --seconds S         CPU time spent measuring each method at each size, 0.01..600\n"
            "                      (default 0.5; a tenth warms up, the rest is split into the runs)\n"
