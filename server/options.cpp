@@ -69,8 +69,8 @@ Options:
                       depends only on the seed and the commands, sample for sample as
                       an offline render (by default a live stream sheds detail before
                       it would miss a deadline; /lod sets the budget)
-  --block-trace FILE  write every slow audio callback to FILE, one line each: its wall
-                      and thread CPU time, page faults, preemptions and what it did
+  --block-trace FILE  write every slow (or late-started) audio callback to FILE, a line
+                      each: its wall and thread CPU time, faults, preemptions, what it did
                       (lattice drops, templates, commands), and whether the time was
                       ours (CPU) or the machine's (wall only); see docs/bench.md. Costs
                       four system calls a callback (about 9 us here) while on
