@@ -32,6 +32,7 @@
 #include "server/osc/datagram_backlog.hpp"
 #include "server/osc/udp_endpoint.hpp"
 #include "server/realtime/audio_bridge.hpp"
+#include "server/realtime/block_trace.hpp"
 #include "server/realtime/rt_probe.hpp"
 #include "server/scene_store.hpp"
 #include "server/systemd_notify.hpp"
@@ -100,6 +101,7 @@ struct Daemon::State {
     JackBackend* jack = nullptr;        // the same object as backend, when it is JACK
     NullBackend* null = nullptr;
     std::unique_ptr<AudioBridge> bridge;
+    std::unique_ptr<BlockTraceFile> block_trace;   // --block-trace: fed from the bridge's ring by poll()
     std::unique_ptr<Canopy> geometry;   // the control thread's own copy of the surface, for validating points
     std::map<std::string, Liquid> custom_liquids;
     std::map<std::string, MembraneMaterial> custom_materials;
@@ -171,6 +173,7 @@ struct Daemon::State {
     void set_reply_port(const Peer& sender, int port);
     void notify_subscribers();
     void send_meters();
+    void drain_block_trace();
     void apply_setting(const Command& c);
     void apply_due_settings(std::uint64_t frame);
     void forget(const Peer& gone);
@@ -254,6 +257,18 @@ bool Daemon::State::build_scene() {
         return false;
     }
     bridge = std::make_unique<AudioBridge>(std::make_unique<Renderer>(config), 4096);
+    if (options.block_trace) {
+        // 16384 records: 22 s of 64-frame callbacks, so the 5 ms poll can fall far behind before one is lost.
+        try {
+            block_trace = std::make_unique<BlockTraceFile>(*options.block_trace, backend->sample_rate(), options.block_trace_threshold);
+        } catch (const std::exception& e) {
+            warn(std::string("--block-trace: ") + e.what());
+            return false;
+        }
+        bridge->enable_block_trace(16384);
+        say("tracing callbacks over " + std::to_string(static_cast<int>(std::lround(100 * options.block_trace_threshold))) +
+            " % of the period to " + *options.block_trace);
+    }
     use_geometry(config, has_umbrella(current_scene));
     context.on_surface = [this](const std::string&, double x, double y) { return geometry->locate(x, y).panel >= 0; };
     context.custom_liquid = [this](const std::string& name) -> std::optional<Liquid> {
@@ -600,6 +615,15 @@ void Daemon::State::notify_subscribers() {
     });
 }
 
+// --block-trace: every record the audio thread left in the ring; the slow ones go to the file.
+void Daemon::State::drain_block_trace() {
+    if (!block_trace) return;
+    BlockRecord record;
+    bool wrote = false;
+    while (bridge->block_trace()->pop(record)) wrote |= block_trace->add(record);
+    if (wrote) block_trace->flush();
+}
+
 // /meter f seconds (audio time at the window's end), i channels, then f peak and f RMS per channel, in dBFS. The newest window only:
 // a subscriber wants the level now, and an offline render makes windows faster than anyone reads them.
 void Daemon::State::send_meters() {
@@ -781,6 +805,7 @@ void Daemon::State::poll() {
         }
     }
     if (freed_scene) return_free_memory();   // RSS follows what is held (memory_return.hpp)
+    drain_block_trace();
     const AudioSnapshot s = bridge->snapshot();
     apply_due_settings(s.frames);
     send_meters();
@@ -947,6 +972,13 @@ int Daemon::run() {
 
     if (s.tcp) s.tcp->close();   // its thread reads the bridge and the backend: joined before they go
     s.backend->stop();
+    if (s.block_trace) {
+        s.drain_block_trace();
+        s.block_trace->close(s.bridge->block_trace()->lost());
+        say("block trace: " + std::to_string(s.block_trace->blocks()) + " callbacks, slow: " +
+            std::to_string(s.block_trace->slow_ours()) + " ours, " + std::to_string(s.block_trace->slow_machine()) +
+            " the machine's; started late: " + std::to_string(s.block_trace->late()));
+    }
     if (s.traffic.busy > 0 || s.traffic.refused_senders > 0) say(s.traffic.report());
     if (s.null && s.null->wav()) say("wrote " + std::to_string(s.null->wav()->frames_written()) + " frames to " + s.null->wav()->path());
     say("stopped");

@@ -34,6 +34,8 @@ struct DaemonOptions {
     std::optional<std::string> scene_folder;   // default: SceneStore::default_folder()
     std::optional<double> rain_mm_per_h;   // starting rain rate; default: the scene's
     bool fixed_detail = false;            // never shed detail by measured load (output as offline)
+    std::optional<std::string> block_trace;   // write the slow audio callbacks here (block_trace.hpp)
+    double block_trace_threshold = 0.5;   // a callback is slow past this fraction of its period
 };
 
 struct ParsedOptions {

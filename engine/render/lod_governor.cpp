@@ -14,7 +14,10 @@ constexpr double recovery_per_s = 0.5;
 // Lattice pricing (header): time constants of what it learns.
 constexpr double base_smoothing_s = 0.5;
 constexpr double mean_smoothing_s = 0.25;
-constexpr double event_memory_s = 10.0;
+// 120 s, not 10 s: a 64-frame soak's per-block trace (docs/bench.md, "Slow blocks") showed the governor
+// re-admitting a lattice drop every 5-10 s as a 10 s memory let a spawn-and-breakup block of 70-150 % of
+// the period fall under the peak limit again; each such drop gave 2-5 blocks over half the period.
+constexpr double event_memory_s = 120.0;
 constexpr double recent_smoothing_s = 0.1;
 constexpr double learning_s = 0.1;   // measured awake time after which a lattice drop's price counts as learned
 

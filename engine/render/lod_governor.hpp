@@ -44,7 +44,7 @@
 //   mean    one awake drop's share of the load above base, in blocks without a spawn or a break
 //           ((load - base) / awake, one-pole, 0.25 s): its expected cost per block;
 //   event   the worst block a spawn or a breakup gave: load - base - (awake - 1) mean, the excess one drop
-//           caused, a running maximum that decays with a 10 s time constant (so drops are tried again
+//           caused, a running maximum that decays with a 120 s time constant (so drops are tried again
 //           when the machine has become quieter);
 //   recent  the load now (one-pole, 0.1 s).
 // A drop is then admitted to the full tier only if, besides the rules above, its price fits:

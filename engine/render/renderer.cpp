@@ -384,12 +384,15 @@ void Renderer::process(int frames, float* const* outputs) {
     const DropPoolStats before = pool.stats();
     const DropPool* pool_before = &pool;
     const int awake_before = static_cast<int>(pool.active().size());
+    const RendererStats stats_before = stats_;
+    int commands = 0;
     for (int n = 0; n < frames; ++n) {
         const std::uint64_t now = frame_ + static_cast<std::uint64_t>(n);
         // Apply every command due at this sample, in order.
         int applied = 0;
         while (applied < pending_count_ && pending_[static_cast<std::size_t>(applied)].frame <= now)
             apply(pending_[static_cast<std::size_t>(applied++)]);
+        commands += applied;
         if (applied > 0) {
             std::copy(pending_.begin() + applied, pending_.begin() + pending_count_, pending_.begin());
             pending_count_ -= applied;
@@ -414,6 +417,20 @@ void Renderer::process(int frames, float* const* outputs) {
     stats_.rain_tiers.priced_out = governor_.counts().priced_out;
     stats_.rain_rate_mm_per_h = has_umbrella_ ? rain_->rate() : rain_rate_;
     stats_.surface_drops = surfaces_->drops();
+    // The block's record (last_block): counters' differences, so the steady path pays a few subtractions.
+    const bool same_pool = pool_before == &scene_->drops.pool();
+    BlockActivity& b = last_block_;
+    b.commands = commands;
+    b.lattice_spawned = same_pool ? static_cast<int>(after.spawned - before.spawned) : static_cast<int>(after.spawned);
+    b.lattice_awake = last_activity_.awake;
+    b.link_breaks = same_pool ? after.link_breaks - before.link_breaks : after.link_breaks;
+    b.full_rain = static_cast<int>(stats_.rain_tiers.full - stats_before.rain_tiers.full);
+    b.template_impacts = static_cast<int>(stats_.rain_tiers.template_ - stats_before.rain_tiers.template_ +
+                                          stats_.drop_fallbacks - stats_before.drop_fallbacks);
+    b.texture_grains = static_cast<int>(stats_.rain_tiers.texture - stats_before.rain_tiers.texture);
+    b.priced_out = static_cast<int>(stats_.rain_tiers.priced_out - stats_before.rain_tiers.priced_out);
+    b.detail = stats_.detail;
+    b.scene_changed = !same_pool;
 }
 
 }  // namespace ameoto

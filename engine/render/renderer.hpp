@@ -7,6 +7,7 @@
 //   r.process(frames, outputs);               // audio thread: render `frames` samples into outputs[ch]
 //   r.poll_event(event)                       // audio thread: events produced (synced, busy, swapped, retired)
 //   r.stats()                                 // counters for /status
+//   r.last_block()                            // what the last process() did (ameotod's --block-trace)
 //   r.frame()                                 // sample clock: frames rendered so far
 //   Renderer::make_scene(config)              // off the audio thread: an UmbrellaScene for swap_surface/
 //                                             // swap_liquid (umbrella_scene.hpp)
@@ -109,6 +110,21 @@ struct RendererStats {
     double rain_rate_mm_per_h = 0.0;      // current (ramping) rate
 };
 
+// What one process() did, for the per-block trace of slow callbacks (server/realtime/block_trace.hpp):
+// the work that can make a block cost more than the steady rain does.
+struct BlockActivity {
+    int commands = 0;             // commands applied (their samples fell in this block)
+    int lattice_spawned = 0;      // lattice drops spawned (rain given the full tier, /drop)
+    int lattice_awake = 0;        // lattice drops alive in the block (the most at once)
+    long link_breaks = 0;         // lattice links broken (a breakup)
+    int full_rain = 0;            // rain drops given the full tier
+    int template_impacts = 0;     // template impacts started (rain, and /drop fallbacks)
+    int texture_grains = 0;       // rain drops heard as texture grains
+    int priced_out = 0;           // rain drops the governor kept from the full tier by its price
+    double detail = 1.0;          // the governor's detail at the end of the block
+    bool scene_changed = false;   // a scene, surface or liquid was installed in this block
+};
+
 // Sets config's umbrella fields, rain rate and LOD from the scene, and the scene itself; throws
 // std::invalid_argument with the reason (an unknown umbrella material, a listener not under the umbrella).
 // `material` resolves umbrella material names (presets, or custom ones the caller knows); null: presets.
@@ -142,6 +158,7 @@ public:
 
     std::uint64_t frame() const { return frame_; }
     const RendererStats& stats() const { return stats_; }
+    const BlockActivity& last_block() const { return last_block_; }
     const RendererConfig& config() const { return config_; }
     // Audio thread (or before audio starts) only:
     const UmbrellaScene& umbrella() const { return *scene_; }
@@ -193,6 +210,7 @@ private:
     int block_drops_ = 0;
     std::uint64_t frame_ = 0;
     RendererStats stats_;
+    BlockActivity last_block_;
 
     // Commands waiting for their sample, sorted by frame (stable for equal frames).
     std::array<Command, pending_capacity> pending_{};

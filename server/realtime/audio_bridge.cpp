@@ -84,7 +84,10 @@ std::uint64_t frame_at(const AudioClock& clock, double unix_seconds) {
 
 void AudioBridge::process(int frames, float* const* outputs) {
     rt::Scope audited;
+    BlockTrace::Reading thread_before;
+    if (trace_) thread_before = BlockTrace::read_thread();
     const std::int64_t start = now_ns(CLOCK_MONOTONIC);
+    const std::uint64_t first_frame = renderer_->frame();
 
     const std::uint64_t seq = clock_sequence_.load(std::memory_order_relaxed);
     clock_sequence_.store(seq + 1, std::memory_order_relaxed);
@@ -112,11 +115,15 @@ void AudioBridge::process(int frames, float* const* outputs) {
     active_full_drops_.store(st.active_full_drops, std::memory_order_relaxed);
     active_grains_.store(st.active_grains, std::memory_order_relaxed);
     rain_rate_.store(st.rain_rate_mm_per_h, std::memory_order_relaxed);
-    callbacks_.fetch_add(1, std::memory_order_relaxed);
+    const std::uint64_t callback = callbacks_.fetch_add(1, std::memory_order_relaxed);
     frames_.store(renderer_->frame(), std::memory_order_release);
 
     const double period = frames / sample_rate_;
-    const double load = static_cast<double>(now_ns(CLOCK_MONOTONIC) - start) * 1e-9 / period;
+    const std::int64_t wall_ns = now_ns(CLOCK_MONOTONIC) - start;
+    const double load = static_cast<double>(wall_ns) * 1e-9 / period;
+    if (trace_)
+        trace_->record(callback, first_frame, frames, start, wall_ns, thread_before, BlockTrace::read_thread(),
+                       renderer_->last_block());
     // Exponential mean with a time constant of about one second of audio.
     const double alpha = std::min(1.0, period / 1.0);
     load_average_.store(load_average_.load(std::memory_order_relaxed) * (1.0 - alpha) + load * alpha,

@@ -12,6 +12,8 @@
 //                    bridge.frame_for(unix_seconds) -> the sample a timetag falls on
 //                    bridge.clock() + frame_at(clock, unix_seconds) -> the same, one clock reading for a whole packet
 //                    bridge.take_meter(w)  -> the next finished level-meter window (/meter)
+//                    bridge.enable_block_trace(n) -> before audio starts: record every block (block_trace.hpp)
+//                    bridge.block_trace()  -> that record's ring (null when off), read by one thread
 //   audio thread:    bridge.process(frames, outputs)   // never allocates, frees, locks, blocks or logs
 //
 // Load: each process() measures its own duration with the monotonic clock (a vDSO read, no system
@@ -25,6 +27,7 @@
 #include <memory>
 
 #include "engine/render/renderer.hpp"
+#include "server/realtime/block_trace.hpp"
 #include "server/realtime/level_meter.hpp"
 #include "server/realtime/spsc_queue.hpp"
 
@@ -74,6 +77,10 @@ public:
     double sample_rate() const { return sample_rate_; }
     int channels() const { return channels_; }
     const RendererConfig& config() const { return renderer_->config(); }   // fixed at construction
+    // Before the backend starts (allocates a ring of `capacity` records): from then on every block's wall
+    // and CPU time, page faults and work go into it, for --block-trace.
+    void enable_block_trace(std::size_t capacity) { trace_ = std::make_unique<BlockTrace>(capacity); }
+    BlockTrace* block_trace() { return trace_.get(); }
 
     // audio thread
     void process(int frames, float* const* outputs);
@@ -85,6 +92,7 @@ private:
     SpscQueue<Command> commands_;
     SpscQueue<RendererEvent> events_;
     LevelMeter meter_;
+    std::unique_ptr<BlockTrace> trace_;   // null unless --block-trace
 
     // published by the audio thread
     std::atomic<std::uint64_t> clock_sequence_{0};

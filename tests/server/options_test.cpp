@@ -90,3 +90,15 @@ TEST_CASE("--allow takes IPv4 and IPv6 networks and refuses anything else, namin
     CHECK(parse({"--allow"}).error.find("--allow needs") == 0);
     CHECK(ameoto::usage().find("--allow CIDR") != std::string::npos);
 }
+
+TEST_CASE("--block-trace names a file and its threshold in % of the period; off by default") {
+    CHECK_FALSE(parse({}).options.block_trace.has_value());
+    CHECK(parse({}).options.block_trace_threshold == doctest::Approx(0.5));
+    const auto p = parse({"--block-trace", "/tmp/blocks.trace", "--block-trace-threshold", "80"});
+    REQUIRE(p.error.empty());
+    CHECK(p.options.block_trace == std::optional<std::string>("/tmp/blocks.trace"));
+    CHECK(p.options.block_trace_threshold == doctest::Approx(0.8));
+    CHECK(parse({"--block-trace"}).error.find("--block-trace") != std::string::npos);
+    CHECK(parse({"--block-trace-threshold", "0"}).error.find("--block-trace-threshold") != std::string::npos);
+    CHECK(ameoto::usage().find("--block-trace FILE") != std::string::npos);
+}

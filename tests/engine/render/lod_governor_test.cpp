@@ -83,9 +83,14 @@ TEST_CASE("lod: a lattice drop is priced from measured load: its mean cost and i
     for (int i = 0; i < 3750; ++i) g.observe_load(0.28, LatticeActivity{1, false}, block);
     CHECK(g.lattice_price().mean == doctest::Approx(0.08).epsilon(0.01));
     CHECK(g.lattice_price().recent == doctest::Approx(0.28).epsilon(0.01));
-    // Decayed by exp(-5 s / 10 s) since: 0.35 * 0.61 = 0.21. recent + event = 0.49 <= 0.6: affordable.
-    CHECK(g.lattice_price().event == doctest::Approx(0.35 * std::exp(-0.5)).epsilon(0.01));
+    // Decayed by exp(-5 s / 120 s) since: 0.35 * 0.96 = 0.34. recent + event = 0.62 > 0.6: not yet.
+    CHECK(g.lattice_price().event == doctest::Approx(0.35 * std::exp(-5.0 / 120.0)).epsilon(0.01));
+    CHECK_FALSE(g.lattice_affordable());
+    // 10 s more at 22 %: 0.35 * exp(-15 / 120) = 0.31; recent + event = 0.53 <= 0.6: affordable.
+    for (int i = 0; i < 7500; ++i) g.observe_load(0.22, LatticeActivity{1, false}, block);
+    CHECK(g.lattice_price().event == doctest::Approx(0.35 * std::exp(-15.0 / 120.0)).epsilon(0.01));
     CHECK(g.lattice_affordable());
+    for (int i = 0; i < 750; ++i) g.observe_load(0.28, LatticeActivity{1, false}, block);
     CHECK(g.choose(5e-3, 9.09, 0.4, 1) == LodTier::full);
     // A heavier shatter: 0.55 above the base with another drop awake (0.55 - 0.08 = 0.47 its own). Now
     // recent + event = 0.28 + 0.47 > 0.6: a loud near drop becomes a template, counted as priced out.
@@ -94,9 +99,13 @@ TEST_CASE("lod: a lattice drop is priced from measured load: its mean cost and i
     CHECK_FALSE(g.lattice_affordable());
     CHECK(g.choose(5e-3, 9.09, 0.4, 1) == LodTier::template_);
     CHECK(g.counts().priced_out == 1);
-    // The memory fades (10 s): on a quieter machine, 3 s later at 25 % load, recent + event fits again.
+    // The memory fades over minutes (120 s), not seconds: 3 s later at 25 % load it still does not fit;
+    // 30 s later (0.47 * exp(-0.25) = 0.37), at 20 % load, it does.
     for (int i = 0; i < 2250; ++i) g.observe_load(0.25, LatticeActivity{0, false}, block);
-    CHECK(g.lattice_price().event == doctest::Approx(0.47 * std::exp(-0.3)).epsilon(0.02));
+    CHECK(g.lattice_price().event == doctest::Approx(0.47 * std::exp(-3.0 / 120.0)).epsilon(0.02));
+    CHECK_FALSE(g.lattice_affordable());
+    for (int i = 0; i < 20250; ++i) g.observe_load(0.20, LatticeActivity{0, false}, block);
+    CHECK(g.lattice_price().event == doctest::Approx(0.47 * std::exp(-30.0 / 120.0)).epsilon(0.02));
     CHECK(g.lattice_affordable());
     // The mean budget: a load near the budget leaves no room for one more drop's 8 %.
     for (int i = 0; i < 750; ++i) g.observe_load(0.35, LatticeActivity{0, false}, block);
