@@ -192,6 +192,19 @@ std::shared_ptr<const DropLattice> drop_lattice(int target_masses) {
 }
 
 std::vector<std::shared_ptr<const DropLattice>> drop_lattices(int max_target) {
+    {
+        // Every target already cached (each pool of a scene build asks for the same ones): no enumeration.
+        LatticeCache& c = cache();
+        std::lock_guard lock(c.mutex);
+        std::vector<std::shared_ptr<const DropLattice>> cached;
+        cached.reserve(static_cast<std::size_t>(std::max(max_target, 1)));
+        for (int t = 1; t <= std::max(max_target, 1); ++t) {
+            const auto it = c.by_target.find(t);
+            if (it == c.by_target.end()) break;
+            cached.push_back(it->second);
+        }
+        if (cached.size() == static_cast<std::size_t>(std::max(max_target, 1))) return cached;
+    }
     const auto choices = lattice_ball_choices(max_target);
     std::vector<std::shared_ptr<const DropLattice>> lattices;
     lattices.reserve(choices.size());
