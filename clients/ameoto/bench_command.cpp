@@ -5,6 +5,7 @@
 #include "clients/ameoto/bench_accuracy.hpp"
 #include "clients/ameoto/bench_drop.hpp"
 #include "clients/ameoto/bench_engine.hpp"
+#include "clients/ameoto/bench_lattices.hpp"
 #include "clients/ameoto/bench_options.hpp"
 #include "clients/ameoto/bench_scene.hpp"
 #include "clients/ameoto/exit_status.hpp"
@@ -16,6 +17,7 @@ std::string bench_usage() {
            "       ameoto bench drop [--json] [--runs R]\n"
            "       ameoto bench scene [--json] [--seconds S]\n"
            "       ameoto bench accuracy [--json] [--csv FILE] [--svg FILE] [--stability-svg FILE] [--table FILE]\n"
+           "       ameoto bench lattices [--max-diameter MM] [--table FILE]\n"
            "\n"
            "drop: the cost of the seed's full model, 5 mm water drops at terminal speed on the 8-panel\n"
            "nylon canopy at 48 kHz (impact and breakup), and how many at once one core can carry.\n"
@@ -24,6 +26,8 @@ std::string bench_usage() {
            "99.9th percentile callback time (--seconds x 4 s of audio per measurement, 1..20).\n"
            "accuracy: cost against error of every integration method on the umbrella panel, the\n"
            "stability map, and the accuracy knob's data (ameoto bench accuracy --help; docs/accuracy.md).\n"
+           "lattices: the drop lattices' stretch-mode analysis, timed per lattice, and its committed table\n"
+           "(ameoto bench lattices --help; engine/models/stretch_mode_table.hpp).\n"
            "\n"
            "Measures the physics engine on this machine (no server needed): every method (the\n"
            "transverse network with each integrator, the grid membrane in float and double) on\n"
@@ -50,6 +54,7 @@ std::string bench_usage() {
 
 int run_bench(const CommandWords& words, const CommandIo& io) {
     if (std::find(words.begin(), words.end(), "accuracy") != words.end()) return run_accuracy_bench(words, io);
+    if (std::find(words.begin(), words.end(), "lattices") != words.end()) return run_lattices_bench(words, io);
     BenchOptions options;
     std::string error;
     switch (parse_bench_options(words, options, error)) {

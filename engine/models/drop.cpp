@@ -14,6 +14,7 @@
 #include "engine/core/body3d_drag.hpp"
 #include "engine/core/connected_components.hpp"
 #include "engine/core/physical_constants.hpp"
+#include "engine/models/stretch_mode_table.hpp"
 #include "engine/scene/terminal_speed.hpp"
 
 namespace ameoto {
@@ -135,6 +136,15 @@ StretchMode stretch_mode(const LatticeBallShape& shape) {
     return best;
 }
 
+std::optional<StretchMode> tabulated_stretch_mode(const LatticeBallShape& shape) {
+    for (const TabulatedStretchMode& t : tabulated_stretch_modes())
+        if (t.centre_kind == shape.centre_kind && t.last_shell_key == shape.last_shell_key)
+            return t.masses == shape.mass_count() && t.links == shape.link_count()
+                       ? std::optional<StretchMode>(StretchMode{t.lambda, t.weight})
+                       : std::nullopt;
+    return std::nullopt;
+}
+
 namespace {
 
 struct LatticeCache {
@@ -160,7 +170,8 @@ std::shared_ptr<const DropLattice> lattice_for(int target, const LatticeBallChoi
     }
     auto built = std::make_shared<DropLattice>();
     built->shape = lattice_ball_shape(choice);
-    const StretchMode mode = stretch_mode(built->shape);
+    const std::optional<StretchMode> tabulated = tabulated_stretch_mode(built->shape);
+    const StretchMode mode = tabulated ? *tabulated : stretch_mode(built->shape);
     built->lambda2 = mode.lambda;
     built->weight2 = mode.weight;
     std::lock_guard lock(c.mutex);
@@ -181,6 +192,19 @@ std::shared_ptr<const DropLattice> drop_lattice(int target_masses) {
 }
 
 std::vector<std::shared_ptr<const DropLattice>> drop_lattices(int max_target) {
+    {
+        // Every target already cached (each pool of a scene build asks for the same ones): no enumeration.
+        LatticeCache& c = cache();
+        std::lock_guard lock(c.mutex);
+        std::vector<std::shared_ptr<const DropLattice>> cached;
+        cached.reserve(static_cast<std::size_t>(std::max(max_target, 1)));
+        for (int t = 1; t <= std::max(max_target, 1); ++t) {
+            const auto it = c.by_target.find(t);
+            if (it == c.by_target.end()) break;
+            cached.push_back(it->second);
+        }
+        if (cached.size() == static_cast<std::size_t>(std::max(max_target, 1))) return cached;
+    }
     const auto choices = lattice_ball_choices(max_target);
     std::vector<std::shared_ptr<const DropLattice>> lattices;
     lattices.reserve(choices.size());

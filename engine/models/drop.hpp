@@ -4,6 +4,8 @@
 // Interface:
 //   auto lattice = drop_lattice(target);                     // shared, cached; off the audio thread
 //   auto table = drop_lattices(max_target);                  // all targets 1..max at once
+//   StretchMode m = stretch_mode(shape);                     // lambda_2 computed (what drop_lattice caches)
+//   auto t = tabulated_stretch_mode(shape);                  // ... or from the committed table (nullopt: absent)
 //   DropCalibration c = calibrate_drop(D, liquid);           // off the audio thread (uses drop_lattice)
 //   DropCalibration c = calibrate_drop(*lattice, D, liquid, options);   // closed form: audio-safe
 //   DropInfo info = add_drop(body, *lattice, c, centre, velocity, DragPreset::quadratic);
@@ -37,7 +39,8 @@
 // motions projected out: the Ritz values' weights (first components squared) are the stretch's
 // spectral measure, and the largest one is the mode. A sparse LDL^T of K + s I makes it fast (about
 // 0.1 s at 512 masses, against 5 s for the dense eigensolver; 2-4 s for all 122 shapes up to 8 mm),
-// computed once per lattice shape and cached for the process.
+// computed once per lattice shape and cached for the process. Every shape up to 8 mm is tabulated
+// (stretch_mode_table.hpp: the same bits, committed), so the process computes only larger ones.
 // Tests: the Lanczos value agrees with the dense eigensolver; a simulated free drop stretched by 1 %
 // oscillates within 10 % of Rayleigh (measured values in docs/engine.md, "The drop").
 //
@@ -119,6 +122,9 @@ struct StretchMode {
     double lambda = 0.0, weight = 0.0;
 };
 StretchMode stretch_mode(const LatticeBallShape& shape);
+// The same from the committed table (stretch_mode_table.hpp), nullopt for a shape it does not hold:
+// drop_lattice takes this, and computes only the shapes the table lacks. No allocation.
+std::optional<StretchMode> tabulated_stretch_mode(const LatticeBallShape& shape);
 
 struct DropCalibration {
     double diameter = 0.0;          // m

@@ -3,8 +3,12 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
+#include <mutex>
 #include <stdexcept>
 #include <string>
+#include <tuple>
+#include <utility>
 
 #include "engine/core/body3d_drag.hpp"
 
@@ -45,11 +49,51 @@ DropPool::DropPool(const DropPoolConfig& config) : config_(config) {
     done_ = [floor](Vec3 p, Vec3) { return p.z < floor; };
 }
 
-int DropPool::add_liquid(const Liquid& liquid) {
-    if (std::string why = validate(liquid); !why.empty()) throw std::invalid_argument("liquid '" + liquid.name + "': " + why);
-    if (liquid_count() >= config_.max_liquids) throw std::invalid_argument("drop pool: no room for another liquid");
-    // Every lattice at the two ends of its diameter range must run within max_sub_steps: the
-    // dampers grow with viscosity (z ~ mu a k / sigma), the core with 1 / h^2.
+namespace {
+
+// What add_liquid's check finds depends only on these (the lattices follow from max_diameter; a
+// scratch body has the default speed bound, and gravity does not enter the bound): the check is run
+// once per process for each, not once per pool. The scene's build makes a pool for each of its ~50
+// impact templates and its texture calibration, all with the same liquid and step: each used to build
+// and finalize ~120 drop bodies here (about 15 % of ameotod's start-up).
+struct SubStepKey {
+    double max_diameter, time_step, density, surface_tension, viscosity;
+    Integrator integrator;
+    bool core;
+    double core_length, core_speed;
+    auto tie() const {
+        return std::tie(max_diameter, time_step, density, surface_tension, viscosity, integrator, core, core_length, core_speed);
+    }
+    bool operator<(const SubStepKey& o) const { return tie() < o.tie(); }
+};
+
+// Per checked drop, in the check's order: its diameter and the sub-steps it needs (4097: refused by finalize).
+using SubStepNeeds = std::vector<std::pair<double, int>>;
+
+struct SubStepCache {
+    std::mutex mutex;
+    std::map<SubStepKey, std::shared_ptr<const SubStepNeeds>> needs;
+};
+
+SubStepCache& sub_step_cache() {
+    static SubStepCache instance;
+    return instance;
+}
+
+}  // namespace
+
+std::shared_ptr<const std::vector<std::pair<double, int>>> DropPool::sub_step_needs(const Liquid& liquid) const {
+    const SubStepKey key{config_.max_diameter, config_.time_step, liquid.density, liquid.surface_tension, liquid.viscosity,
+                         config_.integrator, config_.options.core, config_.options.core_length, config_.options.core_speed};
+    SubStepCache& cache = sub_step_cache();
+    {
+        std::lock_guard lock(cache.mutex);
+        if (auto it = cache.needs.find(key); it != cache.needs.end()) return it->second;
+    }
+    // Every lattice at the two ends of its diameter range: the dampers grow with viscosity
+    // (z ~ mu a k / sigma), the core with 1 / h^2. Computed outside the lock; if another thread stored
+    // the same meanwhile, the first stored wins (the values are the same).
+    auto needs = std::make_shared<SubStepNeeds>();
     Body3D scratch;
     for (int t = 1; t <= max_target_; ++t) {
         const DropLattice& lattice = *lattices_[static_cast<std::size_t>(t)];
@@ -69,12 +113,22 @@ int DropPool::add_liquid(const Liquid& liquid) {
             } catch (const std::invalid_argument&) {
                 s.sub_steps = 4097;
             }
-            if (s.sub_steps > config_.max_sub_steps)
-                throw std::invalid_argument("liquid '" + liquid.name + "': a " + std::to_string(d * 1e3) + " mm drop needs " +
-                                            std::to_string(s.sub_steps) + " sub-steps per step (limit " +
-                                            std::to_string(config_.max_sub_steps) + "): too viscous or too stiff for this time step");
+            needs->emplace_back(d, s.sub_steps);
         }
     }
+    std::lock_guard lock(cache.mutex);
+    return cache.needs.emplace(key, std::move(needs)).first->second;
+}
+
+int DropPool::add_liquid(const Liquid& liquid) {
+    if (std::string why = validate(liquid); !why.empty()) throw std::invalid_argument("liquid '" + liquid.name + "': " + why);
+    if (liquid_count() >= config_.max_liquids) throw std::invalid_argument("drop pool: no room for another liquid");
+    // Every lattice at the two ends of its diameter range must run within max_sub_steps.
+    for (const auto& [d, sub_steps] : *sub_step_needs(liquid))
+        if (sub_steps > config_.max_sub_steps)
+            throw std::invalid_argument("liquid '" + liquid.name + "': a " + std::to_string(d * 1e3) + " mm drop needs " +
+                                        std::to_string(sub_steps) + " sub-steps per step (limit " +
+                                        std::to_string(config_.max_sub_steps) + "): too viscous or too stiff for this time step");
     liquids_.push_back(liquid);
     return liquid_count() - 1;
 }

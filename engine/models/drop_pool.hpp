@@ -32,7 +32,10 @@
 // mass count that a diameter up to max_diameter gives) with the closed-form calibration of drop.hpp,
 // and finalizes it: all within the reserved capacity. Liquids are a fixed table filled off the audio
 // thread; add_liquid() also rejects a liquid whose drops would need more than max_sub_steps at the
-// pool's time step (a very viscous liquid's dampers), so spawn() can never fail to finalize.
+// pool's time step (a very viscous liquid's dampers), so spawn() can never fail to finalize. That check
+// builds and finalizes a drop at both ends of every lattice's diameter range; its answer is cached per
+// process by what it depends on (max diameter, time step, liquid values, integrator, options), so the
+// scene's many pools (one per impact template) pay for it once.
 //
 // Breakup: after a step in which links broke, the slot's components are updated for those links only
 // (ConnectedComponents::update: a search around each broken link, no allocation); each increase of their
@@ -59,6 +62,7 @@
 #include <functional>
 #include <memory>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "engine/core/body3d.hpp"
@@ -170,6 +174,9 @@ private:
     void step_dormant(Slot& s) const;
     void set_changed_piece_drag(Slot& s);
     bool all_done(const Slot& s) const;
+    // add_liquid's check: (diameter, sub-steps needed) for each end of each lattice's diameter range,
+    // cached per process by everything the answer depends on (drop_pool.cpp).
+    std::shared_ptr<const std::vector<std::pair<double, int>>> sub_step_needs(const Liquid& liquid) const;
     void release(std::size_t active_index);
 
     DropPoolConfig config_;

@@ -81,6 +81,41 @@ TEST_CASE("drop_pool: construction sizes everything; liquids are checked when ad
     CHECK_THROWS_AS(DropPool{none}, std::invalid_argument);
 }
 
+// add_liquid's check is cached per process (drop_pool.cpp) by everything but the pool's limit: each
+// pool must still get its own verdict, and the same refusal, whichever pool asked first.
+TEST_CASE("drop_pool: add_liquid's cached check gives every pool the verdict of its own limit") {
+    DropPoolConfig roomy = small_config(1);
+    roomy.max_diameter = 3.1e-3;   // a configuration no other test uses: the first pool computes the check
+    DropPoolConfig tight = roomy;
+    tight.max_sub_steps = 1;       // heavy oil needs 2 from 3 mm at 48 kHz
+    DropPool first(roomy);
+    CHECK(first.add_liquid(ameoto::liquids::heavy_oil()) == 0);
+    DropPool second(tight);
+    std::string refusal;
+    try {
+        second.add_liquid(ameoto::liquids::heavy_oil());
+        FAIL("a 1-sub-step pool accepted heavy oil");
+    } catch (const std::invalid_argument& e) {
+        refusal = e.what();
+    }
+    CHECK(refusal.find("needs 2 sub-steps per step (limit 1)") != std::string::npos);
+    CHECK(second.add_liquid(ameoto::liquids::water()) == 0);   // water needs 1
+    DropPool third(roomy);
+    CHECK(third.add_liquid(ameoto::liquids::heavy_oil()) == 0);
+    DropPool fourth(tight);
+    try {
+        fourth.add_liquid(ameoto::liquids::heavy_oil());
+        FAIL("a 1-sub-step pool accepted heavy oil");
+    } catch (const std::invalid_argument& e) {
+        CHECK(std::string(e.what()) == refusal);   // the same drop named, the same count
+    }
+    // Another time step is another question: at 24 kHz water's cores need more than one sub-step.
+    DropPoolConfig slow = tight;
+    slow.time_step = 2.0 * kT;
+    DropPool fifth(slow);
+    CHECK_THROWS_AS(fifth.add_liquid(ameoto::liquids::water()), std::invalid_argument);
+}
+
 TEST_CASE("drop_pool: spawn places a calibrated drop at its arrival speed; full and bad spawns are counted") {
     DropPool pool(small_config(2));
     const int water = pool.add_liquid(ameoto::liquids::water());
