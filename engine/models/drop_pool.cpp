@@ -70,7 +70,11 @@ struct SubStepKey {
 // Per checked drop, in the check's order: its diameter and the sub-steps it needs (4097: refused by finalize).
 using SubStepNeeds = std::vector<std::pair<double, int>>;
 
+// Bounded: a performer sweeping a custom liquid's values live (/material/liquid) makes a new key per
+// value, and a server runs for hours. Past `limit` keys the cache starts again (callers hold their
+// entries by shared_ptr); a scene's build needs one or two keys, so this costs nothing in practice.
 struct SubStepCache {
+    static constexpr std::size_t limit = 32;
     std::mutex mutex;
     std::map<SubStepKey, std::shared_ptr<const SubStepNeeds>> needs;
 };
@@ -81,6 +85,12 @@ SubStepCache& sub_step_cache() {
 }
 
 }  // namespace
+
+std::size_t DropPool::cached_liquid_checks() {
+    SubStepCache& cache = sub_step_cache();
+    std::lock_guard lock(cache.mutex);
+    return cache.needs.size();
+}
 
 std::shared_ptr<const std::vector<std::pair<double, int>>> DropPool::sub_step_needs(const Liquid& liquid) const {
     const SubStepKey key{config_.max_diameter, config_.time_step, liquid.density, liquid.surface_tension, liquid.viscosity,
@@ -117,6 +127,7 @@ std::shared_ptr<const std::vector<std::pair<double, int>>> DropPool::sub_step_ne
         }
     }
     std::lock_guard lock(cache.mutex);
+    if (cache.needs.size() >= SubStepCache::limit) cache.needs.clear();
     return cache.needs.emplace(key, std::move(needs)).first->second;
 }
 

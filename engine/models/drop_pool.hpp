@@ -151,6 +151,9 @@ public:
     // m: how far the lowest mass of a drop of this diameter lies below its centre (the lattice's own
     // extent, under D / 2); 0 for a diameter the pool cannot spawn. No allocation.
     double underside(double diameter) const;
+    // How many add_liquid checks the process holds (keyed by liquid, step, size and integrator; at
+    // most 32, then the cache starts again, so a live sweep of custom liquids cannot grow it).
+    static std::size_t cached_liquid_checks();
 
 private:
     struct Slot {

@@ -116,6 +116,22 @@ TEST_CASE("drop_pool: add_liquid's cached check gives every pool the verdict of 
     CHECK_THROWS_AS(fifth.add_liquid(ameoto::liquids::water()), std::invalid_argument);
 }
 
+// A performer sweeping a custom liquid's viscosity live makes a new cache key per value: the cache is
+// bounded (32 keys, then it starts again), and every pool still gets the right verdict across the reset.
+TEST_CASE("drop_pool: add_liquid's cache stays bounded through a sweep of custom liquids") {
+    DropPoolConfig config = small_config(1);
+    config.max_diameter = 1.2e-3;   // small lattices: 40 checks stay quick
+    for (int i = 0; i < 40; ++i) {
+        ameoto::Liquid custom = ameoto::liquids::water();
+        custom.name = "sweep";
+        custom.viscosity = 1.0e-3 * (1.0 + 0.05 * i);
+        DropPool pool(config);
+        CHECK(pool.add_liquid(custom) == 0);
+        CHECK(DropPool::cached_liquid_checks() <= 32);
+    }
+    CHECK(DropPool::cached_liquid_checks() >= 1);
+}
+
 TEST_CASE("drop_pool: spawn places a calibrated drop at its arrival speed; full and bad spawns are counted") {
     DropPool pool(small_config(2));
     const int water = pool.add_liquid(ameoto::liquids::water());
