@@ -984,7 +984,7 @@ void Body3D::sub_step_avx2(int index) {
         s.listed_x = listed_x_.data();
         s.listed_y = listed_y_.data();
         s.listed_z = listed_z_.data();
-        s.near = core_length_[0] + 8.0 * rest_[0];
+        s.near = core_length_[0] + near_margin * rest_[0];
         s.far = core_length_[0] + far_margin * rest_[0];
         s.near_links = near_links_.data();
         s.near_link_count = &near_link_count_;
@@ -1015,27 +1015,29 @@ void Body3D::sub_step_avx2(int index) {
         elastic2 = dense_links_avx2(s);
     } else {
         // The sparse pass computes only the candidates: a broken link left out had its masses at least
-        // core length + 8 h apart (h: rest length) when listed, and the list is made again before they
-        // can have approached by 4 h (so they stay 4 h clear of the core, far beyond rounding): until
-        // then the scalar pass skips it too. The bound compares the positions with those listed, so it
-        // holds whatever moved them (set_position() too). A position not finite: listed again, NaN
-        // links kept.
-        // (Margin and bound measured on a shattered 5 mm drop: lists again about every 9 steps.)
+        // core length + near_margin h = 4 h apart (h: rest length) when listed, and the list is made again
+        // before they can have approached by 2 h (so they stay 2 h clear of the core, far beyond
+        // rounding): until then the scalar pass skips it too. The bound compares the positions with
+        // those listed, so it holds whatever moved them (set_position() too). A position not finite:
+        // listed again, NaN links kept.
+        // (Margin and bound measured on a shattered 5 mm drop: 8 h and 4 h, listing about every 9 steps,
+        // cost 1.7 % more per drop in instructions: more candidates far from touching.)
         // The bound of the positions now: the last sparse sub-step's update measured it (fused, no pass
         // of its own), unless something has moved a mass since (set_position, reset, finalize).
         // A partial listing (the links a full one found closer than core length + far_margin h: the
-        // bonded and the nearby broken ones) suffices while the others are still 8 h clear of the core:
+        // bonded and the nearby broken ones) suffices while the others are still near_margin h clear of
+        // the core:
         // each listing's bound (the approach since the listing before) adds to far_travel_, which bounds
         // the approach since the last full listing (the triangle inequality), and the next listing comes
-        // before a further 4 h; so a full listing when far_travel_ passes far_margin h - 8 h, leaving
-        // every link left out at least 4 h clear of its core, as above.
+        // before a further near_margin h / 2; so a full listing when far_travel_ passes far_margin h -
+        // near_margin h, leaving every link left out at least near_margin h / 2 clear of its core, as above.
         bool full = !candidates_valid_;   // invalidated (dense, reset, finalize): list everything
         if (candidates_valid_) {
             const double bound2 = next_bound_fresh_ ? next_bound2_ : approach_bound2_avx2(s);
-            if (!(bound2 < 16.0 * rest_[0] * rest_[0])) {
+            if (!(bound2 < 0.25 * near_margin * near_margin * rest_[0] * rest_[0])) {
                 candidates_valid_ = false;
                 far_travel_ += std::sqrt(bound2);   // NaN: a full listing
-                full = !(far_travel_ <= (far_margin - 8.0) * rest_[0]);
+                full = !(far_travel_ <= (far_margin - near_margin) * rest_[0]);
             }
         }
         if (!candidates_valid_) {

@@ -68,13 +68,13 @@
 //      computes every link, and each writes +s u and -s u for 3. to add per mass in link order; once
 //      most are broken ("sparse") it computes only candidates, in link order, and adds their forces
 //      lane after lane. The candidates are the bonded links and the broken ones whose masses were
-//      within core length + 8 h (h: the rest length) when listed; the list is made again once any two
-//      masses may have approached by 4 h (bounded by the range of the masses' displacements since,
+//      within core length + 4 h (h: the rest length) when listed; the list is made again once any two
+//      masses may have approached by 2 h (bounded by the range of the masses' displacements since,
 //      which the sparse step's update measures for the next sub-step as it writes the positions), so
 //      every link left out is one the scalar pass skips (broken, core not touching). A full listing
 //      looks at every link and keeps aside those within core length + 32 h (and the bonded ones); the
 //      listings after it look at those only, until the sum of the listings' bounds (which bounds the
-//      approach since the full listing) passes 24 h;
+//      approach since the full listing) passes 28 h;
 //   3. per mass, four at a time: the dense pass's link forces, then the update.
 // A 5 mm drop per 48 kHz step, scalar -> AVX2 (docs/engine.md, "The drop"): awake 5.6 -> 3.1 us,
 // shattered 1.8 -> 0.81 us.
@@ -302,6 +302,7 @@ private:
     std::size_t near_link_count_ = 0;
     double far_travel_ = 0.0;                    // m, the approach bound since the last full listing
     static constexpr double far_margin = 32.0;   // h: a full listing's near links (sub_step_avx2())
+    static constexpr double near_margin = 4.0;   // h: a candidate's margin, listed again after half of it
     std::vector<double> listed_x_, listed_y_, listed_z_;   // the positions they were listed at
     std::size_t candidate_count_ = 0;
     bool candidates_valid_ = false;

@@ -2,10 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
 #include "engine/core/physical_constants.hpp"
+#include "engine/models/collision_scan.hpp"
 #include "engine/models/drop.hpp"
 #include "engine/models/panning.hpp"
 
@@ -93,6 +95,7 @@ DropOnCanopy::DropOnCanopy(const DropOnCanopyConfig& config)
         for (int e = 0; e < radiator.element_count(); ++e) shortest = std::min(shortest, radiator.delay_samples(p, e));
     listener_points_ = far_field_.layout().points;
     latency_samples_ = config_.output == SceneOutput::far_field ? static_cast<int>(std::floor(shortest)) : 0;
+    scan_.assign(static_cast<std::size_t>(pool_.max_masses()), 0);
 }
 
 bool DropOnCanopy::drop(double diameter_m, double speed_m_per_s, double x_m, double y_m) {
@@ -225,10 +228,10 @@ void DropOnCanopy::collide() {
     const double high = std::max(above, band_top);
     int near = 0;
     // One mass: the checks below, then collide_one. Called with the mass's position as the pool gives it.
-    auto visit = [&](int d, int m, const Vec3 p) {
-        if (p.x * p.x + p.y * p.y > r2_max) return;
-        if (p.z <= band_top && p.z >= band_below) ++near;
-        if (p.z > above) return;
+    // An awake drop's masses come from scan_for_collisions (collision_scan.hpp), which has already
+    // applied the first checks (the circle, the band's count, over `high` or `above`, and on a flat
+    // canopy with u read a > u_max) in the same form, and enters at `look`.
+    auto look = [&](int d, int m, const Vec3 p) {
         if (have_u) {
             const double a = flat ? p.z : (p.z - canopy_.rest_height(p.x, p.y)) * canopy_.surface_normal(p.x, p.y).z;
             if (a > u_max) return;
@@ -242,6 +245,19 @@ void DropOnCanopy::collide() {
             contact_force_ = contact_force_ + force;
         }
     };
+    auto visit = [&](int d, int m, const Vec3 p) {
+        if (p.x * p.x + p.y * p.y > r2_max) return;
+        if (p.z <= band_top && p.z >= band_below) ++near;
+        if (p.z > above) return;
+        look(d, m, p);
+    };
+    CollisionScanBounds bounds;
+    bounds.r2_max = r2_max;
+    bounds.high = high;
+    bounds.limit = above;
+    bounds.limit_u = have_u && flat ? u_max : std::numeric_limits<double>::infinity();
+    bounds.band_below = band_below;
+    bounds.band_top = band_top;
     for (const int d : pool_.active()) {
         if (pool_.lowest_z(d) > high) {   // Body3D::lowest_z(): measured by the drop's last step
             ++drops_passed_over_;
@@ -259,8 +275,11 @@ void DropOnCanopy::collide() {
         // body() wakes only a dormant drop, and apply_force only adds to the external forces, so the
         // arrays stay valid through the loop). A call per mass cost about as much as the checks.
         const Body3D::Coordinates c = pool_.body(d).positions();
-        for (int m = 0; m < n; ++m)
-            if (!(c.z[m] > high)) visit(d, m, Vec3{c.x[m], c.y[m], c.z[m]});
+        const int listed = scan_for_collisions(c.x, c.y, c.z, n, bounds, scan_.data(), near);
+        for (int k = 0; k < listed; ++k) {
+            const int m = scan_[static_cast<std::size_t>(k)];
+            look(d, m, Vec3{c.x[m], c.y[m], c.z[m]});
+        }
     }
     near_masses_ = near;
     unread_steps_ = have_u ? 0 : std::min(unread_steps_ + 1, 255);

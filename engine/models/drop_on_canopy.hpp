@@ -168,6 +168,7 @@ private:
     int unread_steps_ = 0;        // steps since it read u           } membrane's displacement
     bool displaced_ = false;      // |u| beyond a quarter of the band at that reading
     std::uint64_t drops_passed_over_ = 0;   // stats()
+    std::vector<int> scan_;       // collide(): an awake drop's masses to look at (collision_scan.hpp)
 };
 
 }  // namespace ameoto
