@@ -16,13 +16,7 @@
 #include <vector>
 
 #include "server/realtime/rt_probe.hpp"
-
-extern "C" {
-unsigned long ameoto_rt_probe_violations();
-unsigned long ameoto_rt_probe_entries();
-const char* ameoto_rt_probe_first_violation();
-void ameoto_rt_probe_reset();
-}
+#include "tests/support/rt_probe_scope.hpp"   // the probe's counters (ameoto_rt_probe_*)
 
 namespace {
 

@@ -13,14 +13,8 @@
 
 #include "server/realtime/audio_bridge.hpp"
 #include "server/realtime/rt_probe.hpp"
+#include "tests/support/rt_probe_scope.hpp"   // the probe's counters (ameoto_rt_probe_*)
 #include "tests/support/temp_dir.hpp"
-
-extern "C" {
-unsigned long ameoto_rt_probe_violations();
-unsigned long ameoto_rt_probe_entries();
-const char* ameoto_rt_probe_first_violation();
-void ameoto_rt_probe_reset();
-}
 
 namespace {
 
