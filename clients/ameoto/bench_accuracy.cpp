@@ -10,6 +10,7 @@
 #include "clients/ameoto/bench_accuracy_drop.hpp"
 #include "clients/ameoto/bench_accuracy_tiers.hpp"
 #include "clients/ameoto/bench_drive.hpp"
+#include "clients/ameoto/bench_suite_opening.hpp"
 #include "clients/ameoto/bench_timer.hpp"
 #include "clients/ameoto/exit_status.hpp"
 #include "clients/ameoto/json_text.hpp"
@@ -282,16 +283,7 @@ std::string accuracy_bench_usage() {
 
 int run_accuracy_bench(const CommandWords& words, const CommandIo& io) {
     AccuracyOptions o;
-    std::string error;
-    bool help = false;
-    if (!parse(words, o, error, help)) {
-        io.err << "ameoto bench: " << error << "\n(see ameoto bench accuracy --help)\n";
-        return exit_status::usage;
-    }
-    if (help) {
-        io.out << accuracy_bench_usage();
-        return exit_status::ok;
-    }
+    if (const auto done = open_bench_suite(words, io, "accuracy", o, parse, accuracy_bench_usage)) return *done;
     const BenchMesh mesh = canopy_panel_mesh(CanopyGeometry{}.masses_per_panel);
     io.err << "ameoto bench: the exact reference (modal, every audible mode) on the " << mesh.nodes.size() << "-mass panel\n";
     const AccuracyReference reference = make_reference(mesh, pitch_band_hz);

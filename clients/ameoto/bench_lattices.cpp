@@ -6,6 +6,7 @@
 #include <set>
 #include <utility>
 
+#include "clients/ameoto/bench_suite_opening.hpp"
 #include "clients/ameoto/bench_timer.hpp"
 #include "clients/ameoto/exit_status.hpp"
 #include "clients/ameoto/option_reader.hpp"
@@ -126,16 +127,7 @@ std::string lattices_bench_usage() {
 
 int run_lattices_bench(const CommandWords& words, const CommandIo& io) {
     LatticesOptions o;
-    std::string error;
-    bool help = false;
-    if (!parse(words, o, error, help)) {
-        io.err << "ameoto bench: " << error << "\n(see ameoto bench lattices --help)\n";
-        return exit_status::usage;
-    }
-    if (help) {
-        io.out << lattices_bench_usage();
-        return exit_status::ok;
-    }
+    if (const auto done = open_bench_suite(words, io, "lattices", o, parse, lattices_bench_usage)) return *done;
     const int max_target = seed_mass_count(o.max_diameter_mm * 1e-3);
     const std::vector<LatticeRow> rows = compute_stretch_modes(max_target);
     io.out << "drop lattices up to " << format("%g", o.max_diameter_mm) << " mm (" << max_target << " masses): " << rows.size()
