@@ -5,6 +5,7 @@
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include "engine/core/physical_constants.hpp"
 #include "engine/models/collision_scan.hpp"
@@ -68,10 +69,35 @@ const DropOnCanopyConfig& DropOnCanopy::checked(const DropOnCanopyConfig& c) {
     return c;
 }
 
-DropOnCanopy::DropOnCanopy(const DropOnCanopyConfig& config)
-    : config_(checked(config)),
+Canopy DropOnCanopy::fresh_canopy(const DropOnCanopyConfig& config) {
+    const DropOnCanopyConfig& c = checked(config);
+    return Canopy(c.geometry, c.material, 1.0 / c.sample_rate, c.network);
+}
+
+DropOnCanopy::DropOnCanopy(const DropOnCanopyConfig& config) : DropOnCanopy(Built{}, config, fresh_canopy(config)) {}
+
+namespace {
+
+// A prototype of another geometry would give another scene; the material, time step and integrator
+// cannot be read back from a Canopy, so those stay the caller's promise (the header).
+const Canopy& matching(const Canopy& prototype, const DropOnCanopyConfig& c) {
+    const CanopyGeometry& g = prototype.geometry();
+    if (g.panels != c.geometry.panels || g.radius_m != c.geometry.radius_m ||
+        g.masses_per_panel != c.geometry.masses_per_panel || g.curvature_radius_m != c.geometry.curvature_radius_m)
+        throw std::invalid_argument("the prototype canopy's geometry is not the configuration's");
+    return prototype;
+}
+
+}  // namespace
+
+// The configuration is checked before the geometry: the same errors as the one-argument constructor.
+DropOnCanopy::DropOnCanopy(const DropOnCanopyConfig& config, const Canopy& prototype)
+    : DropOnCanopy(Built{}, config, Canopy(matching(prototype, checked(config)))) {}
+
+DropOnCanopy::DropOnCanopy(Built, const DropOnCanopyConfig& config, Canopy&& canopy)
+    : config_(config),
       dt_(1.0 / config_.sample_rate),
-      canopy_(config_.geometry, config_.material, dt_, config_.network),
+      canopy_(std::move(canopy)),
       pool_(pool_config(config_)),
       collider_(canopy_, dt_, CollisionOptions{.restitution = config_.restitution}),
       far_field_(canopy_, layout_for(config_), dt_),

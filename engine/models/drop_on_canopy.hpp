@@ -12,6 +12,14 @@
 //   DropOnCanopy scene(config);                      // allocates everything; throws std::invalid_argument
 //                                                    // (bad config, material, liquid: with the reason) or
 //                                                    // StabilityError (a material refused)
+//   Canopy proto = DropOnCanopy::fresh_canopy(config);   // the canopy that constructor builds, alone
+//   DropOnCanopy run(config, proto);                 // the same scene, bit for bit, with a copy of proto
+//                                                    // for its canopy instead of building one (most of
+//                                                    // the constructor's cost): many short runs of one
+//                                                    // configuration (impact_templates.hpp) build it once.
+//                                                    // proto must come from fresh_canopy(config) (or an
+//                                                    // equal config) and never be stepped; its geometry
+//                                                    // is checked (std::invalid_argument)
 //   ---- audio-safe from here: no allocation, no locks ----
 //   bool ok = scene.drop(5e-3, 0.0, 0.2, 0.0);       // D (m), speed (m/s, 0: terminal), plan point (m);
 //                                                    // false: off the canopy, bad size or pool full
@@ -122,6 +130,8 @@ struct SceneMass {
 class DropOnCanopy {
 public:
     explicit DropOnCanopy(const DropOnCanopyConfig& config);
+    DropOnCanopy(const DropOnCanopyConfig& config, const Canopy& prototype);
+    static Canopy fresh_canopy(const DropOnCanopyConfig& config);   // checks config first, as the constructor
 
     bool drop(double diameter_m, double speed_m_per_s, double x_m, double y_m);
     void process(int frames, float* const* outputs);
@@ -145,6 +155,8 @@ public:
 
 private:
     static const DropOnCanopyConfig& checked(const DropOnCanopyConfig& config);
+    struct Built {};   // the delegated constructor's tag: config already checked, canopy given
+    DropOnCanopy(Built, const DropOnCanopyConfig& config, Canopy&& canopy);
     void collide();
     DropOnCanopyConfig config_;
     double dt_;

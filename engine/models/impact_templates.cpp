@@ -5,6 +5,7 @@
 #include <cmath>
 #include <exception>
 #include <future>
+#include <optional>
 #include <thread>
 
 #include "engine/models/drop.hpp"
@@ -31,10 +32,11 @@ namespace {
 
 // One grid size: a fresh scene, one drop, `length` samples of the force the membrane takes, into
 // `forces` (length values). Returns the samples up to the last non-zero force. Touches nothing shared
-// but the process's lattice cache (drop.cpp, locked), so sizes can be recorded on several threads.
-int record_one(const DropOnCanopyConfig& c, double diameter_m, int length, double* forces) {
+// but the process's lattice cache (drop.cpp, locked) and, read only, the prototype canopy, so sizes can
+// be recorded on several threads. prototype null: the scene builds its own canopy (CanopyBuild::per_size).
+int record_one(const DropOnCanopyConfig& c, const Canopy* prototype, double diameter_m, int length, double* forces) {
     const double x = 0.5 * c.geometry.radius_m * std::cos(0.0), y = 0.0;
-    DropOnCanopy run(c);
+    DropOnCanopy run = prototype ? DropOnCanopy(c, *prototype) : DropOnCanopy(c);
     run.drop(diameter_m, 0.0, x, y);
     const Vec3 n = run.canopy().surface_normal(x, y);
     float frame[1];
@@ -50,7 +52,8 @@ int record_one(const DropOnCanopyConfig& c, double diameter_m, int length, doubl
 
 }  // namespace
 
-ImpactTemplateTable record_impact_templates(const DropOnCanopyConfig& scene, const TemplateGrid& grid, int threads) {
+ImpactTemplateTable record_impact_templates(const DropOnCanopyConfig& scene, const TemplateGrid& grid, int threads,
+                                            CanopyBuild build) {
     ImpactTemplateTable t;
     t.sample_rate = scene.sample_rate;
     t.density = scene.liquid.density;
@@ -73,12 +76,19 @@ ImpactTemplateTable record_impact_templates(const DropOnCanopyConfig& scene, con
     const int sizes = static_cast<int>(t.diameters_m.size());
     if (threads <= 0) threads = static_cast<int>(std::max(1u, std::min(std::thread::hardware_concurrency(), 4u)));
     threads = std::max(1, std::min(threads, sizes));
+    // Every size's scene starts from the same canopy at rest: built once here (on this thread, before
+    // the helpers start; they only copy it) instead of once per size, where it was ~85 % of the
+    // recording's cost (docs/reliability.md, "Start-up cost"). A copy of a canopy never stepped is the
+    // canopy its constructor builds, so the table is the same bit for bit (tested against per_size).
+    std::optional<Canopy> prototype;
+    if (build == CanopyBuild::shared && sizes > 0) prototype.emplace(DropOnCanopy::fresh_canopy(c));
+    const Canopy* shared = prototype ? &*prototype : nullptr;
     std::atomic<int> next{0};
     auto work = [&] {
         for (int k = next++; k < sizes; k = next++)
             // data() + offset, not &forces[offset]: with a refused configuration the length can be 0 and
             // the table empty, and indexing an empty vector is undefined (UBSan caught it).
-            t.used[static_cast<std::size_t>(k)] = record_one(c, t.diameters_m[static_cast<std::size_t>(k)], t.length,
+            t.used[static_cast<std::size_t>(k)] = record_one(c, shared, t.diameters_m[static_cast<std::size_t>(k)], t.length,
                                                              t.forces.data() + static_cast<std::size_t>(k) * static_cast<std::size_t>(t.length));
     };
     std::vector<std::future<void>> helpers;

@@ -9,6 +9,8 @@
 //                                                                    // size, on up to 4 threads (one per
 //                                                                    // CPU); the same table on any number
 //   record_impact_templates(scene_config, grid, 1)                   // on the calling thread only
+//   record_impact_templates(scene_config, grid, 0, CanopyBuild::per_size)   // a canopy built per size
+//                                                                    // (the same table, slower: tests)
 //   t.diameters_m[k], t.speeds_m_per_s[k], t.force(k, n)             // the recording, N along the normal
 //   ---- audio thread: no allocation ----
 //   TemplatePool pool;                                               // fixed capacity
@@ -17,7 +19,7 @@
 //   pool.active()
 //
 // Recording: for each grid diameter d_k (log-spaced, 0.5 to 6 mm: the rain's range, physics.md s.2),
-// a fresh scene of the caller's material, liquid, geometry and sample rate receives one drop at its
+// a fresh scene (its canopy copied from one built once per call: the same scene, bit for bit) of the caller's material, liquid, geometry and sample rate receives one drop at its
 // arrival speed V_k, half way out along panel 0's centre line, and the contact force the membrane
 // takes (DropOnCanopy::contact_force, along the surface normal there) is recorded for `seconds`
 // (20 ms: the first impact and its splash; pieces thrown up fall back much later, and the template
@@ -60,10 +62,16 @@ struct TemplateGrid {
     double seconds = 0.02;                   // recorded per size
 };
 
+// How each recording run gets its canopy: shared (built once per call, each run starting from a copy:
+// DropOnCanopy(config, prototype)) or per_size (each run builds its own, as before; kept to test that
+// the two give the same table bit for bit). texture_grains.hpp's calibration takes the same choice.
+enum class CanopyBuild { shared, per_size };
+
 // Throws what DropOnCanopy throws for a bad configuration. threads <= 0: one per CPU, at most 4 (the
 // sizes are independent runs, so the table is identical whatever the count; the start-up of ameotod
 // waits for it, and that wait halves on two CPUs).
-ImpactTemplateTable record_impact_templates(const DropOnCanopyConfig& scene, const TemplateGrid& grid = {}, int threads = 0);
+ImpactTemplateTable record_impact_templates(const DropOnCanopyConfig& scene, const TemplateGrid& grid = {}, int threads = 0,
+                                            CanopyBuild build = CanopyBuild::shared);
 
 class TemplatePool {
 public:

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <optional>
 
 #include "engine/core/fft.hpp"
 #include "engine/core/physical_constants.hpp"
@@ -30,7 +31,7 @@ double TextureCalibration::energy(double diameter_m) const { return std::exp(int
 double TextureCalibration::centre(double diameter_m) const { return interpolate(diameters_m, centre_hz, diameter_m); }
 double TextureCalibration::decay(double diameter_m) const { return interpolate(diameters_m, decay_s, diameter_m); }
 
-TextureCalibration calibrate_texture(const DropOnCanopyConfig& scene, const ImpactTemplateTable& templates) {
+TextureCalibration calibrate_texture(const DropOnCanopyConfig& scene, const ImpactTemplateTable& templates, CanopyBuild build) {
     TextureCalibration cal;
     cal.density = templates.density;
     DropOnCanopyConfig c = scene;
@@ -40,8 +41,12 @@ TextureCalibration calibrate_texture(const DropOnCanopyConfig& scene, const Impa
     const double fs = scene.sample_rate;
     const int frames = static_cast<int>(0.05 * fs);
     const double x = 0.5 * scene.geometry.radius_m, y = 0.0;
+    // Each size's scene starts from the same canopy at rest: built once, copied per size (a copy of a
+    // canopy never stepped is what its constructor builds: the same calibration bit for bit, tested).
+    std::optional<Canopy> prototype;
+    if (build == CanopyBuild::shared && !templates.diameters_m.empty()) prototype.emplace(DropOnCanopy::fresh_canopy(c));
     for (std::size_t k = 0; k < templates.diameters_m.size(); k += 5) {
-        DropOnCanopy run(c);
+        DropOnCanopy run = prototype ? DropOnCanopy(c, *prototype) : DropOnCanopy(c);
         TemplatePool pool;
         const CanopyHit hit = run.canopy().locate(x, y);
         const double d = templates.diameters_m[k];

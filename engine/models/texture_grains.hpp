@@ -12,11 +12,12 @@
 //   grains.render(frame, channels, rng);                  // adds this sample of the bed to frame[ch]
 //
 // Calibration: for sizes on a coarse grid (every fifth template size), the template is replayed once
-// into a fresh scene of the same material and geometry, half way out along a panel, and its far-field
-// output at the listener (mono) is measured over 50 ms: its energy E (sum of squares, full-scale units),
-// its spectral centroid f_c (from the DFT of the output) and its decay time tau (the energy over the peak
-// of the 1 ms power envelope: the length of a rectangle holding the same energy). Between grid sizes they
-// are interpolated in log D (the energy as log E: it grows about as D^8).
+// into a fresh scene (its canopy copied from one built once per call) of the same material and
+// geometry, half way out along a panel, and its far-field output at the listener (mono) is measured
+// over 50 ms: its energy E (sum of squares, full-scale units), its spectral centroid f_c (from the DFT
+// of the output) and its decay time tau (the energy over the peak of the 1 ms power envelope: the length
+// of a rectangle holding the same energy). Between grid sizes they are interpolated in log D (the energy
+// as log E: it grows about as D^8).
 // The bed: grains are not rendered one by one (that would cost more than replaying their templates).
 // Each channel has 12 noise bands, log-spaced from 150 Hz to 16 kHz (at most 0.4 fs), each white noise
 // through a constant-peak band-pass (RBJ biquad, Q = sqrt(r) / (r - 1) for the bands' ratio r, so
@@ -54,7 +55,10 @@ struct TextureCalibration {
     bool empty() const { return diameters_m.empty(); }
 };
 
-TextureCalibration calibrate_texture(const DropOnCanopyConfig& scene, const ImpactTemplateTable& templates);
+// build: shared (one canopy per call, copied per size) or per_size (each size builds its own: the same
+// calibration bit for bit, slower; tests compare the two).
+TextureCalibration calibrate_texture(const DropOnCanopyConfig& scene, const ImpactTemplateTable& templates,
+                                     CanopyBuild build = CanopyBuild::shared);
 
 class TextureGrains {
 public:

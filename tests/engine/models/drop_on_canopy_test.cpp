@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -400,4 +401,37 @@ TEST_CASE("drop_on_canopy: the collision broad phase skips only masses that cann
     CHECK(below > 0);
     CHECK(peak_u > 0.0125);   // some scene made collide() read u every step (drop_on_canopy.cpp)
     CHECK(passed_over > 0);   // and some drop was skipped whole, by Body3D::lowest_z()
+}
+
+TEST_CASE("drop_on_canopy: a scene built on a copy of a prototype canopy renders the built scene's samples, bit for bit") {
+    // What impact_templates.cpp relies on: the copy of a canopy never stepped is the canopy the
+    // constructor builds. Curved and panned, so the far field's per-panel geometry is exercised too;
+    // the prototype serves twice (a copy leaves it at rest).
+    DropOnCanopyConfig c = small_config();
+    c.channels = 2;
+    c.listener = ListenerStyle::panned;
+    c.geometry.curvature_radius_m = 0.9;
+    auto run = [](DropOnCanopy& scene) {
+        scene.drop(3e-3, 0.0, 0.15, 0.05);
+        scene.drop(2e-3, 5.0, -0.1, 0.2);
+        return render(scene, 2400);
+    };
+    DropOnCanopy built(c);
+    const ameoto::Canopy prototype = DropOnCanopy::fresh_canopy(c);
+    DropOnCanopy first(c, prototype), second(c, prototype);
+    const Render a = run(built), b = run(first), d = run(second);
+    REQUIRE(a.channels.size() == 2u);
+    CHECK(a.peak > 0.0);
+    CHECK(b.channels == a.channels);
+    CHECK(d.channels == a.channels);
+    CHECK(first.stats().collisions == built.stats().collisions);
+    CHECK(first.latency_samples() == built.latency_samples());
+
+    DropOnCanopyConfig other = c;
+    other.geometry.masses_per_panel = 30;
+    CHECK_THROWS_AS(DropOnCanopy(other, prototype), std::invalid_argument);
+    DropOnCanopyConfig bad = c;
+    bad.sample_rate = -1.0;
+    CHECK_THROWS_AS(DropOnCanopy(bad, prototype), std::invalid_argument);   // the config is still checked
+    CHECK_THROWS_AS(DropOnCanopy::fresh_canopy(bad), std::invalid_argument);
 }

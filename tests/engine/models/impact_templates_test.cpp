@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <cstring>
 #include <vector>
 
 #include "engine/core/fft.hpp"
@@ -187,6 +188,35 @@ TEST_CASE("impact templates: recorded on several threads, the table is the one r
     double largest = 0.0;
     for (double f : one.forces) largest = std::max(largest, std::abs(f));
     CHECK(largest > 0.0);   // the rows recorded something
+}
+
+TEST_CASE("impact templates: a canopy built once and copied per size records the table a canopy built per size does, bit for bit") {
+    // record_impact_templates builds the canopy once and gives each size's scene a copy of it
+    // (CanopyBuild::shared, the default); per_size builds one per size, as each scene did before. Every
+    // double is compared by its bits (memcmp: a -0.0 or a NaN payload would count too).
+    TemplateGrid grid;
+    grid.min_diameter_m = 2e-3;
+    grid.max_diameter_m = 3e-3;
+    grid.seconds = 0.005;
+    DropOnCanopyConfig c = scene_config();
+    c.geometry.curvature_radius_m = 1.2;   // the default cap is flat: a curved one tests the rest normals too
+    for (const DropOnCanopyConfig& scene : {scene_config(), c}) {
+        const ImpactTemplateTable fresh = record_impact_templates(scene, grid, 1, CanopyBuild::per_size);
+        for (int threads : {1, 3}) {
+            CAPTURE(threads);
+            const ImpactTemplateTable shared = record_impact_templates(scene, grid, threads, CanopyBuild::shared);
+            REQUIRE(shared.diameters_m.size() == 9u);
+            REQUIRE(shared.forces.size() == fresh.forces.size());
+            CHECK(shared.used == fresh.used);
+            CHECK(shared.length == fresh.length);
+            CHECK(std::memcmp(shared.forces.data(), fresh.forces.data(), fresh.forces.size() * sizeof(double)) == 0);
+            CHECK(std::memcmp(shared.diameters_m.data(), fresh.diameters_m.data(), 9 * sizeof(double)) == 0);
+            CHECK(std::memcmp(shared.speeds_m_per_s.data(), fresh.speeds_m_per_s.data(), 9 * sizeof(double)) == 0);
+        }
+        double largest = 0.0;
+        for (double f : fresh.forces) largest = std::max(largest, std::abs(f));
+        CHECK(largest > 0.0);   // the rows recorded something
+    }
 }
 
 TEST_CASE("impact templates: a configuration DropOnCanopy refuses is refused on any number of threads") {

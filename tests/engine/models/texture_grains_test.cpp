@@ -4,6 +4,7 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <cstring>
 #include <vector>
 
 #include "tests/support/rt_probe_scope.hpp"
@@ -101,4 +102,30 @@ TEST_CASE("texture: the bed pans, costs the same for any number of grains, and n
     // Twelve bands from 150 Hz, log-spaced, to 16 kHz at 48 kHz.
     CHECK(grains.band_centre_hz(0) == doctest::Approx(150.0));
     CHECK(grains.band_centre_hz(TextureGrains::bands - 1) == doctest::Approx(16000.0));
+}
+
+TEST_CASE("texture: the calibration from one canopy copied per size is the one from a canopy built per size, bit for bit") {
+    // calibrate_texture builds the canopy once (CanopyBuild::shared); per_size builds it for every
+    // calibrated size. A short template grid (11 sizes: 3 calibrated) keeps this quick.
+    TemplateGrid grid;
+    grid.min_diameter_m = 2e-3;
+    grid.step_ratio = 1.1;
+    grid.max_diameter_m = 2e-3 * std::pow(1.1, 10.5);
+    grid.seconds = 0.005;
+    const ImpactTemplateTable t = record_impact_templates(scene_config(), grid);
+    REQUIRE(t.diameters_m.size() == 11u);
+    const TextureCalibration shared = calibrate_texture(scene_config(), t, CanopyBuild::shared);
+    const TextureCalibration fresh = calibrate_texture(scene_config(), t, CanopyBuild::per_size);
+    REQUIRE(fresh.diameters_m.size() == 3u);
+    const auto same_bits = [](const std::vector<double>& a, const std::vector<double>& b) {
+        return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0;
+    };
+    CHECK(same_bits(shared.diameters_m, fresh.diameters_m));
+    CHECK(same_bits(shared.speeds_m_per_s, fresh.speeds_m_per_s));
+    CHECK(same_bits(shared.energy_fs2, fresh.energy_fs2));
+    CHECK(same_bits(shared.log_energy, fresh.log_energy));
+    CHECK(same_bits(shared.centre_hz, fresh.centre_hz));
+    CHECK(same_bits(shared.decay_s, fresh.decay_s));
+    CHECK(std::memcmp(&shared.density, &fresh.density, sizeof(double)) == 0);
+    for (double e : fresh.energy_fs2) CHECK(e > 0.0);   // each size was heard
 }
