@@ -4,7 +4,7 @@
 // nearest membrane node for every drop of the rain: the full model's impact at a fraction of its cost.
 //
 // Interface:
-//   ImpactTemplateTable t = record_impact_templates(scene_config);   // off the audio thread (~0.5 s of
+//   ImpactTemplateTable t = record_impact_templates(scene_config);   // off the audio thread (~0.15 s of
 //                                                                    // CPU): one full-model run per grid
 //                                                                    // size, on up to 4 threads (one per
 //                                                                    // CPU); the same table on any number

@@ -4,7 +4,7 @@
 // (the Poisson arrivals, the size distribution) at a fraction of the cost.
 //
 // Interface:
-//   TextureCalibration cal = calibrate_texture(scene_config, templates);   // off the audio thread (~0.2 s)
+//   TextureCalibration cal = calibrate_texture(scene_config, templates);   // off the audio thread (~0.1 s)
 //   cal.energy(D), cal.centre_hz(D), cal.decay_s(D)                        // what a grain of size D carries
 //   ---- audio thread: no allocation ----
 //   TextureGrains grains(cal, sample_rate);              // the noise bed (construct off the audio thread)
