@@ -1,5 +1,7 @@
 #include "server/backends/jack_backend.hpp"
 
+#include <pthread.h>
+
 #include <atomic>
 #include <cstdio>
 
@@ -110,10 +112,20 @@ bool JackBackend::reconnect(std::string& error) {
 std::string JackBackend::client_name() const { return client_ ? jack_get_client_name(client_) : options_.client_name; }
 
 int JackBackend::on_process(jack_nframes_t frames, void* self) {
+    // libjack (jackd2) stops this thread with pthread_cancel, and sets its cancel type to asynchronous
+    // (JackPosixThread::ThreadHandler): a deactivation (ameotod stopping, or closing a client whose
+    // server died, before a new client takes over the same renderer) could otherwise unwind through the
+    // renderer at any instruction and leave it half-stepped. Held off for the block, the cancellation
+    // acts when it is re-enabled below, where no frame of ours has anything to unwind. Found under ASan,
+    // whose unwinding hook aborted inside the renderer when jack_test stopped ameotod. The state change is
+    // a flag in the thread's own descriptor: no syscall, no lock, no allocation.
+    int previous = PTHREAD_CANCEL_ENABLE;
+    pthread_setcancelstate(PTHREAD_CANCEL_DISABLE, &previous);
     auto* me = static_cast<JackBackend*>(self);
     for (std::size_t c = 0; c < me->ports_.size(); ++c)
         me->buffers_[c] = static_cast<float*>(jack_port_get_buffer(me->ports_[c], frames));
     me->bridge_->process(static_cast<int>(frames), me->buffers_.data());
+    pthread_setcancelstate(previous, nullptr);
     return 0;
 }
 
