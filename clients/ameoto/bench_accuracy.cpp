@@ -21,7 +21,6 @@ namespace ameoto::client {
 
 namespace {
 
-volatile double sink = 0.0;
 
 // What the scene does to a panel every sample under heavy rain: the template tier's force on one node
 // (hopping over the panel by a prime stride; small, so the body stays linear), the step, and the far
@@ -241,11 +240,11 @@ AccuracyRow measure_method(const BenchMesh& mesh, const MethodSetting& setting, 
     r.method.decibels = r.errors.decibels;
     TransverseNetwork net = build_network(mesh, setting);
     long clock = 0;
-    r.ns_quiet = time_per_sample([&](long n) { sink = sink + drive_impulses(net, mesh.excite_node, n, clock); }, seconds, runs).median_ns;
+    r.ns_quiet = time_per_sample([&](long n) { bench_sink = bench_sink + drive_impulses(net, mesh.excite_node, n, clock); }, seconds, runs).median_ns;
     net.reset();
-    r.method.ns_per_sample = time_per_sample([&](long n) { sink = sink + drive_scene(net, n, clock); }, seconds, runs).median_ns;
+    r.method.ns_per_sample = time_per_sample([&](long n) { bench_sink = bench_sink + drive_scene(net, n, clock); }, seconds, runs).median_ns;
     net.reset();
-    r.ns_contact = time_per_sample([&](long n) { sink = sink + drive_contact(net, n, clock); }, seconds, runs).median_ns;
+    r.ns_contact = time_per_sample([&](long n) { bench_sink = bench_sink + drive_contact(net, n, clock); }, seconds, runs).median_ns;
     return r;
 }
 

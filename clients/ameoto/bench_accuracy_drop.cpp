@@ -12,9 +12,7 @@ namespace ameoto::client {
 
 namespace {
 
-constexpr double sample_rate = 48000.0;
 constexpr double diameter = 3e-3;
-volatile double sink = 0.0;
 
 double elongation(const Body3D& body) {
     const Vec3 c = body.centre_of_mass();
@@ -40,8 +38,8 @@ Drop stretched_drop(Integrator integrator, int factor, double& rest) {
         const Vec3 p = body.position(i) - c;
         body.set_position(i, c + Vec3{sx * p.x, sx * p.y, sz * p.z});
     }
-    const int needed = body.finalize(1.0 / sample_rate).sub_steps;
-    body.finalize(1.0 / sample_rate, needed * factor);
+    const int needed = body.finalize(1.0 / bench_sample_rate).sub_steps;
+    body.finalize(1.0 / bench_sample_rate, needed * factor);
     return drop;
 }
 
@@ -53,11 +51,11 @@ double drop_frequency(Integrator integrator, int factor, int* sub_steps, double*
     if (sub_steps) *sub_steps = drop.body.stability().sub_steps;
     if (rayleigh_hz) *rayleigh_hz = drop.calibration.rayleigh_hz;
     std::vector<double> x;
-    for (int n = 0; n < static_cast<int>(0.25 * sample_rate); ++n) {
+    for (int n = 0; n < static_cast<int>(0.25 * bench_sample_rate); ++n) {
         drop.body.step();
         x.push_back(elongation(drop.body) - rest);
     }
-    return zero_crossing_hz(x, sample_rate);
+    return zero_crossing_hz(x, bench_sample_rate);
 }
 
 DropAccuracy measure_drop(Integrator integrator, int factor, double reference_hz, double seconds, int runs) {
@@ -69,7 +67,7 @@ DropAccuracy measure_drop(Integrator integrator, int factor, double reference_hz
     d.ns_per_sample = time_per_sample(
                           [&](long n) {
                               for (long i = 0; i < n; ++i) drop.body.step();
-                              sink = sink + drop.body.position(0).z;
+                              bench_sink = bench_sink + drop.body.position(0).z;
                           },
                           seconds, runs)
                           .median_ns;

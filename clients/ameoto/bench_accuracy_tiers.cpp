@@ -13,7 +13,6 @@ namespace ameoto::client {
 
 namespace {
 
-constexpr double sample_rate = 48000.0;
 constexpr int block = 64;
 constexpr double kPi = 3.14159265358979323846;
 constexpr int welch_points = 16384;   // 2.9 Hz bins: the 25 Hz third-octave band (5.8 Hz wide) holds two
@@ -23,7 +22,7 @@ constexpr double band_floor_db = 60.0;
 // loud enough, the pool as large as it goes; template: none full, none texture; texture: every drop.
 RendererConfig forced(LodTier tier, double rate_mm_per_h, std::uint64_t seed) {
     RendererConfig c;
-    c.sample_rate = sample_rate;
+    c.sample_rate = bench_sample_rate;
     c.channels = 2;
     c.seed = seed;
     c.rain_rate_mm_per_h = rate_mm_per_h;
@@ -83,9 +82,9 @@ TierRender render_tier(LodTier tier, double rate_mm_per_h, double seconds, std::
     TierRender out;
     std::vector<float> scratch_l(block), scratch_r(block);
     float* scratch[2] = {scratch_l.data(), scratch_r.data()};
-    for (long b = 0; b < static_cast<long>(warm_s * sample_rate / block); ++b) r.process(block, scratch);
+    for (long b = 0; b < static_cast<long>(warm_s * bench_sample_rate / block); ++b) r.process(block, scratch);
     const LodCounts before = r.stats().rain_tiers;
-    const long blocks = static_cast<long>(seconds * sample_rate / block);
+    const long blocks = static_cast<long>(seconds * bench_sample_rate / block);
     out.left.resize(static_cast<std::size_t>(blocks * block));
     out.right.resize(out.left.size());
     const double start = thread_cpu_seconds();
@@ -157,12 +156,12 @@ double spectral_centroid_hz(const BandSpectrum& s) {
 std::vector<TierRow> measure_tiers(const TierOptions& o) {
     std::vector<TierRow> rows;
     const TierRender full = render_tier(LodTier::full, o.error_rate_mm_per_h, o.error_seconds, o.seed);
-    const BandSpectrum reference = long_term_spectrum(full, sample_rate);
+    const BandSpectrum reference = long_term_spectrum(full, bench_sample_rate);
     for (LodTier tier : {LodTier::full, LodTier::template_, LodTier::texture}) {
         TierRow row;
         row.name = tier_name(tier);
         const TierRender r = tier == LodTier::full ? full : render_tier(tier, o.error_rate_mm_per_h, o.error_seconds, o.seed);
-        const BandSpectrum s = long_term_spectrum(r, sample_rate);
+        const BandSpectrum s = long_term_spectrum(r, bench_sample_rate);
         row.lsd_db = tier == LodTier::full ? 0.0 : band_distance_db(s, reference);
         row.level_db = tier == LodTier::full ? 0.0 : level_difference_db(s, reference);
         row.drops = r.full + r.template_ + r.texture;

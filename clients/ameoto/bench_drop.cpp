@@ -14,13 +14,12 @@
 namespace ameoto::client {
 namespace {
 
-constexpr double sample_rate = 48000.0;
 constexpr double window_s = 0.1;   // from placement through impact and breakup
 
 // CPU seconds to render window_s of a fresh scene holding `drops` 5 mm drops.
 double time_window(int drops) {
     DropOnCanopyConfig config;
-    config.sample_rate = sample_rate;
+    config.sample_rate = bench_sample_rate;
     config.capacity = 8;
     config.max_diameter = 5.2e-3;   // only 5 mm lattices: builds in well under a second
     DropOnCanopy scene(config);
@@ -30,7 +29,7 @@ double time_window(int drops) {
     }
     std::vector<float> out(64);
     float* outputs[1] = {out.data()};
-    const int blocks = static_cast<int>(window_s * sample_rate / 64);
+    const int blocks = static_cast<int>(window_s * bench_sample_rate / 64);
     const double start = thread_cpu_seconds();
     for (int b = 0; b < blocks; ++b) scene.process(64, outputs);
     return thread_cpu_seconds() - start;
@@ -46,13 +45,13 @@ double median_window(int drops, int runs) {
 
 int run_drop_bench(const BenchOptions& options, const CommandIo& io) {
     const int runs = options.runs;
-    const double samples = window_s * sample_rate;
+    const double samples = window_s * bench_sample_rate;
     io.err << "ameoto bench drop: timing the canopy alone, 1 and 8 drops (" << runs << " runs each)...\n";
     (void)time_window(1);   // warm-up: lattice caches, page faults
     const double base = median_window(0, runs) / samples;
     const double one = median_window(1, runs) / samples;
     const double eight = median_window(8, runs) / samples;
-    const double period = 1.0 / sample_rate;
+    const double period = 1.0 / bench_sample_rate;
     const double per_drop_1 = std::max(one - base, 1e-12);
     const double per_drop_8 = std::max((eight - base) / 8.0, 1e-12);
     const double at_once = (period - base) / per_drop_8;

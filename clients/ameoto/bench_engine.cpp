@@ -20,7 +20,6 @@
 namespace ameoto::client {
 namespace {
 
-volatile double sink = 0.0;   // keeps every checksum alive
 
 std::string cpu_model() {
     std::ifstream in("/proc/cpuinfo");
@@ -114,7 +113,7 @@ std::vector<BenchMeasurement> bench_panels(const BenchOptions& options, Printer&
                 auto body = method.build(mesh);
                 m.sub_steps = body->sub_steps();
                 long clock = 0;
-                record(m, time_per_sample([&](long n) { sink = sink + body->impulses(n, clock); }, options.seconds, options.runs));
+                record(m, time_per_sample([&](long n) { bench_sink = bench_sink + body->impulses(n, clock); }, options.seconds, options.runs));
             } catch (const std::exception& e) {
                 m.note = std::string("refused: ") + e.what();
             }
@@ -193,7 +192,7 @@ FaustResult bench_triangle(const BenchOptions& options, Printer& print) {
             auto body = method.build(mesh);
             m.sub_steps = body->sub_steps();
             PluckDrive drive;
-            record(m, time_per_sample([&](long n) { sink = sink + body->pluck(n, drive, nullptr); }, options.seconds, options.runs));
+            record(m, time_per_sample([&](long n) { bench_sink = bench_sink + body->pluck(n, drive, nullptr); }, options.seconds, options.runs));
         } catch (const std::exception& e) {
             m.note = std::string("refused: ") + e.what();
         }

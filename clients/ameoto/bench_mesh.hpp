@@ -27,6 +27,8 @@
 #include <string>
 #include <vector>
 
+#include "clients/ameoto/bench_timer.hpp"   // bench_sample_rate
+
 namespace ameoto::client {
 
 struct BenchMesh {
@@ -48,8 +50,6 @@ struct BenchMesh {
     int excite_node = 0;          // where the benchmark's force (or pluck) acts
     int listen_node = 0;          // whose position is the output (triangle mesh)
 };
-
-constexpr double bench_sample_rate = 48000.0;
 
 BenchMesh canopy_panel_mesh(int target_masses);
 

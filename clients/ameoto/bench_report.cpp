@@ -6,7 +6,7 @@
 namespace ameoto::client {
 namespace {
 
-std::string fixed(double value, int decimals) {
+std::string fixed_or_dash(double value, int decimals) {
     if (!std::isfinite(value)) return "-";
     char buffer[64];
     std::snprintf(buffer, sizeof buffer, "%.*f", decimals, value);
@@ -17,7 +17,7 @@ std::string fixed(double value, int decimals) {
 std::string figure(double value) {
     if (!std::isfinite(value)) return "-";
     const double a = std::fabs(value);
-    return fixed(value, a >= 100.0 ? 0 : a >= 10.0 ? 1 : a >= 1.0 ? 2 : 3);
+    return fixed_or_dash(value, a >= 100.0 ? 0 : a >= 10.0 ? 1 : a >= 1.0 ? 2 : 3);
 }
 
 std::string pad(const std::string& text, std::size_t width, bool right) {
@@ -98,7 +98,7 @@ std::string format_table_row(const BenchMeasurement& m) {
         line += pad(figure(m.ns_per_link_update()), number_width, true);
         line += pad(figure(m.core_percent()), number_width, true);
         line += pad(figure(m.realtime_factor()), number_width, true);
-        line += pad(m.faust_ratio ? fixed(*m.faust_ratio, 2) : std::string(), number_width, true);
+        line += pad(m.faust_ratio ? fixed_or_dash(*m.faust_ratio, 2) : std::string(), number_width, true);
     } else {
         line += "  not measured";
     }

@@ -13,7 +13,6 @@
 namespace ameoto::client {
 namespace {
 
-constexpr double sample_rate = 48000.0;
 constexpr int block = 64;
 
 struct Run {
@@ -24,7 +23,7 @@ struct Run {
 // CPU seconds and drops over `seconds` of audio after `warm_s`, for the umbrella scene at `rate`.
 Run run_umbrella(double rate, double full_level_db, double texture_margin_db, int max_full, double warm_s, double seconds) {
     RendererConfig c;
-    c.sample_rate = sample_rate;
+    c.sample_rate = bench_sample_rate;
     c.channels = 2;
     c.seed = 3;
     c.rain_rate_mm_per_h = rate;
@@ -34,7 +33,7 @@ Run run_umbrella(double rate, double full_level_db, double texture_margin_db, in
     Renderer r(c);
     std::vector<float> left(block), right(block);
     float* out[2] = {left.data(), right.data()};
-    const long warm = static_cast<long>(warm_s * sample_rate / block), timed = static_cast<long>(seconds * sample_rate / block);
+    const long warm = static_cast<long>(warm_s * bench_sample_rate / block), timed = static_cast<long>(seconds * bench_sample_rate / block);
     for (long b = 0; b < warm; ++b) r.process(block, out);
     const double drops0 = static_cast<double>(r.stats().drops);
     const double start = thread_cpu_seconds();
@@ -90,14 +89,14 @@ int run_scene_bench(const BenchOptions& options, const CommandIo& io) {
     pond.x_m = 3.0;
     scene.surfaces.push_back(pond);
     RendererConfig base;
-    base.sample_rate = sample_rate;
+    base.sample_rate = bench_sample_rate;
     base.channels = 2;
     base.seed = 5;
     base.adaptive_lod = true;
     Renderer heavy(configure_for_scene(base, scene));
     std::vector<float> left(block), right(block);
     float* out[2] = {left.data(), right.data()};
-    const double period = block / sample_rate;
+    const double period = block / bench_sample_rate;
     // The rain ramps in for 1 s, timed and told to the governor as ameotod's audio thread does from its
     // first callback (the governor learns the lattice drops' price from it), but not counted.
     for (int b = 0; b < static_cast<int>(1.0 / period); ++b) {

@@ -6,6 +6,8 @@
 //   t.median_ns, t.min_ns, t.max_ns, t.runs, t.samples_per_run    // ns per sample
 //   double s = thread_cpu_seconds();
 //   double m = median(values);
+//   bench_sample_rate                      // 48 kHz: the rate every suite steps the engine at
+//   bench_sink = bench_sink + result;      // keeps a timed loop's result, so the optimiser cannot drop the work
 //
 // The clock is CLOCK_THREAD_CPUTIME_ID: on a shared machine a thread that waits for a core is not
 // charged for the wait (wall time would be), so the figure is the work the step does. Warm-up: the
@@ -23,6 +25,9 @@ struct BenchTiming {
     int runs = 0;
     long samples_per_run = 0;
 };
+
+inline constexpr double bench_sample_rate = 48000.0;   // Hz
+inline volatile double bench_sink = 0.0;
 
 double thread_cpu_seconds();
 double median(std::vector<double> values);

@@ -18,7 +18,7 @@
 namespace ameoto::client {
 namespace {
 
-constexpr const char* prefix = "ameoto send: ";
+constexpr const char* send_error_prefix = "ameoto send: ";
 
 std::optional<double> parse_seconds(const std::string& text) {
     double v = 0;
@@ -87,18 +87,18 @@ int run_send(const CommandWords& words, const CommandIo& io) {
         return exit_status::ok;
     }
     if (!p.error.empty()) {
-        io.err << prefix << p.error << "\n" << "(see ameoto send --help)\n";
+        io.err << send_error_prefix << p.error << "\n" << "(see ameoto send --help)\n";
         return exit_status::usage;
     }
     const SendOptions& o = p.options;
     const TypedArguments typed = o.types ? typed_arguments(*o.types, o.words) : inferred_arguments(o.words);
     if (!typed.error.empty()) {
-        io.err << prefix << typed.error << "\n" << "(see ameoto send --help)\n";
+        io.err << send_error_prefix << typed.error << "\n" << "(see ameoto send --help)\n";
         return exit_status::usage;
     }
 
     auto client = open_and_send(o.target, o.tcp ? Transport::tcp : Transport::udp,
-                                protocol::encode_message(o.address, typed.arguments), io, prefix);
+                                protocol::encode_message(o.address, typed.arguments), io, send_error_prefix);
     if (!client) return exit_status::not_sent;
     if (o.wait_s <= 0) return exit_status::ok;
 
@@ -116,23 +116,23 @@ int run_send(const CommandWords& words, const CommandIo& io) {
             if (ends && m.address != "/fail") got_expected = true;
             return ends;
         },
-        [&](const std::string& problem) { io.err << prefix << problem << "\n"; });
+        [&](const std::string& problem) { io.err << send_error_prefix << problem << "\n"; });
 
     switch (w.ending) {
         case WaitResult::Ending::refused:
             if (o.tcp) {
-                io.err << prefix << "the server closed the connection (" << o.target.describe() << ")\n";
+                io.err << send_error_prefix << "the server closed the connection (" << o.target.describe() << ")\n";
                 return got_fail ? exit_status::refused : exit_status::not_sent;
             }
-            io.err << prefix << "nothing is listening on " << o.target.describe()
+            io.err << send_error_prefix << "nothing is listening on " << o.target.describe()
                    << " (connection refused): is ameotod running?\n";
             return exit_status::not_sent;
         case WaitResult::Ending::error:
-            io.err << prefix << "cannot read replies from " << o.target.describe() << ": " << w.error << "\n";
+            io.err << send_error_prefix << "cannot read replies from " << o.target.describe() << ": " << w.error << "\n";
             return exit_status::not_sent;
         case WaitResult::Ending::timed_out:
             if (expected && !got_fail && !got_expected)
-                io.err << prefix << "no " << *expected << " from " << o.target.describe() << " within "
+                io.err << send_error_prefix << "no " << *expected << " from " << o.target.describe() << " within "
                        << seconds_text(o.wait_s) << "\n";
             break;
         case WaitResult::Ending::stopped: break;

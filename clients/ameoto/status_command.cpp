@@ -15,10 +15,10 @@
 namespace ameoto::client {
 namespace {
 
-constexpr const char* prefix = "ameoto status: ";
+constexpr const char* status_error_prefix = "ameoto status: ";
 
 int usage_error(const CommandIo& io, const std::string& message) {
-    io.err << prefix << message << "\n(see ameoto status --help)\n";
+    io.err << status_error_prefix << message << "\n(see ameoto status --help)\n";
     return exit_status::usage;
 }
 
@@ -47,7 +47,7 @@ int run_status(const CommandWords& words, const CommandIo& io) {
     if (const auto rest = r.rest(); !rest.empty()) return usage_error(io, "unexpected argument '" + rest.front() + "'");
     const Target& target = target_options.target();
 
-    auto client = open_and_send(target, Transport::udp, protocol::encode_message("/status", {}), io, prefix);
+    auto client = open_and_send(target, Transport::udp, protocol::encode_message("/status", {}), io, status_error_prefix);
     if (!client) return exit_status::not_sent;
 
     int result = exit_status::refused;
@@ -57,33 +57,33 @@ int run_status(const CommandWords& words, const CommandIo& io) {
         *client, deadline,
         [&](const protocol::DecodedMessage& m) {
             if (m.address == "/fail") {
-                io.err << prefix << "the server refused /status: " << format_message(m) << "\n";
+                io.err << status_error_prefix << "the server refused /status: " << format_message(m) << "\n";
                 return true;
             }
             if (m.address != "/status.reply") return false;   // e.g. a stray /synced: not ours
             const StatusReport report = parse_status_reply(m);
             if (!report.error.empty()) {
-                io.err << prefix << report.error << "\n" << "  " << format_message(m) << "\n";
+                io.err << status_error_prefix << report.error << "\n" << "  " << format_message(m) << "\n";
                 return true;
             }
             io.out << (json ? format_status_json(report) : format_status_text(report));
             result = exit_status::ok;
             return true;
         },
-        [&](const std::string& problem) { io.err << prefix << problem << "\n"; });
+        [&](const std::string& problem) { io.err << status_error_prefix << problem << "\n"; });
 
     switch (w.ending) {
         case WaitResult::Ending::stopped: return result;
         case WaitResult::Ending::timed_out:
-            io.err << prefix << "no reply from " << target.describe() << " within " << shortest_double(status_timeout_s)
+            io.err << status_error_prefix << "no reply from " << target.describe() << " within " << shortest_double(status_timeout_s)
                    << " s: is ameotod running?\n";
             return exit_status::refused;
         case WaitResult::Ending::refused:
-            io.err << prefix << "no reply from " << target.describe()
+            io.err << status_error_prefix << "no reply from " << target.describe()
                    << ": nothing is listening there (connection refused): is ameotod running?\n";
             return exit_status::refused;
         case WaitResult::Ending::error:
-            io.err << prefix << "cannot read the reply from " << target.describe() << ": " << w.error << "\n";
+            io.err << status_error_prefix << "cannot read the reply from " << target.describe() << ": " << w.error << "\n";
             return exit_status::refused;
     }
     return result;

@@ -21,7 +21,7 @@
 namespace ameoto::client {
 namespace {
 
-constexpr const char* prefix = "ameoto watch: ";
+constexpr const char* watch_error_prefix = "ameoto watch: ";
 using Clock = std::chrono::steady_clock;
 using namespace std::chrono_literals;
 
@@ -47,7 +47,7 @@ struct StopSignals {
 };
 
 int usage_error(const CommandIo& io, const std::string& message) {
-    io.err << prefix << message << "\n(see ameoto watch --help)\n";
+    io.err << watch_error_prefix << message << "\n(see ameoto watch --help)\n";
     return exit_status::usage;
 }
 
@@ -105,7 +105,7 @@ int run_watch(const CommandWords& words, const CommandIo& io) {
     const Target& target = target_options.target();
 
     const auto subscribe = protocol::encode_message("/notify", {protocol::OscArgument::from_int(1)});
-    auto client = open_and_send(target, Transport::udp, subscribe, io, prefix);
+    auto client = open_and_send(target, Transport::udp, subscribe, io, watch_error_prefix);
     if (!client) return exit_status::not_sent;
     const StopSignals signals;
     const bool screen = isatty(STDOUT_FILENO) && &io.out == &std::cout;
@@ -128,14 +128,14 @@ int run_watch(const CommandWords& words, const CommandIo& io) {
     auto on_message = [&](const protocol::DecodedMessage& m) {
         last_heard = Clock::now();
         if (silent_said) {
-            io.err << prefix << "the server is back\n";
+            io.err << watch_error_prefix << "the server is back\n";
             silent_said = false;
             shown_lines = 0;
         }
         if (m.address == "/done" && !m.args.empty() && m.args[0].text == "/notify") {
             subscribed = true;
         } else if (m.address == "/fail") {
-            io.err << prefix << "the server refused: " << format_message(m) << "\n";
+            io.err << watch_error_prefix << "the server refused: " << format_message(m) << "\n";
             shown_lines = 0;
             if (!m.args.empty() && m.args[0].text == "/notify") refused = true;
             return refused;
@@ -143,7 +143,7 @@ int run_watch(const CommandWords& words, const CommandIo& io) {
             subscribed = true;
             MeterReading meter = parse_meter(m);
             if (!meter.error.empty()) {
-                io.err << prefix << meter.error << "\n";
+                io.err << watch_error_prefix << meter.error << "\n";
                 shown_lines = 0;
                 return false;
             }
@@ -154,7 +154,7 @@ int run_watch(const CommandWords& words, const CommandIo& io) {
             subscribed = true;
             StatusReport report = parse_status_reply(m);
             if (!report.error.empty()) {
-                io.err << prefix << report.error << "\n";
+                io.err << watch_error_prefix << report.error << "\n";
                 shown_lines = 0;
                 return false;
             }
@@ -169,27 +169,27 @@ int run_watch(const CommandWords& words, const CommandIo& io) {
     while (!stop_requested) {
         // Short waits, so Ctrl-C is seen within 200 ms even if the receive is not interrupted.
         const WaitResult w = wait_for_replies(*client, Clock::now() + 200ms, on_message,
-                                              [&](const std::string& problem) { io.err << prefix << problem << "\n"; });
+                                              [&](const std::string& problem) { io.err << watch_error_prefix << problem << "\n"; });
         if (w.ending == WaitResult::Ending::stopped) {
             if (refused) result = exit_status::refused;
             break;
         }
         if (w.ending == WaitResult::Ending::error) {
-            io.err << prefix << "cannot read from " << target.describe() << ": " << w.error << "\n";
+            io.err << watch_error_prefix << "cannot read from " << target.describe() << ": " << w.error << "\n";
             return exit_status::refused;
         }
         if (w.ending == WaitResult::Ending::refused && !subscribed) {
-            io.err << prefix << "no reply from " << target.describe()
+            io.err << watch_error_prefix << "no reply from " << target.describe()
                    << ": nothing is listening there (connection refused): is ameotod running?\n";
             return exit_status::refused;
         }
         if (!subscribed && Clock::now() > first_deadline) {
-            io.err << prefix << "no reply to /notify from " << target.describe() << " within 2 s: is ameotod running?\n";
+            io.err << watch_error_prefix << "no reply to /notify from " << target.describe() << " within 2 s: is ameotod running?\n";
             return exit_status::refused;
         }
         if (subscribed && Clock::now() - last_heard > 3s) {
             if (!silent_said) {
-                io.err << prefix << "no notifications from " << target.describe() << " for 3 s; subscribing again\n";
+                io.err << watch_error_prefix << "no notifications from " << target.describe() << " for 3 s; subscribing again\n";
                 shown_lines = 0;   // a terminal's screen moved down by that line: draw the next one below it
             }
             silent_said = true;

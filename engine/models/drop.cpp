@@ -20,7 +20,6 @@
 namespace ameoto {
 namespace {
 
-constexpr double kPi = constants::pi;
 
 // Orthonormal basis of the rigid motions of the shape (3 translations, up to 3 rotations): the null
 // space of K for an unstressed lattice. Degenerate rotations (a pair rotating about its own axis) drop out.
@@ -215,7 +214,7 @@ std::vector<std::shared_ptr<const DropLattice>> drop_lattices(int max_target) {
 double rayleigh_frequency(double diameter, const Liquid& liquid, int n) {
     const double a = 0.5 * diameter;
     const double omega2 = n * (n - 1.0) * (n + 2.0) * liquid.surface_tension / (liquid.density * a * a * a);
-    return std::sqrt(omega2) / (2.0 * kPi);
+    return std::sqrt(omega2) / (2.0 * constants::pi);
 }
 
 double lamb_decay_time(double diameter, const Liquid& liquid, int n) {
@@ -235,7 +234,7 @@ DropCalibration calibrate_drop(const DropLattice& lattice, double diameter, cons
     c.surface_tension = liquid.surface_tension;
     c.viscosity = liquid.viscosity;
     c.masses = lattice.mass_count();
-    c.total_mass = liquid.density * kPi * diameter * diameter * diameter / 6.0;
+    c.total_mass = liquid.density * constants::pi * diameter * diameter * diameter / 6.0;
     c.node_mass = c.total_mass / c.masses;
     c.spacing = diameter * lattice.shape.spacing;
     c.rayleigh_hz = rayleigh_frequency(diameter, liquid);
@@ -243,10 +242,10 @@ DropCalibration calibrate_drop(const DropLattice& lattice, double diameter, cons
     c.decay_time = lamb_decay_time(diameter, liquid);
     c.arrival_speed = arrival_speed(diameter, liquid.density);
     if (c.masses < 2 || !(lattice.lambda2 > 0.0)) return c;   // one mass: no links
-    const double omega2 = 2.0 * kPi * c.rayleigh_hz;
+    const double omega2 = 2.0 * constants::pi * c.rayleigh_hz;
     c.stiffness = c.node_mass * omega2 * omega2 / lattice.lambda2;
     c.damping = 2.0 * c.stiffness / (c.decay_time * omega2 * omega2);
-    c.break_force = 0.5 * kPi * liquid.surface_tension * c.spacing;
+    c.break_force = 0.5 * constants::pi * liquid.surface_tension * c.spacing;
     if (options.core) {
         c.core_length = options.core_length * c.spacing;
         const double omega_core = options.core_speed / c.spacing;

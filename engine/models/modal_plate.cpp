@@ -13,7 +13,6 @@
 namespace ameoto {
 namespace {
 
-constexpr double kPi = constants::pi;
 constexpr double kReferenceDistanceM = 1.0;
 
 // Radiation efficiency (per face) of odd-odd mode (m, n) at frequency f; see the header.
@@ -21,9 +20,9 @@ double radiation_efficiency(const PlateSpec& s, int m, int n, double f) {
     const double c = constants::speed_of_sound_air;
     const double fc = s.coincidence_hz();
     if (f < fc) {
-        const double k = 2.0 * kPi * f / c;
+        const double k = 2.0 * constants::pi * f / c;
         const double sigma = 32.0 * k * k * s.length_x_m * s.length_y_m /
-                             (std::pow(kPi, 5) * static_cast<double>(m * m) * static_cast<double>(n * n));
+                             (std::pow(constants::pi, 5) * static_cast<double>(m * m) * static_cast<double>(n * n));
         return std::min(1.0, sigma);
     }
     const double lambda_c = c / fc;
@@ -154,12 +153,12 @@ double PlateSpec::areal_density() const { return density_kg_m3 * thickness_m; }
 
 double PlateSpec::coincidence_hz() const {
     const double c = constants::speed_of_sound_air;
-    return c * c / (2.0 * kPi) * std::sqrt(areal_density() / bending_stiffness());
+    return c * c / (2.0 * constants::pi) * std::sqrt(areal_density() / bending_stiffness());
 }
 
 double PlateSpec::mode_frequency_hz(int m, int n) const {
     const double a = m / length_x_m, b = n / length_y_m;
-    return 0.5 * kPi * std::sqrt(bending_stiffness() / areal_density()) * (a * a + b * b);
+    return 0.5 * constants::pi * std::sqrt(bending_stiffness() / areal_density()) * (a * a + b * b);
 }
 
 PlateSpec PlateSpec::tin_roof() { return custom("tin-roof", 2.1e11, 7850.0, 0.3, 0.5e-3, 1.0, 0.6, 0.01); }
@@ -240,8 +239,8 @@ void ModalPlate::build(const PlateOptions& options) {
     const double kappa = std::sqrt(spec_.bending_stiffness() / spec_.areal_density());   // omega = kappa k_b^2
     double limit = std::min(options.max_frequency_hz, 0.45 / dt_);
     if (options.min_wavelength_thicknesses > 0.0) {
-        const double k_max = 2.0 * kPi / (options.min_wavelength_thicknesses * spec_.thickness_m);
-        limit = std::min(limit, kappa * k_max * k_max / (2.0 * kPi));
+        const double k_max = 2.0 * constants::pi / (options.min_wavelength_thicknesses * spec_.thickness_m);
+        limit = std::min(limit, kappa * k_max * k_max / (2.0 * constants::pi));
     }
     frequency_limit_hz_ = limit;
 
@@ -289,13 +288,13 @@ void ModalPlate::build(const PlateOptions& options) {
         pm.m = c.m;
         pm.n = c.n;
         pm.frequency_hz = c.f;
-        const double omega = 2.0 * kPi * c.f;
+        const double omega = 2.0 * constants::pi * c.f;
         pm.radiation_efficiency = radiation_efficiency(spec_, c.m, c.n, c.f);
         const double eta_rad = options.radiation_damping ? 2.0 * z0 * pm.radiation_efficiency / (omega * rho_h) : 0.0;
         // At most 1: a critically damped mode needs eta = 2; beyond 1 it would no longer ring.
         pm.loss_factor = std::min(1.0, spec_.loss_factor + eta_rad);
         pm.decay_per_s = 0.5 * pm.loss_factor * omega;
-        pm.volume_m3 = 4.0 * spec_.length_x_m * spec_.length_y_m / (kPi * kPi * c.m * c.n);
+        pm.volume_m3 = 4.0 * spec_.length_x_m * spec_.length_y_m / (constants::pi * constants::pi * c.m * c.n);
         // Exact transition of (q, q') over T for q'' + 2 a q' + w^2 q = 0 (underdamped: a / w = eta / 2 <= 0.5);
         // its trace and determinant are the two-pole coefficients.
         const double a = pm.decay_per_s;
@@ -321,7 +320,7 @@ void ModalPlate::build(const PlateOptions& options) {
     table_x_ = static_cast<int>(groups_.size());
     // u = V q' is kicked by V (4 / M) phi J = (16 / (pi^2 rho h)) (sin(m pi x0 / Lx) / m) (sin(n pi y0 / Ly) / n) J:
     // separable, so a strike stores its two tables already divided by m and n.
-    kick_scale_ = 16.0 / (kPi * kPi * rho_h);
+    kick_scale_ = 16.0 / (constants::pi * constants::pi * rho_h);
     const auto slots = static_cast<std::size_t>(options.max_strikes);
     slot_sx_.assign(slots * static_cast<std::size_t>(table_x_), 0.0);
     slot_sy_.assign(slots * static_cast<std::size_t>(table_y_), 0.0);
@@ -334,7 +333,7 @@ void ModalPlate::build(const PlateOptions& options) {
     for (std::size_t s = slots; s-- > 0;) slot_free_.push_back(static_cast<std::int32_t>(s));
     pulses_ = std::make_unique<ImpactPool>();
     kicked_last_ = false;
-    pressure_gain_ = constants::air_density / (2.0 * kPi * kReferenceDistanceM * dt_);
+    pressure_gain_ = constants::air_density / (2.0 * constants::pi * kReferenceDistanceM * dt_);
 }
 
 bool ModalPlate::strike(double x, double y, double diameter, double speed, double density) {
@@ -350,7 +349,7 @@ bool ModalPlate::strike(double x, double y, double diameter, double speed, doubl
         return false;
     }
     const std::int32_t slot = slot_free_.back();
-    const double mass = density * kPi * diameter * diameter * diameter / 6.0;
+    const double mass = density * constants::pi * diameter * diameter * diameter / 6.0;
     if (!pulses_->add(CanopyHit{slot, 0}, mass * speed, diameter / speed, dt_)) {
         ++stats_.refused_full;
         return false;
@@ -360,8 +359,8 @@ bool ModalPlate::strike(double x, double y, double diameter, double speed, doubl
     const auto s = static_cast<std::size_t>(slot);
     double* sx = slot_sx_.data() + s * static_cast<std::size_t>(table_x_);
     double* sy = slot_sy_.data() + s * static_cast<std::size_t>(table_y_);
-    odd_sine_table(kPi * x / spec_.length_x_m, table_x_, sx);
-    odd_sine_table(kPi * y / spec_.length_y_m, table_y_, sy);
+    odd_sine_table(constants::pi * x / spec_.length_x_m, table_x_, sx);
+    odd_sine_table(constants::pi * y / spec_.length_y_m, table_y_, sy);
     for (int i = 0; i < table_x_; ++i) sx[i] /= 2 * i + 1;
     for (int j = 0; j < table_y_; ++j) sy[j] /= 2 * j + 1;
     slot_seen_[s] = 1;
@@ -442,7 +441,7 @@ double ModalPlate::mode_energy(int k) const {
     const double w_prev = (u_[i] - kick - t22_[i] * u1_[i]) / t21_[i];
     const double w_now = t11_[i] * w_prev + t12_[i] * u1_[i];
     const PlateMode& m = modes_[static_cast<std::size_t>(k)];
-    const double omega = 2.0 * kPi * m.frequency_hz;
+    const double omega = 2.0 * constants::pi * m.frequency_hz;
     const double q = w_now / m.volume_m3, qd = u_[i] / m.volume_m3;
     const double modal_mass = 0.25 * spec_.areal_density() * spec_.length_x_m * spec_.length_y_m;
     return 0.5 * modal_mass * (qd * qd + omega * omega * q * q);

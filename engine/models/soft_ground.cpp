@@ -14,7 +14,6 @@
 namespace ameoto {
 namespace {
 
-constexpr double kPi = constants::pi;
 constexpr double kWaterSurfaceTension = 0.0728;   // N/m, 20 C (physics.md section 4)
 constexpr double kWaterViscosity = 1.0e-3;        // Pa s, 20 C
 constexpr double kMundoSplash = 57.7;             // K = We^1/2 Re^1/4 (Mundo et al. 1995)
@@ -24,7 +23,7 @@ constexpr double kMaxLifetimeS = 2.0;
 // of draws per hit is fixed and the stream stays reproducible).
 double normal(Random& rng) {
     const double u1 = rng.uniform(), u2 = rng.uniform();
-    return std::sqrt(-2.0 * std::log(1.0 - u1)) * std::cos(2.0 * kPi * u2);
+    return std::sqrt(-2.0 * std::log(1.0 - u1)) * std::cos(2.0 * constants::pi * u2);
 }
 
 }  // namespace
@@ -137,7 +136,7 @@ bool SoftGround::splashes(double diameter, double speed, double density) {
 }
 
 double SoftGround::radiated_energy_j(double diameter, double speed, double density) const {
-    const double mass = density * kPi * diameter * diameter * diameter / 6.0;
+    const double mass = density * constants::pi * diameter * diameter * diameter / 6.0;
     return spec_.efficiency * 0.5 * mass * speed * speed;
 }
 
@@ -180,19 +179,19 @@ bool SoftGround::strike(double diameter, double speed, double density) {
             double f = d.f1_hz * (m * m + n * n * inv_a2) / (1.0 + inv_a2);
             if (h.modes == 0) f = std::min(f, nyquist_limit);
             else if (f > nyquist_limit) continue;
-            const double omega = 2.0 * kPi * f;
-            const double phi = std::sin(m * kPi * d.u) * std::sin(n * kPi * d.v);
+            const double omega = 2.0 * constants::pi * f;
+            const double phi = std::sin(m * constants::pi * d.u) * std::sin(n * constants::pi * d.v);
             set_mode(h.modes++, omega, 0.5 * d.loss_factor, phi, omega * omega / (m * n), 0.0);
         }
     } else {
         const double fg = std::min(spec_.soil_cutoff_median_hz * std::exp(spec_.soil_cutoff_sigma_ln * normal(rng_)),
                                    nyquist_limit);
-        set_mode(h.modes++, 2.0 * kPi * fg, spec_.soil_damping_ratio, 1.0, 1.0 / dt_, -1.0 / dt_);
+        set_mode(h.modes++, 2.0 * constants::pi * fg, spec_.soil_damping_ratio, 1.0, 1.0 / dt_, -1.0 / dt_);
     }
 
     // The hit's energy before the gain: the pulse through the resonators, sample by sample (the same law and
     // arithmetic as at run time, on a scratch pool), then the free decay in closed form.
-    const double mass = density * kPi * diameter * diameter * diameter / 6.0;
+    const double mass = density * constants::pi * diameter * diameter * diameter / 6.0;
     const double impulse = mass * speed, duration = diameter / speed;
     scratch_->clear();
     scratch_->add(CanopyHit{0, 0}, impulse, duration, dt_);
@@ -238,7 +237,7 @@ bool SoftGround::strike(double diameter, double speed, double density) {
 
     // Target sum of p^2 over the hit: E = (2 pi / (rho0 c)) T sum p^2 at 1 m.
     const double target = radiated_energy_j(diameter, speed, density) * constants::air_density *
-                          constants::speed_of_sound_air / (2.0 * kPi * dt_);
+                          constants::speed_of_sound_air / (2.0 * constants::pi * dt_);
     const bool splash = spec_.splash_share > 0.0 && splashes(diameter, speed, density);
     const double share = splash ? spec_.splash_share : 0.0;
     h.gain = energy > 0.0 ? std::sqrt((1.0 - share) * target / energy) : 0.0;

@@ -13,7 +13,6 @@
 namespace ameoto {
 namespace {
 
-constexpr double kPi = constants::pi;
 
 // ---- Windowed-sinc fractional delay (header) ----
 constexpr int kSincHalf = 16;                 // M: taps j = -(M-1)..M around the read point
@@ -45,7 +44,7 @@ const std::vector<double>& sinc_table() {
                 const double u = tau / kSincHalf;
                 const double window = std::abs(u) >= 1.0 ? 0.0 : bessel_i0(kKaiserBeta * std::sqrt(1.0 - u * u)) / i0_beta;
                 // sinc is exactly 0 at non-zero integers (sin(pi j) in floating point is not).
-                const double sinc = tau == 0.0 ? 1.0 : (tau == std::round(tau) ? 0.0 : std::sin(kPi * tau) / (kPi * tau));
+                const double sinc = tau == 0.0 ? 1.0 : (tau == std::round(tau) ? 0.0 : std::sin(constants::pi * tau) / (constants::pi * tau));
                 const double h = sinc * window;
                 t[static_cast<std::size_t>(p * kSincTaps + idx)] = h;
                 sum += h;
@@ -222,7 +221,7 @@ struct Propagation::AirTable {
         std::vector<double> w, alpha;
         for (double f : centres) {
             if (f > 0.45 * cfg.sample_rate) break;
-            w.push_back(2.0 * kPi * f / cfg.sample_rate);
+            w.push_back(2.0 * constants::pi * f / cfg.sample_rate);
             alpha.push_back(iso9613_attenuation_db_per_m(f, cfg.temperature_c, cfg.relative_humidity_pct, cfg.pressure_kpa));
         }
         table.fits.push_back({0.0, 0.0, 0.0, 0.0});
@@ -313,7 +312,7 @@ double Propagation::air_attenuation_db(double distance_m, double frequency_hz) c
     const AirFit f = fit_at(distance_m);
     std::array<double, kFitTapCapacity> t, scratch;
     const int k = mix_taps(f.sigma_a, f.sigma_b, f.beta, t.data(), scratch.data(), kFitTapCapacity);
-    return taps_attenuation_db(t.data(), k, 2.0 * kPi * frequency_hz / config_.sample_rate);
+    return taps_attenuation_db(t.data(), k, 2.0 * constants::pi * frequency_hz / config_.sample_rate);
 }
 
 void Propagation::update_from_distance() {

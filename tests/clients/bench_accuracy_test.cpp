@@ -11,13 +11,14 @@
 #include "clients/ameoto/bench_accuracy_tiers.hpp"
 #include "clients/ameoto/bench_command.hpp"
 #include "engine/models/canopy.hpp"
+#include "tests/support/test_constants.hpp"
+
+using namespace ameoto::test::common;
 
 using namespace ameoto;
 using namespace ameoto::client;
 
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 std::vector<double> decaying_sine(double hz, double fs, long n, double amplitude = 1.0) {
     std::vector<double> x;

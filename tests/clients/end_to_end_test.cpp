@@ -18,6 +18,7 @@
 
 #include "tests/support/child_process.hpp"
 #include "tests/support/daemon_process.hpp"
+#include "tests/support/program_paths.hpp"
 
 using namespace std::chrono_literals;
 using ameoto::test::ChildOptions;
@@ -27,8 +28,8 @@ using ameoto::test::run_program;
 
 namespace {
 
-const std::string ameoto_bin = AMEOTO_BIN_DIR "/ameoto";
-const std::string ameotod_bin = AMEOTO_BIN_DIR "/ameotod";
+using ameoto::test::ameoto_bin;
+const std::string& ameotod_bin = ameoto::test::ameotod;
 
 // Children get the test's environment minus these, so a developer's shell settings cannot point
 // the tests at another server.

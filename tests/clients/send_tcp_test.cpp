@@ -5,12 +5,13 @@
 
 #include "tests/support/child_process.hpp"
 #include "tests/support/daemon_process.hpp"
+#include "tests/support/program_paths.hpp"
 
 using namespace std::chrono_literals;
 
 namespace {
 
-const std::string ameoto_bin = AMEOTO_BIN_DIR "/ameoto";
+using ameoto::test::ameoto_bin;
 
 ameoto::test::ProgramRun send(const std::vector<std::string>& words) {
     std::vector<std::string> argv{ameoto_bin, "send"};

@@ -12,6 +12,7 @@
 #include "tests/support/child_process.hpp"
 #include "tests/support/daemon_process.hpp"
 #include "tests/support/osc_test_client.hpp"
+#include "tests/support/program_paths.hpp"
 
 using namespace std::chrono_literals;
 using ameoto::test::ChildOptions;
@@ -20,7 +21,7 @@ using ameoto::test::DaemonProcess;
 
 namespace {
 
-const std::string ameoto_bin = AMEOTO_BIN_DIR "/ameoto";
+using ameoto::test::ameoto_bin;
 const std::vector<std::string> ameoto_variables{"AMEOTO_HOST", "AMEOTO_PORT"};
 
 DaemonProcess start_server() {

@@ -7,22 +7,17 @@
 #include <limits>
 #include <string>
 
+#include "tests/support/osc_shorthand.hpp"
+
+using namespace ameoto::test::osc_shorthand;
+
 using namespace ameoto::client;
 using ameoto::protocol::DecodedMessage;
 using ameoto::protocol::OscArgument;
 
 namespace {
 
-DecodedMessage message(const std::string& address, std::vector<OscArgument> args) {
-    DecodedMessage m;
-    m.address = address;
-    m.args = std::move(args);
-    for (const auto& a : m.args) m.types += a.type;
-    return m;
-}
-OscArgument f(double v) { return OscArgument::from_float(static_cast<float>(v)); }
-
-DecodedMessage status_reply() {
+DecodedMessage sample_status_reply() {
     return message("/status.reply", {f(3.14), f(4.0), f(120), OscArgument::from_int(1), OscArgument::from_int(3),
                                      OscArgument::from_int(40), OscArgument::from_int(0), OscArgument::from_int(2), f(48000),
                                      OscArgument::from_int(256), f(2.0), f(2), OscArgument::from_string("null")});
@@ -58,7 +53,7 @@ TEST_CASE("a bar spans -60..0 dBFS and never overflows its width") {
 TEST_CASE("line format: one line per update, fields named, for pipes and logs") {
     const auto m = parse_meter(message("/meter", {f(0.1), OscArgument::from_int(2), f(-12.54), f(-20), f(-3), f(-9.96)}));
     CHECK(format_meter_line(m) == "meter t=0.100 1:-12.5/-20.0 2:-3.0/-10.0 dBFS peak/rms\n");
-    const auto s = parse_status_reply(status_reply());
+    const auto s = parse_status_reply(sample_status_reply());
     REQUIRE(s.error.empty());
     CHECK(format_status_line(s) ==
           "status cpu=3.1% peak=4.0% drops/s=120.0 full=1 template=3 texture=40 rain=2.00mm/h xruns=0 late=2 backend=null\n");
@@ -70,7 +65,7 @@ TEST_CASE("the terminal screen: load, rain and one bar per channel, a fixed numb
     const std::string empty = format_watch_screen(state);
     CHECK(empty.find("waiting for the first /status.reply") != std::string::npos);
     CHECK(empty.find("waiting for the first /meter") != std::string::npos);
-    state.status = parse_status_reply(status_reply());
+    state.status = parse_status_reply(sample_status_reply());
     state.meter = parse_meter(message("/meter", {f(0.1), OscArgument::from_int(2), f(-12), f(-30), f(-6), f(-60)}));
     const std::string screen = format_watch_screen(state);
     CHECK(screen.starts_with("ameoto watch 127.0.0.1:7770  (Ctrl-C to quit)\n"));

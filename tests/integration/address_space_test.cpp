@@ -26,14 +26,6 @@ using Daemon = ameoto::test::DaemonProcess;
 
 namespace {
 
-// Generous start-up bounds: the scene is built before ameotod listens, and this machine is shared.
-ameoto::test::DaemonOptions patient() {
-    ameoto::test::DaemonOptions o;
-    o.listen_timeout = 30s;
-    o.running_timeout = 30s;
-    return o;
-}
-
 // What /status.reply says about the state (not the load or the clock, which move on their own):
 // rain rate, sample rate, block size, backend.
 std::string status_state(const DecodedMessage& status) {
@@ -76,7 +68,7 @@ void expect_fail(OscTestClient& client, const std::string& address) {
 TEST_CASE("every address refuses every bad message over UDP with /fail, the state unchanged, the server serving") {
     ameoto::test::TempDir folder("ameoto-address-space");
     // A dry start so the saved scene and the status are the daemon's state, nothing else.
-    Daemon d({"--backend", "null", "--output", "-", "--rain", "3", "--scene-dir", folder.path().string()}, {}, patient());
+    Daemon d({"--backend", "null", "--output", "-", "--rain", "3", "--scene-dir", folder.path().string()}, {}, ameoto::test::DaemonOptions::patient());
     OscTestClient client(d.port());
     const std::string before_status = status_state(status(client));
     const std::string before_scene = saved_scene(client, folder.path(), "before");
@@ -155,7 +147,7 @@ TEST_CASE("bad scene files over /scene/load fail with the file, line and field; 
         {"unknown", "unknown.scene:3: height: "},
         {"linked", "linked.scene"},
     };
-    Daemon d({"--backend", "null", "--output", "-", "--scene", "pond", "--scene-dir", folder.path().string()}, {}, patient());
+    Daemon d({"--backend", "null", "--output", "-", "--scene", "pond", "--scene-dir", folder.path().string()}, {}, ameoto::test::DaemonOptions::patient());
     OscTestClient client(d.port());
     const std::string before_status = status_state(status(client));
     const std::string before_scene = saved_scene(client, folder.path(), "before");

@@ -14,6 +14,7 @@
 #include "tests/support/osc_test_client.hpp"
 #include "tests/support/temp_dir.hpp"
 #include "tests/support/wav_file.hpp"
+#include "tests/support/program_paths.hpp"
 
 using namespace std::chrono_literals;
 using ameoto::protocol::OscArgument;
@@ -24,7 +25,7 @@ using Daemon = ameoto::test::DaemonProcess;
 
 namespace {
 
-const std::string ameotod = AMEOTO_BIN_DIR "/ameotod";
+using ameoto::test::ameotod;
 
 std::int64_t status_frames(OscTestClient& client) {
     const auto reply = client.request("/status", {}, "/status.reply", 2s);

@@ -37,14 +37,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// Start-up builds the scene's templates: seconds of CPU, more on a busy machine.
-ameoto::test::DaemonOptions patient() {
-    ameoto::test::DaemonOptions o;
-    o.listen_timeout = 30s;
-    o.running_timeout = 20s;
-    return o;
-}
-
 // A UDP client whose datagrams come from a chosen loopback address (all of 127/8 is loopback on Linux;
 // ::1 for IPv6), to play a sender inside or outside --allow. It sends to the same family's loopback.
 class ClientFrom {
@@ -171,14 +163,14 @@ std::string file_text(const fs::path& path) {
 }  // namespace
 
 TEST_CASE("who may talk: 127.0.0.1 by default, and nothing said about other machines") {
-    Daemon d({"--backend", "null", "--output", "-", "--realtime"}, {}, patient());
+    Daemon d({"--backend", "null", "--output", "-", "--realtime"}, {}, ameoto::test::DaemonOptions::patient());
     CHECK(d.listening_line().find("osc.udp://127.0.0.1:") != std::string::npos);
     CHECK(d.process().output().find("reachable from other machines") == std::string::npos);
     CHECK(d.process().output().find("--allow") == std::string::npos);
 }
 
 TEST_CASE("who may talk: --bind 0.0.0.0 is logged; --allow 127.0.0.2/32 answers 127.0.0.2, ignores 127.0.0.1 and counts it") {
-    Daemon d({"--backend", "null", "--output", "-", "--realtime", "--bind", "0.0.0.0", "--allow", "127.0.0.2/32"}, {}, patient());
+    Daemon d({"--backend", "null", "--output", "-", "--realtime", "--bind", "0.0.0.0", "--allow", "127.0.0.2/32"}, {}, ameoto::test::DaemonOptions::patient());
     CHECK(d.listening_line().find("osc.udp://0.0.0.0:") != std::string::npos);
     CHECK(d.process().output().find("listening on 0.0.0.0, reachable from other machines (--bind)") != std::string::npos);
     CHECK(d.process().output().find("answering only senders in 127.0.0.2/32 (--allow)") != std::string::npos);
@@ -204,7 +196,7 @@ TEST_CASE("who may talk: --bind 0.0.0.0 is logged; --allow 127.0.0.2/32 answers 
 }
 
 TEST_CASE("who may talk: --bind :: --allow ::1/128 answers ::1 and drops IPv4 senders (seen as ::ffff:127.0.0.1)") {
-    Daemon d({"--backend", "null", "--output", "-", "--realtime", "--bind", "::", "--allow", "::1/128"}, {}, patient());
+    Daemon d({"--backend", "null", "--output", "-", "--realtime", "--bind", "::", "--allow", "::1/128"}, {}, ameoto::test::DaemonOptions::patient());
     CHECK(d.process().output().find("answering only senders in ::1/128 (--allow)") != std::string::npos);
     ClientFrom v6("::1", d.port());
     ClientFrom v4("127.0.0.1", d.port());
@@ -225,7 +217,7 @@ TEST_CASE("who may talk: a bad --allow stops ameotod at the command line with th
 
 TEST_CASE("SIGKILL: the WAV reads back up to the last second") {
     const std::string wav = ameoto::test::temp_path("sigkill.wav");
-    Daemon d({"--backend", "null", "--output", wav, "--realtime", "--rain", "20"}, {}, patient());
+    Daemon d({"--backend", "null", "--output", wav, "--realtime", "--rain", "20"}, {}, ameoto::test::DaemonOptions::patient());
     const auto running = std::chrono::steady_clock::now();   // the first block is out by now
     std::this_thread::sleep_for(2500ms);
     const double alive_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - running).count();
@@ -256,7 +248,7 @@ TEST_CASE("disk full while writing the WAV: told over OSC and in the log, the au
         return;
     }
     const std::string wav = (disk.path() / "full.wav").string();
-    Daemon d({"--backend", "null", "--output", wav, "--realtime"}, {}, patient());
+    Daemon d({"--backend", "null", "--output", wav, "--realtime"}, {}, ameoto::test::DaemonOptions::patient());
     OscTestClient client(d.port());
     const auto before = frames_of(client);   // the server knows this client now: it gets notices
     const auto notice = wait_for_notice(client, "failed", 10s);
@@ -288,7 +280,7 @@ TEST_CASE("disk full while writing the WAV: told over OSC and in the log, the au
 TEST_CASE("the WAV removed while writing: told over OSC and in the log, the stream continues in a new file") {
     ameoto::test::TempDir dir("ameoto-removed");
     const std::string wav = (dir.path() / "removed.wav").string();
-    Daemon d({"--backend", "null", "--output", wav, "--realtime"}, {}, patient());
+    Daemon d({"--backend", "null", "--output", wav, "--realtime"}, {}, ameoto::test::DaemonOptions::patient());
     OscTestClient client(d.port());
     frames_of(client);
     std::this_thread::sleep_for(300ms);
@@ -313,7 +305,7 @@ TEST_CASE("scene save on a full disk: /fail with the reason, the old scene file 
         MESSAGE("SKIPPED: cannot mount a tmpfs (" << disk.why() << "); needs root");
         return;
     }
-    Daemon d({"--backend", "null", "--output", "-", "--realtime", "--scene-dir", disk.path().string()}, {}, patient());
+    Daemon d({"--backend", "null", "--output", "-", "--realtime", "--scene-dir", disk.path().string()}, {}, ameoto::test::DaemonOptions::patient());
     OscTestClient client(d.port());
     const auto saved = client.request("/scene/save", {OscArgument::from_string("keep")}, "/done", 5s);
     REQUIRE(saved);
@@ -338,7 +330,7 @@ TEST_CASE("scene save on a full disk: /fail with the reason, the old scene file 
 
 TEST_CASE("JACK killed (SIGKILL) and started again: a /notice, OSC answers throughout, playing again within 2 s") {
     ameoto::test::JackServer jack;
-    Daemon d({"--backend", "jack", "--jack-name", "ameoto_faults"}, jack.env(), patient());
+    Daemon d({"--backend", "jack", "--jack-name", "ameoto_faults"}, jack.env(), ameoto::test::DaemonOptions::patient());
     OscTestClient client(d.port());
     CHECK(frames_of(client) > 0);
 

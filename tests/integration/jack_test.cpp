@@ -18,6 +18,7 @@
 #include "tests/support/osc_test_client.hpp"
 #include "tests/support/temp_dir.hpp"
 #include "tests/support/wav_file.hpp"
+#include "tests/support/program_paths.hpp"
 
 using namespace std::chrono_literals;
 using ameoto::protocol::OscArgument;
@@ -27,7 +28,7 @@ using ameoto::test::OscTestClient;
 
 namespace {
 
-const std::string ameotod = AMEOTO_BIN_DIR "/ameotod";
+using ameoto::test::ameotod;
 
 // ameotod ARGS --backend jack --port 0 on that server: listening within 15 s, then running within 10 s.
 ameoto::test::DaemonProcess jack_daemon(const JackServer& jack, std::vector<std::string> args, const std::vector<std::string>& env = {}) {
@@ -45,7 +46,7 @@ ameoto::test::WavData record(const JackServer& jack, const std::string& client, 
     return ameoto::test::read_wav(path);
 }
 
-ameoto::protocol::DecodedMessage status(OscTestClient& client) {
+ameoto::protocol::DecodedMessage status_of(OscTestClient& client) {
     const auto reply = client.request("/status", {}, "/status.reply", 2s);
     REQUIRE(reply);
     return *reply;
@@ -68,7 +69,7 @@ TEST_CASE("JACK: rain plays through JACK, sample-identical to the null backend, 
         CHECK(connections.out.find("system:playback_1") != std::string::npos);
         recorded = record(jack, "ameoto_t1", 2.0, "jack.wav");
         OscTestClient client(d.port());
-        const auto s = status(client);
+        const auto s = status_of(client);
         CHECK(s.args[12].text == "jack");
         CHECK(s.args[8].number == 48000.0);
         CHECK(s.args[9].integer == 256);
@@ -159,14 +160,14 @@ TEST_CASE("JACK: the server dies and returns; ameotod keeps answering OSC and pl
     JackServer jack;
     auto d = jack_daemon(jack, {"--jack-name", "ameoto_t3"});
     OscTestClient client(d.port());
-    const auto before = status(client).args[10].number;
+    const auto before = status_of(client).args[10].number;
     CHECK(before > 0);
 
     jack.stop();
     REQUIRE_MESSAGE(d.process().wait_for_line("went away", 10s), d.process().output());
-    const auto frozen_a = status(client).args[10].number;   // OSC still answers while JACK is gone
+    const auto frozen_a = status_of(client).args[10].number;   // OSC still answers while JACK is gone
     std::this_thread::sleep_for(300ms);
-    const auto frozen_b = status(client).args[10].number;
+    const auto frozen_b = status_of(client).args[10].number;
     CHECK(frozen_a == frozen_b);                               // and no audio runs without a server
 
     const auto restart = std::chrono::steady_clock::now();
@@ -175,6 +176,6 @@ TEST_CASE("JACK: the server dies and returns; ameotod keeps answering OSC and pl
     const double back_after = std::chrono::duration<double>(std::chrono::steady_clock::now() - restart).count();
     MESSAGE("playing again " << back_after << " s after jackd was started again (includes jack_wait)");
     std::this_thread::sleep_for(300ms);
-    CHECK(status(client).args[10].number > frozen_b);         // the sample clock runs on
+    CHECK(status_of(client).args[10].number > frozen_b);         // the sample clock runs on
     CHECK(d.process().running());
 }

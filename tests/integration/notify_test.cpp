@@ -15,6 +15,9 @@
 #include "tests/support/osc_test_client.hpp"
 #include "tests/support/temp_dir.hpp"
 #include "tests/support/wav_file.hpp"
+#include "tests/support/osc_shorthand.hpp"
+
+using namespace ameoto::test::osc_shorthand;
 
 using namespace std::chrono_literals;
 using ameoto::protocol::DecodedMessage;
@@ -24,8 +27,6 @@ using ameoto::test::OscTestClient;
 using Daemon = ameoto::test::DaemonProcess;
 
 namespace {
-
-OscArgument i(int v) { return OscArgument::from_int(v); }
 
 // Everything that arrives within `span`.
 std::vector<DecodedMessage> collect(OscTestClient& c, std::chrono::milliseconds span) {

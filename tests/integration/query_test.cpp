@@ -14,6 +14,9 @@
 #include "tests/support/child_process.hpp"
 #include "tests/support/daemon_process.hpp"
 #include "tests/support/osc_test_client.hpp"
+#include "tests/support/osc_shorthand.hpp"
+
+using namespace ameoto::test::osc_shorthand;
 
 using namespace std::chrono_literals;
 using ameoto::protocol::OscArgument;
@@ -23,10 +26,6 @@ using ameoto::test::OscTestClient;
 using Daemon = ameoto::test::DaemonProcess;
 
 namespace {
-
-OscArgument f(double v) { return OscArgument::from_float(static_cast<float>(v)); }
-OscArgument i(int v) { return OscArgument::from_int(v); }
-OscArgument s(const std::string& v) { return OscArgument::from_string(v); }
 
 // Replies carry 32-bit floats: a value set as a float comes back to float precision.
 constexpr double float_tolerance = 1e-6;

@@ -21,6 +21,9 @@
 #include "tests/support/daemon_process.hpp"
 #include "tests/support/osc_test_client.hpp"
 #include "tests/support/tcp_test_client.hpp"
+#include "tests/support/osc_shorthand.hpp"
+
+using namespace ameoto::test::osc_shorthand;
 
 using namespace std::chrono_literals;
 using ameoto::protocol::DecodedMessage;
@@ -31,9 +34,6 @@ namespace {
 
 // ameotod ARGS --port 0 (DaemonOptions' start-up bound allows for a loaded machine).
 using Daemon = ameoto::test::DaemonProcess;
-
-OscArgument i(int v) { return OscArgument::from_int(v); }
-OscArgument f(double v) { return OscArgument::from_float(static_cast<float>(v)); }
 
 // A socket that only listens, like Max's [udpreceive PORT]: bound to a loopback port of its own.
 class Listener {

@@ -20,6 +20,9 @@
 #include "tests/support/daemon_process.hpp"
 #include "tests/support/osc_test_client.hpp"
 #include "tests/support/tcp_test_client.hpp"
+#include "tests/support/osc_shorthand.hpp"
+
+using namespace ameoto::test::osc_shorthand;
 
 using namespace std::chrono_literals;
 using ameoto::protocol::DecodedMessage;
@@ -30,15 +33,11 @@ using TcpClient = ameoto::test::TcpTestClient;
 
 namespace {
 
-OscArgument i(int v) { return OscArgument::from_int(v); }
-OscArgument f(double v) { return OscArgument::from_float(static_cast<float>(v)); }
-
 // The TCP port from "ameotod: listening on osc.tcp://127.0.0.1:PORT/", which must be there.
 int tcp_port(Daemon& d) {
     REQUIRE(d.tcp_port() > 0);
     return d.tcp_port();
 }
-
 
 }  // namespace
 

@@ -6,6 +6,9 @@
 #include <string>
 
 #include "protocol/address_table.hpp"
+#include "tests/support/osc_shorthand.hpp"
+
+using namespace ameoto::test::osc_shorthand;
 
 using namespace ameoto;
 using namespace ameoto::protocol;
@@ -19,8 +22,6 @@ Validation check(std::vector<OscArgument> args) {
     for (const auto& a : m.args) m.types += a.type;
     return validate(m, ProtocolContext{});
 }
-OscArgument f(double v) { return OscArgument::from_float(static_cast<float>(v)); }
-OscArgument s(const std::string& v) { return OscArgument::from_string(v); }
 
 }  // namespace
 

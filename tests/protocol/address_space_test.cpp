@@ -10,19 +10,14 @@
 
 #include "protocol/receive.hpp"
 #include "tests/protocol/table_cases.hpp"
+#include "tests/protocol/round_surface_context.hpp"
 
 using namespace ameoto;
 using namespace ameoto::protocol;
 
 namespace {
 
-ProtocolContext context() {
-    ProtocolContext c;
-    c.on_surface = [](const std::string&, double x, double y) { return x * x + y * y <= 0.25; };
-    return c;
-}
-
-ReceivedPacket receive(const std::vector<unsigned char>& bytes) { return receive_packet(bytes.data(), bytes.size(), context()); }
+ReceivedPacket receive(const std::vector<unsigned char>& bytes) { return receive_packet(bytes.data(), bytes.size(), ameoto::test::round_surface_context()); }
 
 // A refusal builds nothing: the request is as default-constructed.
 bool builds_nothing(const Request& r) {

@@ -6,39 +6,17 @@
 #include <limits>
 #include <string>
 
+#include "tests/support/osc_shorthand.hpp"
+#include "tests/protocol/round_surface_context.hpp"
+
+using namespace ameoto::test::osc_shorthand;
+
 using namespace ameoto;
 using namespace ameoto::protocol;
 
-namespace {
-
-DecodedMessage message(const std::string& address, std::vector<OscArgument> args) {
-    DecodedMessage m;
-    m.address = address;
-    m.args = std::move(args);
-    for (const auto& a : m.args) m.types += a.type;
-    return m;
-}
-OscArgument f(double v) { return OscArgument::from_float(static_cast<float>(v)); }
-OscArgument d(double v) {
-    OscArgument a;
-    a.type = 'd';
-    a.number = v;
-    return a;
-}
-OscArgument i(int v) { return OscArgument::from_int(v); }
-OscArgument s(const std::string& v) { return OscArgument::from_string(v); }
-
-ProtocolContext context() {
-    ProtocolContext c;
-    c.on_surface = [](const std::string&, double x, double y) { return x * x + y * y <= 0.25; };
-    return c;
-}
-
-}  // namespace
-
 TEST_CASE("/rain/rate accepts 0..500 mm/h as any number type") {
     for (const auto& arg : {f(0), f(500), i(30), d(12.5)}) {
-        const Validation v = validate(message("/rain/rate", {arg}), context());
+        const Validation v = validate(message("/rain/rate", {arg}), ameoto::test::round_surface_context());
         REQUIRE(v.ok);
         CHECK(v.request.action == Action::enqueue);
         CHECK(v.request.command.kind == CommandKind::rain_rate);
@@ -47,14 +25,14 @@ TEST_CASE("/rain/rate accepts 0..500 mm/h as any number type") {
 }
 
 TEST_CASE("/drop converts mm to m and keeps SI speeds and positions") {
-    const Validation v = validate(message("/drop", {f(3.0), f(0.0), f(0.25), f(-0.1)}), context());
+    const Validation v = validate(message("/drop", {f(3.0), f(0.0), f(0.25), f(-0.1)}), ameoto::test::round_surface_context());
     REQUIRE(v.ok);
     CHECK(v.request.command.kind == CommandKind::drop);
     CHECK(v.request.command.values[0] == doctest::Approx(0.003));
     CHECK(v.request.command.values[1] == 0.0);
     CHECK(v.request.command.values[2] == doctest::Approx(0.25));
     CHECK(v.request.command.values[3] == doctest::Approx(-0.1));
-    CHECK(validate(message("/drop", {f(3.0), f(5.0), f(0.25), f(0.0), s("umbrella")}), context()).ok);
+    CHECK(validate(message("/drop", {f(3.0), f(5.0), f(0.25), f(0.0), s("umbrella")}), ameoto::test::round_surface_context()).ok);
 }
 
 TEST_CASE("bad input is refused with a reason that names what is wrong") {
@@ -89,7 +67,7 @@ TEST_CASE("bad input is refused with a reason that names what is wrong") {
         {message("/quit", {s("now")}), "too many arguments"},
     };
     for (const auto& c : cases) {
-        const Validation v = validate(c.m, context());
+        const Validation v = validate(c.m, ameoto::test::round_surface_context());
         INFO(c.m.address << " " << c.m.types << " -> " << v.reason);
         CHECK_FALSE(v.ok);
         CHECK(v.reason.find(c.needle) != std::string::npos);
@@ -107,30 +85,30 @@ TEST_CASE("every address in the table refuses NaN, wrong types and extra argumen
             else if (a.kind == ArgumentKind::integer) good.push_back(i(0));
             else good.push_back(f(std::max(a.min, std::min(a.max, 0.1))));
         }
-        const auto ok = validate(message(spec.address, good), context());
+        const auto ok = validate(message(spec.address, good), ameoto::test::round_surface_context());
         INFO(ok.reason);
         CHECK(ok.ok);
         auto extra = good;
         for (std::size_t n = extra.size(); n <= spec.arguments.size(); ++n) extra.push_back(f(0));
-        CHECK_FALSE(validate(message(spec.address, extra), context()).ok);
+        CHECK_FALSE(validate(message(spec.address, extra), ameoto::test::round_surface_context()).ok);
         for (std::size_t k = 0; k < good.size(); ++k) {
             auto bad = good;
             if (spec.arguments[k].kind == ArgumentKind::text) {
                 bad[k] = f(1);
             } else {
                 bad[k] = d(std::numeric_limits<double>::quiet_NaN());
-                CHECK_FALSE(validate(message(spec.address, bad), context()).ok);
+                CHECK_FALSE(validate(message(spec.address, bad), ameoto::test::round_surface_context()).ok);
                 bad[k] = s("1");
             }
-            CHECK_FALSE(validate(message(spec.address, bad), context()).ok);
+            CHECK_FALSE(validate(message(spec.address, bad), ameoto::test::round_surface_context()).ok);
         }
     }
 }
 
 TEST_CASE("/status, /sync and /quit map to their actions") {
-    CHECK(validate(message("/status", {}), context()).request.action == Action::status);
-    CHECK(validate(message("/quit", {}), context()).request.action == Action::quit);
-    const auto v = validate(message("/sync", {i(-12)}), context());
+    CHECK(validate(message("/status", {}), ameoto::test::round_surface_context()).request.action == Action::status);
+    CHECK(validate(message("/quit", {}), ameoto::test::round_surface_context()).request.action == Action::quit);
+    const auto v = validate(message("/sync", {i(-12)}), ameoto::test::round_surface_context());
     REQUIRE(v.ok);
     CHECK(v.request.command.kind == CommandKind::sync);
     CHECK(v.request.command.id == -12);
@@ -146,7 +124,7 @@ TEST_CASE("every text argument in the table carries a valid example") {
 }
 
 TEST_CASE("/material/surface and /material/liquid: presets, custom definitions, and refusals") {
-    const ProtocolContext c = context();
+    const ProtocolContext c = ameoto::test::round_surface_context();
     auto v = validate(message("/material/surface", {s("umbrella"), s("vinyl")}), c);
     REQUIRE(v.ok);
     CHECK(v.request.action == Action::set_surface_material);

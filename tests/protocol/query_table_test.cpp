@@ -4,24 +4,12 @@
 #include <string>
 
 #include "protocol/address_table.hpp"
+#include "tests/support/osc_shorthand.hpp"
+
+using namespace ameoto::test::osc_shorthand;
 
 using namespace ameoto;
 using namespace ameoto::protocol;
-
-namespace {
-
-DecodedMessage message(const std::string& address, std::vector<OscArgument> args = {}) {
-    DecodedMessage m;
-    m.address = address;
-    m.args = std::move(args);
-    for (const auto& a : m.args) m.types += a.type;
-    return m;
-}
-OscArgument f(double v) { return OscArgument::from_float(static_cast<float>(v)); }
-OscArgument i(int v) { return OscArgument::from_int(v); }
-OscArgument s(const std::string& v) { return OscArgument::from_string(v); }
-
-}  // namespace
 
 TEST_CASE("every settable value has a query: the address with no value asks for what is in effect") {
     const ProtocolContext c;

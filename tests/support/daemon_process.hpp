@@ -35,6 +35,14 @@ struct DaemonOptions {
     std::chrono::milliseconds listen_timeout{30000};
     std::chrono::milliseconds running_timeout{10000};
     ChildOptions child;
+
+    // For tests that start ameotod many times beside others' builds: 30 s to listen and 30 s until
+    // its first "running" line (both stretched under the sanitizers).
+    static DaemonOptions patient() {
+        DaemonOptions o;
+        o.running_timeout = std::chrono::milliseconds(30000);
+        return o;
+    }
 };
 
 class DaemonProcess {

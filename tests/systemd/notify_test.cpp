@@ -36,7 +36,6 @@ using ameoto::test::ChildProcess;
 using ameoto::test::TempDir;
 using ameoto::test::scaled;
 
-bool starts_with(const std::string& s, const std::string& prefix) { return s.compare(0, prefix.size(), prefix) == 0; }
 
 struct Fd {
     int fd = -1;
@@ -162,7 +161,7 @@ struct Observer {
     // Index of the first event of `kind` whose text starts with `prefix`, or -1.
     long find(Event::Kind kind, const std::string& prefix) const {
         for (std::size_t i = 0; i < events.size(); ++i)
-            if (events[i].kind == kind && starts_with(events[i].text, prefix)) return static_cast<long>(i);
+            if (events[i].kind == kind && events[i].text.starts_with(prefix)) return static_cast<long>(i);
         return -1;
     }
     bool has(Event::Kind kind, const std::string& prefix) const { return find(kind, prefix) >= 0; }

@@ -46,7 +46,6 @@ std::vector<std::string> lines_of(const std::string& text) {
     return lines;
 }
 
-bool starts_with(const std::string& s, const std::string& prefix) { return s.compare(0, prefix.size(), prefix) == 0; }
 
 // Runs argv (looked up in PATH) with extra environment entries; out holds stdout and stderr together.
 // A program that cannot be started gives exit code -1 and says so in out.
@@ -159,7 +158,7 @@ std::string describe(const Verdict& v) {
 std::string value_of(const std::string& text, const std::string& key) {
     std::string value;
     for (const auto& line : lines_of(text))
-        if (starts_with(line, key + "=")) value = line.substr(key.size() + 1);
+        if (line.starts_with(key + "=")) value = line.substr(key.size() + 1);
     return value;
 }
 
@@ -256,7 +255,7 @@ TEST_CASE("both units carry the settings the service relies on") {
         const std::string t = unit_text(*unit);
         CHECK(value_of(t, "Type") == "notify");            // READY=1 from ameotod itself
         CHECK(value_of(t, "NotifyAccess") == "main");
-        CHECK(starts_with(value_of(t, "ExecStart"), installed_binary + " "));
+        CHECK(value_of(t, "ExecStart").starts_with(installed_binary + " "));
         CHECK(value_of(t, "Restart") == "on-failure");
         CHECK(value_of(t, "RestartPreventExitStatus") == "2");   // ameotod's exit status for a bad command line
         CHECK_FALSE(value_of(t, "RestartSec").empty());

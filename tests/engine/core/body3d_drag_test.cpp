@@ -9,14 +9,15 @@
 #include "engine/core/body3d_drag.hpp"
 #include "engine/core/physical_constants.hpp"
 #include "engine/scene/terminal_speed.hpp"
+#include "tests/support/test_constants.hpp"
+
+using namespace ameoto::test::common;
 
 using ameoto::Body3D;
 using ameoto::Integrator;
 using ameoto::Vec3;
 
 namespace {
-
-constexpr double kT = 1.0 / 48000.0;
 
 double drop_mass(double diameter) {
     return ameoto::constants::water_density * ameoto::constants::pi * diameter * diameter * diameter / 6.0;

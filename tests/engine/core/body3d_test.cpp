@@ -11,6 +11,9 @@
 #include "engine/core/lattice_ball.hpp"
 #include "engine/core/random.hpp"
 #include "tests/support/rt_probe_scope.hpp"
+#include "tests/support/test_constants.hpp"
+
+using namespace ameoto::test::common;
 
 using ameoto::Body3D;
 using ameoto::Integrator;
@@ -19,7 +22,6 @@ using ameoto::Vec3;
 
 namespace {
 
-constexpr double kT = 1.0 / 48000.0;
 constexpr double kEps = std::numeric_limits<double>::epsilon();
 
 // Force on mass a after one symplectic-Euler step from the current state: m (v1 - v0) / T (the

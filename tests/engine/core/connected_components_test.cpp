@@ -10,13 +10,14 @@
 #include "engine/core/lattice_ball.hpp"
 #include "engine/core/random.hpp"
 #include "tests/support/rt_probe_scope.hpp"
+#include "tests/support/test_constants.hpp"
+
+using namespace ameoto::test::common;
 
 using ameoto::Body3D;
 using ameoto::Vec3;
 
 namespace {
-
-constexpr double kT = 1.0 / 48000.0;
 
 // A chain of n masses along x, rest length 1 mm, breakable links (the middle one weaker if asked).
 Body3D chain(int n, double spacing, double break_force, double middle_break_force) {

@@ -11,10 +11,11 @@
 #include "engine/core/transverse_network.hpp"
 #include "engine/models/membrane.hpp"
 #include "tests/support/rt_probe_scope.hpp"
+#include "tests/support/test_constants.hpp"
+
+using namespace ameoto::test::common;
 
 namespace {
-
-constexpr double kT = 1.0 / 48000.0;
 
 // An umbrella panel's outline: hem free, ribs fixed (engine/models/canopy.cpp).
 std::vector<ameoto::PolygonEdge> panel_outline() {

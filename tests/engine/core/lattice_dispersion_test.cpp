@@ -16,21 +16,23 @@
 #include "engine/core/transverse_network.hpp"
 #include "engine/core/triangular_lattice.hpp"
 #include "tests/engine/core/integrators/test_bodies.hpp"
+#include "tests/support/test_constants.hpp"
+
+using namespace ameoto::test::common;
 
 using namespace ameoto;
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kLx = 0.4, kLy = 0.3, kS = 0.06, kTension = 1000.0;
-const double kC = std::sqrt(kTension / kS);
+const double kWaveSpeed = std::sqrt(kTension / kS);   // m/s, transverse waves on the membrane
 
 // Lowest `count` continuum frequencies (Hz) of an lx x ly rectangle, fixed edges or one free (n - 1/2).
 std::vector<double> continuum(double lx, double ly, bool one_free, int count) {
     std::vector<double> f;
     for (int m = 1; m <= 12; ++m)
         for (int n = 1; n <= 12; ++n)
-            f.push_back(0.5 * kC * std::hypot(m / lx, (one_free ? n - 0.5 : n) / ly));
+            f.push_back(0.5 * kWaveSpeed * std::hypot(m / lx, (one_free ? n - 0.5 : n) / ly));
     std::sort(f.begin(), f.end());
     f.resize(static_cast<std::size_t>(count));
     return f;
@@ -42,7 +44,7 @@ std::vector<double> discrete_square(const SquareLattice& lat, bool one_free, int
     for (int m = 1; m <= lat.nx; ++m) {
         for (int n = 1; n <= lat.ny; ++n) {
             const double kx = m * kPi / lat.length_x, ky = (one_free ? n - 0.5 : n) * kPi / lat.length_y;
-            f.push_back(kC / (kPi * h) * std::sqrt(std::pow(std::sin(kx * h / 2), 2) + std::pow(std::sin(ky * h / 2), 2)));
+            f.push_back(kWaveSpeed / (kPi * h) * std::sqrt(std::pow(std::sin(kx * h / 2), 2) + std::pow(std::sin(ky * h / 2), 2)));
         }
     }
     std::sort(f.begin(), f.end());
@@ -184,7 +186,7 @@ TEST_CASE("table: membrane modes of square and triangular lattices vs the contin
             for (double e : r.error) std::printf(" %+.3f %% |", 100.0 * e);
             std::printf(" %.2g %% (%s) |\n", 100.0 * r.vs_reference, r.lattice == "square" ? "discrete formula" : "effective-size continuum");
         }
-        std::printf("\nContinuum, 0.4 x 0.3 m, c = %.1f m/s, fixed (Hz):", kC);
+        std::printf("\nContinuum, 0.4 x 0.3 m, c = %.1f m/s, fixed (Hz):", kWaveSpeed);
         for (double f : continuum(kLx, kLy, false, 6)) std::printf(" %.1f", f);
         std::printf("; one free edge:");
         for (double f : continuum(kLx, kLy, true, 6)) std::printf(" %.1f", f);

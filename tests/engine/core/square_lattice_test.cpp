@@ -9,14 +9,13 @@
 #include "engine/core/modal_decomposition.hpp"
 #include "engine/core/square_lattice.hpp"
 #include "engine/core/transverse_network.hpp"
+#include "tests/support/test_constants.hpp"
+
+using namespace ameoto::test::common;
 
 using ameoto::RectangleEdges;
 
-namespace {
-
-constexpr double kPi = 3.14159265358979323846;
-
-}  // namespace
+  // namespace
 
 TEST_CASE("square_lattice: fixed edges lie one spacing, free edges half a spacing beyond the nodes") {
     const double h = 0.4 / 12.0;

@@ -10,13 +10,16 @@
 #include <vector>
 
 #include "engine/core/transverse_network.hpp"
+#include "tests/support/test_constants.hpp"
+
+using namespace ameoto::test::common;
 
 using namespace ameoto;
 
 namespace {
 
 constexpr int kMasses = 8;
-constexpr double kMass = 1e-3, kStiffness = 1000.0, kPi = 3.14159265358979323846;
+constexpr double kMass = 1e-3, kStiffness = 1000.0;
 
 double chain_omega_max() { return 2.0 * std::sqrt(kStiffness / kMass) * std::sin(kMasses * kPi / (2.0 * (kMasses + 1))); }
 

@@ -9,13 +9,14 @@
 #include "engine/core/modal_decomposition.hpp"
 #include "engine/core/stability.hpp"
 #include "tests/engine/core/integrators/test_bodies.hpp"
+#include "tests/support/test_constants.hpp"
+
+using namespace ameoto::test::common;
 
 using namespace ameoto;
 using namespace ameoto::test;
 
 namespace {
-
-constexpr double kT = 1.0 / 48000.0;
 
 bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
 

@@ -13,10 +13,11 @@
 #include "engine/core/transverse_network.hpp"
 #include "tests/engine/core/integrators/test_bodies.hpp"
 #include "tests/support/rt_probe_scope.hpp"
+#include "tests/support/test_constants.hpp"
+
+using namespace ameoto::test::common;
 
 namespace {
-
-constexpr double kT = 1.0 / 48000.0;
 
 // The exact invariant of the undamped position-Verlet scheme M (x[n+1] - 2x[n] + x[n-1]) / T^2 = -K x[n]:
 // H = 1/2 dx' M dx / T^2 + 1/2 x[n]' K x[n-1], dx = x[n] - x[n-1] (multiply the scheme by

@@ -10,9 +10,12 @@
 #include <cmath>
 #include <vector>
 
+#include "tests/support/test_constants.hpp"
+
+using namespace ameoto::test::common;
+
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kRate = 96000.0;
 
 // Minnaert, written out here from physics.md section 4 (gamma 1.4, P0 101.325 kPa, rho 998).

@@ -12,14 +12,15 @@
 
 #include "engine/models/canopy.hpp"
 #include "engine/models/radiation.hpp"
+#include "tests/support/test_constants.hpp"
+
+using namespace ameoto::test::common;
 
 namespace {
 
 using ameoto::Canopy;
 using ameoto::Integrator;
 using ameoto::TransverseNetwork;
-
-constexpr double kT = 1.0 / 48000.0;
 
 std::uint64_t bits(double x) { return std::bit_cast<std::uint64_t>(x); }
 

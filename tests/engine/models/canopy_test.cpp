@@ -10,11 +10,11 @@
 #include "engine/core/physical_constants.hpp"
 #include "engine/core/random.hpp"
 #include "engine/models/canopy.hpp"
+#include "tests/support/test_constants.hpp"
+
+using namespace ameoto::test::common;
 
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kT = 1.0 / 48000.0;
 
 const ameoto::Canopy& default_canopy() {
     static const ameoto::Canopy canopy(ameoto::CanopyGeometry{}, ameoto::MembraneMaterial::nylon_canopy(), kT);

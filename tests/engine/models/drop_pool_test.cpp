@@ -11,14 +11,15 @@
 #include "engine/models/drop_pool.hpp"
 #include "engine/scene/terminal_speed.hpp"
 #include "tests/support/rt_probe_scope.hpp"
+#include "tests/support/test_constants.hpp"
+
+using namespace ameoto::test::common;
 
 using ameoto::DropPool;
 using ameoto::DropPoolConfig;
 using ameoto::Vec3;
 
 namespace {
-
-constexpr double kT = 1.0 / 48000.0;
 
 // A rigid, frictionless, inelastic floor at z = 0 acting through the pool's force interface, as a
 // collision module would (test only; the same floor as drop_test.cpp).

@@ -13,6 +13,9 @@
 #include "engine/core/physical_constants.hpp"
 #include "engine/models/drop.hpp"
 #include "engine/scene/terminal_speed.hpp"
+#include "tests/support/test_constants.hpp"
+
+using namespace ameoto::test::common;
 
 using ameoto::Body3D;
 using ameoto::DragPreset;
@@ -20,9 +23,6 @@ using ameoto::Liquid;
 using ameoto::Vec3;
 
 namespace {
-
-constexpr double kT = 1.0 / 48000.0;
-constexpr double kPi = ameoto::constants::pi;
 
 // The seed's water but with 0.0728 N/m, the value physics.md's Rayleigh table uses.
 const Liquid kWater20{"water at 20 C", 998.0, 0.0728, 1.0e-3};

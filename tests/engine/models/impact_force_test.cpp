@@ -8,13 +8,11 @@
 #include <vector>
 
 #include "engine/models/impact_force.hpp"
+#include "tests/support/test_constants.hpp"
 
-namespace {
+using namespace ameoto::test::common;
 
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kT = 1.0 / 48000.0;
-
-}  // namespace
+  // namespace
 
 TEST_CASE("impact_force: the pool delivers exactly the impulse added") {
     for (double samples : {0.3, 1.0, 7.5, 100.0}) {

@@ -11,12 +11,14 @@
 #include "engine/core/random.hpp"
 #include "engine/models/membrane_collision.hpp"
 #include "tests/support/rt_probe_scope.hpp"
+#include "tests/support/test_constants.hpp"
+
+using namespace ameoto::test::common;
 
 using ameoto::Vec3;
 
 namespace {
 
-constexpr double kT = 1.0 / 48000.0;
 constexpr double kDropMass = 5.24e-7;   // kg, the seed's 1 mm drop mass (physics.md s.1)
 
 // Drop masses integrated by symplectic Euler (v += T F / m; x += T v), as Body3D can: then x - T v is

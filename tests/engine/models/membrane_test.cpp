@@ -12,13 +12,13 @@
 
 #include "engine/core/modal_decomposition.hpp"
 #include "engine/models/membrane.hpp"
+#include "tests/support/test_constants.hpp"
+
+using namespace ameoto::test::common;
 
 using ameoto::PolygonEdge;
 
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kT = 1.0 / 48000.0;
 
 std::vector<PolygonEdge> square(double side, bool bottom_fixed) {
     return {{{0, 0}, bottom_fixed}, {{side, 0}, true}, {{side, side}, true}, {{0, side}, true}};

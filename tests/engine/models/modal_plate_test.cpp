@@ -16,18 +16,15 @@
 
 #include "engine/models/modal_plate.hpp"
 #include "tests/support/rt_probe_scope.hpp"
+#include "tests/support/test_constants.hpp"
+
+using namespace ameoto::test::common;
 
 namespace {
 
 using ameoto::ModalPlate;
 using ameoto::PlateOptions;
 using ameoto::PlateSpec;
-
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kFs = 48000.0;
-constexpr double kT = 1.0 / kFs;
-constexpr double kRho0 = 1.204;   // engine/core/physical_constants.hpp
-constexpr double kC = 343.0;
 
 double drop_mass(double d, double rho = 998.0) { return rho * kPi * d * d * d / 6.0; }
 

@@ -4,10 +4,9 @@
 #include <cmath>
 
 #include "engine/models/panning.hpp"
+#include "tests/support/test_constants.hpp"
 
-namespace {
-constexpr double kPi = 3.14159265358979323846;
-}  // namespace
+using namespace ameoto::test::common;
 
 TEST_CASE("pan_gains keep constant power") {
     for (int channels : {1, 2, 3, 4, 6, 8, 16}) {

@@ -14,14 +14,15 @@
 #include "engine/core/physical_constants.hpp"
 #include "engine/models/radiation.hpp"
 #include "tests/support/rt_probe_scope.hpp"
+#include "tests/support/test_constants.hpp"
+
+using namespace ameoto::test::common;
 
 using ameoto::Vec3;
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kT = 1.0 / 48000.0;
-constexpr double kRho = ameoto::constants::air_density, kC = ameoto::constants::speed_of_sound_air;
+constexpr double kRho = ameoto::constants::air_density;
 
 // Runs a radiator over an acceleration sequence for one element set; returns out[point * groups + group]
 // per sample.

@@ -17,17 +17,14 @@
 #include "engine/core/random.hpp"
 #include "engine/models/soft_ground.hpp"
 #include "tests/support/rt_probe_scope.hpp"
+#include "tests/support/test_constants.hpp"
+
+using namespace ameoto::test::common;
 
 namespace {
 
 using ameoto::SoftGround;
 using ameoto::SoftGroundSpec;
-
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kFs = 48000.0;
-constexpr double kT = 1.0 / kFs;
-constexpr double kRho0 = 1.204;   // engine/core/physical_constants.hpp
-constexpr double kC = 343.0;
 
 double kinetic(double d, double v, double rho = 998.0) { return 0.5 * rho * kPi * d * d * d / 6.0 * v * v; }
 

@@ -16,10 +16,11 @@
 #include "engine/scene/rain_spawner.hpp"
 #include "engine/scene/terminal_speed.hpp"
 #include "tests/support/rt_probe_scope.hpp"
+#include "tests/support/test_constants.hpp"
+
+using namespace ameoto::test::common;
 
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 using ameoto::Entrainment;
 using ameoto::Random;
@@ -29,7 +30,6 @@ using ameoto::WaterSurface;
 using ameoto::WaterSurfaceConfig;
 
 double minnaert_hz(double a) { return std::sqrt(3.0 * 1.4 * 101325.0 / 998.0) / (2.0 * kPi * a); }
-
 
 // Welch average power spectrum: Hann windows of `size`, half overlapping. Bin k is k fs / size.
 std::vector<double> welch(const std::vector<double>& x, std::size_t size) {

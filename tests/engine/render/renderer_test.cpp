@@ -9,10 +9,11 @@
 #include <vector>
 
 #include "engine/render/renderer.hpp"
+#include "tests/support/test_constants.hpp"
+
+using namespace ameoto::test::common;
 
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 using Channels = std::vector<std::vector<float>>;
 

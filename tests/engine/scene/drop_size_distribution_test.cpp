@@ -11,10 +11,14 @@
 
 #include "engine/scene/drop_size_distribution.hpp"
 #include "engine/scene/terminal_speed.hpp"
+#include "tests/support/test_constants.hpp"
+#include "tests/engine/scene/scene_test_support.hpp"
+
+using ameoto::test::NamedDsd;
+using ameoto::test::v_of_mm;
+using namespace ameoto::test::common;
 
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 // Composite Simpson, written here independently of impact_flux.
 double simpson(const std::function<double(double)>& f, double a, double b, int intervals) {
@@ -24,8 +28,6 @@ double simpson(const std::function<double(double)>& f, double a, double b, int i
     for (int i = 1; i < intervals; ++i) sum += f(a + i * h) * ((i % 2) ? 4.0 : 2.0);
     return sum * h / 3.0;
 }
-
-double v_of_mm(double d_mm) { return ameoto::terminal_speed(d_mm * 1e-3); }
 
 }  // namespace
 
@@ -97,12 +99,7 @@ TEST_CASE("drop_size_distribution: plain Marshall-Palmer over-delivers water (1.
 namespace {
 
 // The five distributions the rain scenes offer (drop_size_distribution.hpp), with their names.
-struct NamedDsd {
-    const char* name;
-    ameoto::DropSizeDistribution dsd;
-};
-
-std::vector<NamedDsd> all_dsds() {
+std::vector<NamedDsd> distributions_offered() {
     using D = ameoto::DropSizeDistribution;
     return {{"Marshall-Palmer", D::marshall_palmer()},
             {"Joss drizzle", D::joss_drizzle()},
@@ -149,7 +146,7 @@ TEST_CASE("drop_size_distribution: Joss et al. 1968 presets and the gamma family
 }
 
 TEST_CASE("drop_size_distribution: delivered water per distribution (N0 published vs water-matched)") {
-    for (const auto& [name, dsd] : all_dsds()) {
+    for (const auto& [name, dsd] : distributions_offered()) {
         INFO(std::string(name));
         std::string line = std::string(name) + ": water delivered / R at R = 1, 10, 50, 100 mm/h:";
         for (double r : {1.0, 10.0, 50.0, 100.0}) {
@@ -176,7 +173,7 @@ TEST_CASE("drop_size_distribution: delivered water per distribution (N0 publishe
 }
 
 TEST_CASE("drop_size_distribution: impact_flux of every distribution agrees with an independent integral") {
-    for (const auto& [name, dsd] : all_dsds()) {
+    for (const auto& [name, dsd] : distributions_offered()) {
         for (double r : {1.0, 10.0, 50.0}) {
             INFO(std::string(name));
             CAPTURE(r);

@@ -12,11 +12,11 @@
 #include "engine/core/physical_constants.hpp"
 #include "engine/scene/propagation.hpp"
 #include "tests/support/rt_probe_scope.hpp"
+#include "tests/support/test_constants.hpp"
+
+using namespace ameoto::test::common;
 
 namespace {
-
-constexpr double kPi = ameoto::constants::pi;
-constexpr double kFs = 48000.0;
 
 // The impulse response of a path held at distance r (long enough to hold the whole response).
 std::vector<double> impulse_response(ameoto::Propagation& p, double r) {

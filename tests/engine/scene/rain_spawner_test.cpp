@@ -15,12 +15,14 @@
 #include "engine/scene/rain_spawner.hpp"
 #include "engine/scene/terminal_speed.hpp"
 #include "tests/support/rt_probe_scope.hpp"
+#include "tests/support/test_constants.hpp"
+#include "tests/engine/scene/scene_test_support.hpp"
+
+using ameoto::test::NamedDsd;
+using ameoto::test::v_of_mm;
+using namespace ameoto::test::common;
 
 namespace {
-
-constexpr double kDt = 1.0 / 48000.0;
-
-double v_of_mm(double d_mm) { return ameoto::terminal_speed(d_mm * 1e-3); }
 
 // CDF of the flux-weighted density N(D) v(D) truncated to [lo, hi], tabulated by the trapezoid rule on
 // a fine grid (independent of the engine's sampler).
@@ -276,12 +278,7 @@ TEST_CASE("rain_spawner: rejects bad configurations") {
 
 namespace {
 
-struct NamedDsd {
-    const char* name;
-    ameoto::DropSizeDistribution dsd;
-};
-
-std::vector<NamedDsd> all_dsds() {
+std::vector<NamedDsd> distributions_through_spawner() {
     using D = ameoto::DropSizeDistribution;
     D zhang_mp_slope = D::gamma_zhang(4.1);   // Zhang's mu with Marshall-Palmer's slope: mu from 2.75 to 0.17
     zhang_mp_slope.lambda_exponent = -0.21;
@@ -376,7 +373,7 @@ double fit_lambda(const std::vector<double>& d, const ameoto::DropSizeDistributi
 TEST_CASE("rain_spawner: every DSD's sampled diameters follow its flux-weighted distribution") {
     const double lo = 0.5, hi = 6.0;
     const int n = 20000;
-    for (const auto& [name, dsd] : all_dsds()) {
+    for (const auto& [name, dsd] : distributions_through_spawner()) {
         INFO(std::string(name));
         ameoto::RainSpawner::Config cfg;
         cfg.dsd = dsd;
@@ -414,7 +411,7 @@ TEST_CASE("rain_spawner: every DSD's sampled diameters follow its flux-weighted 
 }
 
 TEST_CASE("rain_spawner: every DSD's counts follow its own flux table; arrivals are Poisson") {
-    for (const auto& [name, dsd] : all_dsds()) {
+    for (const auto& [name, dsd] : distributions_through_spawner()) {
         INFO(std::string(name));
         ameoto::RainSpawner::Config cfg;
         cfg.dsd = dsd;
@@ -480,7 +477,7 @@ TEST_CASE("rain_spawner: rejects distributions without a valid shape over 0.01..
 }
 
 TEST_CASE("rain_spawner: allocation-free per sample with every DSD (real-time audit)") {
-    for (const auto& [name, dsd] : all_dsds()) {
+    for (const auto& [name, dsd] : distributions_through_spawner()) {
         INFO(std::string(name));
         ameoto::RainSpawner::Config cfg;
         cfg.dsd = dsd;

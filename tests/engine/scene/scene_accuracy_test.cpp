@@ -5,19 +5,12 @@
 #include <string>
 
 #include "engine/scene/scene_description.hpp"
+#include "tests/engine/scene/scene_test_support.hpp"
 
+using ameoto::test::error_of;
 using namespace ameoto;
 
 namespace {
-
-std::string error_of(const std::string& text) {
-    try {
-        parse_scene(text, "test.scene");
-    } catch (const SceneFileError& e) {
-        return e.what();
-    }
-    return "";
-}
 
 const std::string umbrella_line = "surface umbrella kind=umbrella material=nylon size=1 x=0 y=0 z=1.9\n";
 

@@ -1,6 +1,8 @@
 // Scene descriptions: built-in scenes, the versioned file format, and its errors (file, line, field).
 #include "engine/scene/scene_description.hpp"
+#include "tests/engine/scene/scene_test_support.hpp"
 
+using ameoto::test::error_of;
 #include <doctest/doctest.h>
 
 #include <algorithm>
@@ -10,15 +12,6 @@
 using namespace ameoto;
 
 namespace {
-
-std::string error_of(const std::string& text) {
-    try {
-        parse_scene(text, "test.scene");
-    } catch (const SceneFileError& e) {
-        return e.what();
-    }
-    return "";
-}
 
 int line_of(const std::string& text) {
     try {

@@ -14,11 +14,11 @@
 #include "engine/scene/terminal_speed.hpp"
 #include "engine/scene/wind.hpp"
 #include "tests/support/rt_probe_scope.hpp"
+#include "tests/support/test_constants.hpp"
+
+using namespace ameoto::test::common;
 
 namespace {
-
-constexpr double kPi = ameoto::constants::pi;
-constexpr double kDt = 1.0 / 48000.0;
 
 double deg(double d) { return d * kPi / 180.0; }
 

@@ -12,15 +12,14 @@
 #include <vector>
 
 #include "tests/engine/core/integrators/test_bodies.hpp"
+#include "tests/support/test_constants.hpp"
+
+using namespace ameoto::test::common;
 
 using namespace ameoto;
 using namespace ameoto::test;
 
-namespace {
-
-constexpr double kT = 1.0 / 48000.0;
-
-}  // namespace
+  // namespace
 
 TEST_CASE("table: frequency warping of a single oscillator, per integrator") {
     struct Case {

@@ -5,13 +5,12 @@
 #include <vector>
 
 #include "tests/engine/core/integrators/test_bodies.hpp"
+#include "tests/support/test_constants.hpp"
+
+using namespace ameoto::test::common;
 
 using namespace ameoto;
 using namespace ameoto::test;
-
-namespace {
-constexpr double kT = 1.0 / 48000.0;
-}
 
 TEST_CASE("backward_euler: energy decreases monotonically, faster at larger omega T") {
     auto body = lattice_membrane(20);   // undamped: all loss is numerical

@@ -5,13 +5,12 @@
 #include <vector>
 
 #include "tests/engine/core/integrators/test_bodies.hpp"
+#include "tests/support/test_constants.hpp"
+
+using namespace ameoto::test::common;
 
 using namespace ameoto;
 using namespace ameoto::test;
-
-namespace {
-constexpr double kT = 1.0 / 48000.0;
-}
 
 TEST_CASE("explicit_verlet: an oscillator's frequency follows (2/T) asin(omega0 T / 2)") {
     for (double w0t : {0.5, 1.0, 1.9}) {

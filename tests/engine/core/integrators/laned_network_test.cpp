@@ -12,6 +12,9 @@
 
 #include "engine/core/integrators/laned_network.hpp"
 #include "test_bodies.hpp"
+#include "tests/support/test_constants.hpp"
+
+using namespace ameoto::test::common;
 
 namespace {
 
@@ -19,8 +22,6 @@ using ameoto::Integrator;
 using ameoto::LanedNetwork;
 using ameoto::NetworkOptions;
 using ameoto::TransverseNetwork;
-
-constexpr double kT = 1.0 / 48000.0;
 
 std::uint64_t bits(double x) { return std::bit_cast<std::uint64_t>(x); }
 

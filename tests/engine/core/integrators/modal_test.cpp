@@ -8,13 +8,14 @@
 #include <Eigen/Dense>
 
 #include "tests/engine/core/integrators/test_bodies.hpp"
+#include "tests/support/test_constants.hpp"
+
+using namespace ameoto::test::common;
 
 using namespace ameoto;
 using namespace ameoto::test;
 
 namespace {
-
-constexpr double kT = 1.0 / 48000.0;
 
 // The continuous impulse response of a damped oscillator m x'' + z x' + k x = J delta(t):
 // x(t) = (J / m) e^{-s t} sin(wd t) / wd (cosh/sinh when overdamped), s = z / 2m.

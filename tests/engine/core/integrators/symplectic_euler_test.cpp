@@ -6,13 +6,12 @@
 #include <vector>
 
 #include "tests/engine/core/integrators/test_bodies.hpp"
+#include "tests/support/test_constants.hpp"
+
+using namespace ameoto::test::common;
 
 using namespace ameoto;
 using namespace ameoto::test;
-
-namespace {
-constexpr double kT = 1.0 / 48000.0;
-}
 
 TEST_CASE("symplectic_euler: an oscillator's frequency follows cos(omega T) = 1 - omega0^2 T^2 / 2") {
     for (double w0t : {0.5, 1.0, 1.9}) {

@@ -16,10 +16,11 @@
 
 #include "engine/core/transverse_network.hpp"
 #include "engine/core/triangular_lattice.hpp"
+#include "tests/support/test_constants.hpp"
 
 namespace ameoto::test {
 
-constexpr double kPi = 3.14159265358979323846;
+using common::kPi;
 
 inline bool print_tables() { return std::getenv("AMEOTO_PRINT_TABLES") != nullptr; }
 

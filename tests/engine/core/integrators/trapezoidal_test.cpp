@@ -6,13 +6,12 @@
 #include <vector>
 
 #include "tests/engine/core/integrators/test_bodies.hpp"
+#include "tests/support/test_constants.hpp"
+
+using namespace ameoto::test::common;
 
 using namespace ameoto;
 using namespace ameoto::test;
-
-namespace {
-constexpr double kT = 1.0 / 48000.0;
-}
 
 TEST_CASE("trapezoidal: an oscillator's frequency follows (2/T) atan(omega0 T / 2)") {
     for (double w0t : {0.5, 2.0, 5.0, 10.0}) {
