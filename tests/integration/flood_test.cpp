@@ -26,6 +26,7 @@
 #include "tests/support/daemon_process.hpp"
 #include "tests/support/osc_test_client.hpp"
 #include "tests/support/process_memory.hpp"
+#include "tests/support/sanitizer_bounds.hpp"
 #include "tests/support/tcp_test_client.hpp"
 #include "tests/support/temp_dir.hpp"
 
@@ -214,7 +215,7 @@ TEST_CASE("flood: 100 000 messages/s aimed from 4 clients for 10 s; no xrun, /fa
                     << "; /status over TCP: " << tcp.describe() << "; /status over UDP: " << udp.describe() << "; RSS " << rss_start << " -> "
                     << rss_end << " KiB; xruns " << xruns_before << " -> " << last->args[6].integer);
     CHECK(rt.find("violations 0\n") != std::string::npos);   // the audio thread never locked, blocked or allocated
-    CHECK(last->args[6].integer == xruns_before);             // and never missed its 85 ms deadline
+    AMEOTO_CHECK_UNLESS_SANITIZED(last->args[6].integer == xruns_before);   // and never missed its 85 ms deadline
     CHECK(busy_counted > 0);                                  // the queue overflowed and it was counted...
     CHECK(busy_replies > 0);                                  // ...and answered /fail busy
     CHECK(busy_replies <= busy_counted);
@@ -229,7 +230,7 @@ TEST_CASE("flood: 100 000 messages/s aimed from 4 clients for 10 s; no xrun, /fa
     // datagram (when the machine leaves ameotod too little CPU to read the flood), so only this is
     // asked: it keeps being answered.
     CHECK(!udp.round_trips_ms.empty());
-    CHECK(rss_end - rss_start < 1024);                        // flat: less than 1 MiB over the flood
+    AMEOTO_CHECK_UNLESS_SANITIZED(rss_end - rss_start < 1024);   // flat: less than 1 MiB over the flood
 }
 
 TEST_CASE("flood: a burst through the UDP backlog keeps each sender's order; another sender's /status is answered meanwhile") {
@@ -285,6 +286,6 @@ TEST_CASE("flood: a TCP flood is read no faster than it is handled (memory flat)
                           << rss_start << " -> " << rss_end << " KiB");
     CHECK(sent_bytes.load() > 1024 * 1024);   // it was a flood
     CHECK(status.lost == 0);
-    CHECK(rss_end - rss_start < 1024);
+    AMEOTO_CHECK_UNLESS_SANITIZED(rss_end - rss_start < 1024);
     CHECK(d.process().stop(SIGTERM, 10s) == 0);
 }

@@ -14,6 +14,7 @@
 #include "tests/real_clients/real_programs.hpp"
 #include "tests/support/child_process.hpp"
 #include "tests/support/daemon_process.hpp"
+#include "tests/support/sanitizer_bounds.hpp"
 
 using namespace std::chrono_literals;
 using namespace ameoto::test;
@@ -47,8 +48,9 @@ TEST_CASE("Pd: [ameoto] sets the rain rate, sends drops, gets /fail, /synced and
     CHECK(status.at("sample_rate_hz") == "48000");
     CHECK(status.at("block_size_frames") == "256");
     CHECK(status.at("late_bundles") == "0");
-    // The two drops the patch sent are lattice drops, alive for about half a second after /synced.
-    CHECK(std::stoi(status.at("active_drops_full")) >= 2);
+    // The two drops the patch sent are lattice drops, alive for about half a second after /synced
+    // (when the callback has time for them: under the sanitizers the governor sheds them to cheaper tiers).
+    AMEOTO_CHECK_UNLESS_SANITIZED(std::stoi(status.at("active_drops_full")) >= 2);
     // The rate ramps from 0 towards 12 mm/h over 1 s: Pd asked within that second.
     const double reported_rate = std::stod(status.at("rain_rate_mm_per_h"));
     CHECK(reported_rate >= 0.0);

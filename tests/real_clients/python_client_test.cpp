@@ -17,6 +17,7 @@
 #include "tests/real_clients/real_programs.hpp"
 #include "tests/support/child_process.hpp"
 #include "tests/support/daemon_process.hpp"
+#include "tests/support/sanitizer_bounds.hpp"
 #include "tests/support/temp_dir.hpp"
 #include "tests/support/wav_file.hpp"
 
@@ -101,12 +102,13 @@ TEST_CASE("Python: timed bundles of drops sound at their timetags' samples, 0.25
     }
     INFO("the example printed:\n" << run.out);
     REQUIRE(run.exit_code == 0);
+    const WavData w = read_wav(wav);
+    REQUIRE_MESSAGE(w.ok, w.error);
+    if (stop_here_if_sanitized("the null backend's real-time schedule: the audio runs slower than real time, so bundles come late"))
+        return;
     CHECK(name_value_lines(run.out, "").at("late_bundles") == "0");
     const std::vector<double> times = bundle_times(run.out);
     REQUIRE(times.size() == 3);
-
-    const WavData w = read_wav(wav);
-    REQUIRE_MESSAGE(w.ok, w.error);
     REQUIRE(w.sample_rate == 48000);
     const std::vector<long long> onsets = drop_onsets(w, 0.02f, 2000);
     REQUIRE(onsets.size() == 3);

@@ -7,7 +7,7 @@
 //   if (!pd) { skip_because_absent("pd", "puredata-core"); return; }   // says so in the test output
 //   client_path("pd")                                      // AMEOTO_SOURCE_DIR "/clients/pd"
 //   test_file("pd/ameoto_client_test.pd")                  // AMEOTO_SOURCE_DIR "/tests/real_clients/..."
-//   double rate = settled_rain_rate(client);               // mm/h, once a ramp (1 s) has finished
+//   double rate = settled_rain_rate(client);               // mm/h, once a ramp (1 s of audio) has finished
 //   std::map<std::string, std::string> fields = name_value_lines(output, "status: ");
 //   DaemonOptions o = patient_daemon();   // 20 s to start: the clients' tests run beside others
 
