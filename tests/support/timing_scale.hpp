@@ -13,7 +13,7 @@
 // (docs/reliability.md, "Sanitizers", gives the command); 4 on a 30 s start-up bound gives 120 s:
 // room for that and for a CPU shared with another test. A test
 // whose bound is the audio's real time (not a wait for a program) is not scaled: it is skipped under
-// the sanitizers with a printed reason, and listed in docs/reliability.md.
+// the sanitizers with a printed reason (sanitizer_bounds.hpp), and listed in docs/reliability.md.
 // The switch is the compiler's own: gcc and clang define __SANITIZE_ADDRESS__ with -fsanitize=address,
 // so a sanitized test binary cannot forget to set it and a normal one cannot set it by mistake.
 
