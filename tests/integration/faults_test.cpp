@@ -26,6 +26,7 @@
 #include "tests/support/daemon_process.hpp"
 #include "tests/support/jack_server.hpp"
 #include "tests/support/osc_test_client.hpp"
+#include "tests/support/sanitizer_bounds.hpp"
 #include "tests/support/temp_dir.hpp"
 #include "tests/support/wav_file.hpp"
 
@@ -231,7 +232,10 @@ TEST_CASE("SIGKILL: the WAV reads back up to the last second") {
     const double seconds = static_cast<double>(w.frames) / 48000.0;
     MESSAGE("alive " << alive_s << " s after 'running'; the killed WAV holds " << seconds << " s");
     // 250 ms more for scheduling: the writer thread runs at normal priority on a machine that may be busy.
-    CHECK(seconds >= alive_s - 1.0 - 0.010 - 256.0 / 48000.0 - 0.25);
+    // A bound on the audio's real-time pace, which the sanitized build cannot keep (sanitizer_bounds.hpp);
+    // there the WAV must still read back, with audio in it.
+    CHECK(w.frames > 0);
+    AMEOTO_CHECK_UNLESS_SANITIZED(seconds >= alive_s - 1.0 - 0.010 - 256.0 / 48000.0 - 0.25);
     CHECK(seconds <= alive_s + 0.5);                                     // 0.5 s: start-up before 'running' was read
     double energy = 0.0;
     for (float s : w.samples) {
@@ -292,11 +296,14 @@ TEST_CASE("the WAV removed while writing: told over OSC and in the log, the stre
     CHECK(d.process().output().find(wav + " was removed while writing") != std::string::npos);
     const auto a = frames_of(client);
     std::this_thread::sleep_for(1200ms);
-    CHECK(frames_of(client) - a > 48000);
+    const auto b = frames_of(client);
+    CHECK(b > a);                                   // the stream goes on...
+    AMEOTO_CHECK_UNLESS_SANITIZED(b - a > 48000);   // ...at the audio's pace: more than 1 s in 1.2 s
     CHECK(d.process().stop(SIGTERM, 5s) == 0);
     const auto w = ameoto::test::read_wav(wav);   // the new file, finalised
     REQUIRE_MESSAGE(w.ok, w.error);
-    CHECK(w.frames > 48000);
+    CHECK(w.frames > 0);
+    AMEOTO_CHECK_UNLESS_SANITIZED(w.frames > 48000);
 }
 
 TEST_CASE("scene save on a full disk: /fail with the reason, the old scene file intact, no temporary left") {
