@@ -1,17 +1,14 @@
 #include "clients/ameoto/bench_report.hpp"
 
 #include <cmath>
-#include <cstdio>
+
+#include "clients/ameoto/number_text.hpp"
 
 namespace ameoto::client {
 namespace {
 
-std::string fixed_or_dash(double value, int decimals) {
-    if (!std::isfinite(value)) return "-";
-    char buffer[64];
-    std::snprintf(buffer, sizeof buffer, "%.*f", decimals, value);
-    return buffer;
-}
+// number_text's fixed(), with "-" for a figure that could not be measured.
+std::string fixed_or_dash(double value, int decimals) { return std::isfinite(value) ? fixed(value, decimals) : "-"; }
 
 // Three significant digits, as plain decimals (the figures are good to about 1 %).
 std::string figure(double value) {

@@ -18,7 +18,7 @@ using ameoto::protocol::OscArgument;
 TEST_CASE("oscsend: the examples of docs/PROTOCOL.md change the running server; a refused value changes nothing") {
     const auto oscsend = find_program("oscsend");
     if (!oscsend) return skip_because_absent("oscsend", "liblo-tools");
-    DaemonProcess d({"--backend", "null", "--output", "-", "--realtime", "--rain", "0"}, {}, patient_daemon());
+    DaemonProcess d({"--backend", "null", "--output", "-", "--realtime", "--rain", "0"}, {}, DaemonOptions::patient());
     const std::string port = std::to_string(d.port());
     OscTestClient client(d.port());
 

@@ -33,7 +33,7 @@ ProgramRun run_pd_patch(const std::string& pd, const std::string& patch, int por
 TEST_CASE("Pd: [ameoto] sets the rain rate, sends drops, gets /fail, /synced and /status.reply") {
     const auto pd = find_program("pd");
     if (!pd) return skip_because_absent("pd", "puredata-core");
-    DaemonProcess d({"--backend", "null", "--output", "-", "--realtime", "--rain", "0"}, {}, patient_daemon());
+    DaemonProcess d({"--backend", "null", "--output", "-", "--realtime", "--rain", "0"}, {}, DaemonOptions::patient());
     const ProgramRun run = run_pd_patch(*pd, "pd/ameoto_client_test.pd", d.port());
     INFO("pd printed:\n" << run.out);
     REQUIRE(run.exit_code == 0);

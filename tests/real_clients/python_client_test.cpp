@@ -62,7 +62,7 @@ double wall_seconds() {
 
 TEST_CASE("Python: the example sets the rate, sends drops and prints /status.reply by name") {
     if (!pyliblo_present()) return skip_because_absent("/usr/bin/python3 with liblo", "python3-liblo");
-    DaemonProcess d({"--backend", "null", "--output", "-", "--realtime", "--rain", "0"}, {}, patient_daemon());
+    DaemonProcess d({"--backend", "null", "--output", "-", "--realtime", "--rain", "0"}, {}, DaemonOptions::patient());
     const ProgramRun run = run_example(d.port(), {"--rate", "10", "--drops", "2", "--bundle-in", "0.1", "--bundle-drops", "1"});
     INFO("the example printed:\n" << run.out);
     REQUIRE(run.exit_code == 0);
@@ -89,7 +89,7 @@ TEST_CASE("Python: timed bundles of drops sound at their timetags' samples, 0.25
     long long frame_then = 0;
     double wall_then = 0.0;
     {
-        DaemonProcess d({"--backend", "null", "--output", wav, "--realtime", "--rain", "0"}, {}, patient_daemon());
+        DaemonProcess d({"--backend", "null", "--output", wav, "--realtime", "--rain", "0"}, {}, DaemonOptions::patient());
         OscTestClient client(d.port());
         // A (wall clock, frame) pair: the reply's frame was current within a block of wall_then.
         wall_then = wall_seconds();

@@ -70,13 +70,6 @@ std::map<std::string, std::string> name_value_lines(const std::string& output, c
     return fields;
 }
 
-DaemonOptions patient_daemon() {
-    DaemonOptions o;
-    o.listen_timeout = std::chrono::seconds(20);
-    o.running_timeout = std::chrono::seconds(20);
-    return o;
-}
-
 void check_oscdump_messages(const std::string& seen, std::span<const char* const> expected) {
     for (const char* line : expected) {
         CAPTURE(line);

@@ -9,7 +9,6 @@
 //   test_file("pd/ameoto_client_test.pd")                  // AMEOTO_SOURCE_DIR "/tests/real_clients/..."
 //   double rate = settled_rain_rate(client);               // mm/h, once a ramp (1 s of audio) has finished
 //   std::map<std::string, std::string> fields = name_value_lines(output, "status: ");
-//   DaemonOptions o = patient_daemon();   // 20 s to start: the clients' tests run beside others
 
 #include <map>
 #include <optional>
@@ -34,7 +33,6 @@ std::map<std::string, std::string> name_value_lines(const std::string& output, c
 
 // ameotod builds its scene before it says "running"; on a machine busy with builds that has taken
 // over 10 s (the default), so these tests, which run beside the other suites, wait up to 20 s.
-DaemonOptions patient_daemon();
 
 // oscdump's lines (`TIMETAG ADDRESS TYPES VALUES...`) hold every expected message, exactly as many
 // messages as expected, and every address is in the server's protocol table.

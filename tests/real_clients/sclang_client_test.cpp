@@ -63,7 +63,7 @@ TEST_CASE("SuperCollider: the install script puts Ameoto in the Extensions folde
     if (!sclang) return skip_because_absent("sclang", "supercollider-language");
     TempDir home("ameoto-sclang-home");
     install_class(home);
-    DaemonProcess d({"--backend", "null", "--output", "-", "--realtime", "--rain", "0"}, {}, patient_daemon());
+    DaemonProcess d({"--backend", "null", "--output", "-", "--realtime", "--rain", "0"}, {}, DaemonOptions::patient());
     const ProgramRun run = run_sclang(*sclang, home, d.port(), "supercollider/status_test.scd", without_xdg());
     INFO("sclang printed:\n" << run.out);
     CHECK_FALSE(run.timed_out);
@@ -92,7 +92,7 @@ TEST_CASE("SuperCollider: Ameoto.dropAt's bundles sound 0.25 s apart to +/- 1 sa
     const std::string wav = temp_path("sclang-bundles.wav");
     ProgramRun run;
     {
-        DaemonProcess d({"--backend", "null", "--output", wav, "--realtime", "--rain", "0"}, {}, patient_daemon());
+        DaemonProcess d({"--backend", "null", "--output", wav, "--realtime", "--rain", "0"}, {}, DaemonOptions::patient());
         run = run_sclang(*sclang, home, d.port(), "supercollider/timing_test.scd", without_xdg());
         OscTestClient client(d.port());
         const auto status = client.request("/status", {}, "/status.reply", 2s);
