@@ -19,6 +19,7 @@
 #include "tests/support/child_process.hpp"
 #include "tests/support/daemon_process.hpp"
 #include "tests/support/program_paths.hpp"
+#include "tests/support/timing_scale.hpp"
 
 using namespace std::chrono_literals;
 using ameoto::test::ChildOptions;
@@ -115,11 +116,22 @@ TEST_CASE("ameoto drives a real ameotod: send, /fail, status, sync, quit") {
     REQUIRE(early.exit_code == 0);
     const double rate_early = json_number(early.out, "rain_rate_mm_per_h");
 
-    // The rate ramps over 1 s; a little more and it is there.
+    // The rate ramps over 1 s of audio, applied before the reply above was made: once the audio clock
+    // (seconds_rendered) has moved 1.05 s on, it is there. The audio clock, not the wall's: under the
+    // sanitizers the null backend renders slower than real time.
+    const double early_seconds = json_number(early.out, "seconds_rendered");
+    REQUIRE(std::isfinite(early_seconds));
     std::this_thread::sleep_until(rate_sent + std::chrono::milliseconds(1200));
-    const ProgramRun later = run_ameoto({"status", "--port", port, "--json"});
+    ProgramRun later = run_ameoto({"status", "--port", port, "--json"});
+    const auto give_up = std::chrono::steady_clock::now() + ameoto::test::scaled(std::chrono::seconds(20));
+    while (later.exit_code == 0 && json_number(later.out, "seconds_rendered") < early_seconds + 1.05 &&
+           std::chrono::steady_clock::now() < give_up) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(100));
+        later = run_ameoto({"status", "--port", port, "--json"});
+    }
     INFO(describe(later));
     REQUIRE(later.exit_code == 0);
+    CHECK(json_number(later.out, "seconds_rendered") >= early_seconds + 1.05);
     CHECK(later.out.starts_with("{\"cpu_average_percent\": "));
     CHECK(later.out.ends_with("}\n"));
     CHECK(later.out.find("\"backend\": \"null\"") != std::string::npos);

@@ -10,6 +10,7 @@
 #include <thread>
 
 #include "tests/support/child_process.hpp"
+#include "tests/support/audio_clock.hpp"
 #include "tests/support/daemon_process.hpp"
 #include "tests/support/osc_test_client.hpp"
 #include "tests/support/temp_dir.hpp"
@@ -26,14 +27,6 @@ using Daemon = ameoto::test::DaemonProcess;
 namespace {
 
 using ameoto::test::ameotod;
-
-std::int64_t status_frames(OscTestClient& client) {
-    const auto reply = client.request("/status", {}, "/status.reply", 2s);
-    REQUIRE(reply);
-    REQUIRE(reply->types == "fffiiiiififfs");
-    // Field 11 is the audio clock in seconds (a float); field 9 the sample rate.
-    return std::llround(reply->args[10].number * reply->args[8].number);
-}
 
 std::string read_report(const std::string& path) {
     std::ifstream in(path);
@@ -52,11 +45,11 @@ TEST_CASE("a /drop over UDP sounds within a block, with silence before it") {
                  {"LD_PRELOAD=" AMEOTO_RT_INTERPOSER, "AMEOTO_RT_REPORT=" + report});
         OscTestClient client(d.port());
         std::this_thread::sleep_for(300ms);
-        before_frame = status_frames(client);
+        before_frame = ameoto::test::audio_frames(client);
         client.send("/drop", {OscArgument::from_float(4.0f), OscArgument::from_float(0.0f), OscArgument::from_float(0.2f),
                               OscArgument::from_float(0.05f)});
         REQUIRE(client.request("/sync", {OscArgument::from_int(7)}, "/synced", 2s));
-        after_frame = status_frames(client);
+        after_frame = ameoto::test::audio_frames(client);
         std::this_thread::sleep_for(300ms);
         CHECK(d.process().stop(SIGTERM, 5s) == 0);
     }
@@ -96,7 +89,7 @@ TEST_CASE("a timetagged bundle plays its /drop at the bundle's time; a late bund
         };
         const auto drop = ameoto::protocol::encode_message(
             "/drop", {OscArgument::from_float(4.0f), OscArgument::from_float(0.0f), OscArgument::from_float(0.2f), OscArgument::from_float(0.0f)});
-        before_frame = status_frames(client);
+        before_frame = ameoto::test::audio_frames(client);
         sent_at = wall();
         // 400 ms ahead: the server must hold it and play it then, not now.
         client.send_raw(ameoto::protocol::encode_bundle(Timetag::from_unix_seconds(sent_at + 0.4), {drop}));
@@ -327,7 +320,9 @@ TEST_CASE("/quit answers /done and stops cleanly") {
 TEST_CASE("SIGTERM leaves a WAV that reads back whole") {
     const std::string wav = ameoto::test::temp_path("sigterm.wav");
     Daemon d({"--backend", "null", "--output", wav, "--realtime", "--rain", "20"});
-    std::this_thread::sleep_for(1200ms);
+    OscTestClient client(d.port());
+    // 1.1 s of audio by the audio clock (a wall-clock sleep gave 0.78 s under the sanitizers in CI).
+    ameoto::test::wait_for_audio(client, 1.1);
     CHECK(d.process().stop(SIGTERM, 5s) == 0);
     const auto line = d.process().wait_for_line("wrote ", 1s);
     REQUIRE(line);

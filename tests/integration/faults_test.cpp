@@ -23,6 +23,7 @@
 #include <thread>
 
 #include "tests/support/child_process.hpp"
+#include "tests/support/audio_clock.hpp"
 #include "tests/support/daemon_process.hpp"
 #include "tests/support/jack_server.hpp"
 #include "tests/support/osc_test_client.hpp"
@@ -88,12 +89,6 @@ private:
     sockaddr_in to4_{};
     sockaddr_in6 to6_{};
 };
-
-std::int64_t frames_of(OscTestClient& client) {
-    const auto reply = client.request("/status", {}, "/status.reply", 2s);
-    REQUIRE(reply);
-    return std::llround(reply->args[10].number * reply->args[8].number);   // field 11: seconds; 9: rate
-}
 
 std::optional<ameoto::protocol::DecodedMessage> wait_for_notice(OscTestClient& client, const std::string& containing,
                                                                std::chrono::milliseconds timeout) {
@@ -219,24 +214,24 @@ TEST_CASE("who may talk: a bad --allow stops ameotod at the command line with th
 TEST_CASE("SIGKILL: the WAV reads back up to the last second") {
     const std::string wav = ameoto::test::temp_path("sigkill.wav");
     Daemon d({"--backend", "null", "--output", wav, "--realtime", "--rain", "20"}, {}, ameoto::test::DaemonOptions::patient());
-    const auto running = std::chrono::steady_clock::now();   // the first block is out by now
-    std::this_thread::sleep_for(2500ms);
-    const double alive_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - running).count();
+    OscTestClient client(d.port());
+    // 2.5 s of audio, read from the audio clock (a loaded machine or the sanitizers render slower than
+    // real time, so a wall-clock sleep would promise audio that was never made).
+    const double rendered_s = ameoto::test::wait_for_audio(client, 2.5).args[10].number;
     d.process().stop(SIGKILL, 5s);
     const auto w = ameoto::test::read_wav(wav);
     REQUIRE_MESSAGE(w.ok, w.error);
     CHECK(w.is_float);
     CHECK(w.channels == 2);
     // The header is rewritten once a second (WavWriter), after the writer thread's 10 ms drain: what it
-    // claims may lag the audio by up to 1 s + 10 ms, plus a 256-frame block.
+    // claims may lag the audio by up to 1 s + 10 ms, plus a 256-frame block; 250 ms more for scheduling
+    // (the writer thread runs at normal priority on a machine that may be busy). At real-time pace or
+    // slower, a second of wall time is at most a second of audio, so the bound holds in every build.
     const double seconds = static_cast<double>(w.frames) / 48000.0;
-    MESSAGE("alive " << alive_s << " s after 'running'; the killed WAV holds " << seconds << " s");
-    // 250 ms more for scheduling: the writer thread runs at normal priority on a machine that may be busy.
-    // A bound on the audio's real-time pace, which the sanitized build cannot keep (sanitizer_bounds.hpp);
-    // there the WAV must still read back, with audio in it.
+    MESSAGE(rendered_s << " s of audio rendered before SIGKILL; the killed WAV holds " << seconds << " s");
     CHECK(w.frames > 0);
-    AMEOTO_CHECK_UNLESS_SANITIZED(seconds >= alive_s - 1.0 - 0.010 - 256.0 / 48000.0 - 0.25);
-    CHECK(seconds <= alive_s + 0.5);                                     // 0.5 s: start-up before 'running' was read
+    CHECK(seconds >= rendered_s - 1.0 - 0.010 - 256.0 / 48000.0 - 0.25);
+    CHECK(seconds <= rendered_s + 0.5);   // 0.5 s: audio rendered between the last /status and the kill
     double energy = 0.0;
     for (float s : w.samples) {
         REQUIRE(std::isfinite(s));
@@ -254,18 +249,19 @@ TEST_CASE("disk full while writing the WAV: told over OSC and in the log, the au
     const std::string wav = (disk.path() / "full.wav").string();
     Daemon d({"--backend", "null", "--output", wav, "--realtime"}, {}, ameoto::test::DaemonOptions::patient());
     OscTestClient client(d.port());
-    const auto before = frames_of(client);   // the server knows this client now: it gets notices
+    const auto before = ameoto::test::audio_frames(client);   // the server knows this client now: it gets notices
     const auto notice = wait_for_notice(client, "failed", 10s);
     REQUIRE_MESSAGE(notice, d.process().output());
     CHECK(notice->args[0].text == "output");
     CHECK(notice->args[1].text.find("No space left on device") != std::string::npos);
     CHECK(d.process().output().find("writing " + wav + " failed: No space left on device") != std::string::npos);
     // Still playing: the sample clock runs on at the clock's pace, and the server answers.
-    const auto at_full = frames_of(client);
+    const auto at_full = ameoto::test::audio_frames(client);
     std::this_thread::sleep_for(1000ms);
-    const auto later = frames_of(client);
+    const auto later = ameoto::test::audio_frames(client);
     CHECK(at_full > before);
-    CHECK(later - at_full > 48000 / 2);
+    CHECK(later > at_full);
+    AMEOTO_CHECK_UNLESS_SANITIZED(later - at_full > 48000 / 2);   // at the clock's pace: half a second in one
     // One report, not one per block.
     CHECK_FALSE(wait_for_notice(client, "failed", 1500ms));
     // Room again (tmpfs grows on remount): writing resumes by itself, and says so.
@@ -274,11 +270,11 @@ TEST_CASE("disk full while writing the WAV: told over OSC and in the log, the au
     REQUIRE_MESSAGE(again, d.process().output());
     CHECK(again->args[0].text == "output");
     CHECK(again->args[1].text.find("frames were lost") != std::string::npos);
-    std::this_thread::sleep_for(1500ms);
+    ameoto::test::wait_for_audio(client, 1.5);   // 1.5 s of audio after the room came (by the audio clock)
     CHECK(d.process().stop(SIGTERM, 5s) == 0);
     const auto w = ameoto::test::read_wav(wav);   // what fitted, and what came after, reads back
     REQUIRE_MESSAGE(w.ok, w.error);
-    CHECK(w.frames > (1 << 20) / 8 + 48000);   // more than 1 MiB holds (8 bytes a frame), by the 1.5 s after the room came
+    CHECK(w.frames > (1 << 20) / 8 + 48000);   // more than 1 MiB holds (8 bytes a frame), and more than a second after it
 }
 
 TEST_CASE("the WAV removed while writing: told over OSC and in the log, the stream continues in a new file") {
@@ -286,7 +282,7 @@ TEST_CASE("the WAV removed while writing: told over OSC and in the log, the stre
     const std::string wav = (dir.path() / "removed.wav").string();
     Daemon d({"--backend", "null", "--output", wav, "--realtime"}, {}, ameoto::test::DaemonOptions::patient());
     OscTestClient client(d.port());
-    frames_of(client);
+    ameoto::test::audio_frames(client);
     std::this_thread::sleep_for(300ms);
     REQUIRE(fs::remove(wav));
     const auto notice = wait_for_notice(client, "was removed while writing", 3s);   // checked about once a second
@@ -294,16 +290,16 @@ TEST_CASE("the WAV removed while writing: told over OSC and in the log, the stre
     CHECK(notice->args[0].text == "output");
     CHECK(notice->args[1].text.find("continuing in " + wav) != std::string::npos);
     CHECK(d.process().output().find(wav + " was removed while writing") != std::string::npos);
-    const auto a = frames_of(client);
+    const auto a = ameoto::test::audio_frames(client);
     std::this_thread::sleep_for(1200ms);
-    const auto b = frames_of(client);
+    const auto b = ameoto::test::audio_frames(client);
     CHECK(b > a);                                   // the stream goes on...
     AMEOTO_CHECK_UNLESS_SANITIZED(b - a > 48000);   // ...at the audio's pace: more than 1 s in 1.2 s
+    ameoto::test::wait_for_audio(client, 1.1);      // another 1.1 s of audio (by the audio clock)...
     CHECK(d.process().stop(SIGTERM, 5s) == 0);
-    const auto w = ameoto::test::read_wav(wav);   // the new file, finalised
+    const auto w = ameoto::test::read_wav(wav);   // ...is in the new file, finalised
     REQUIRE_MESSAGE(w.ok, w.error);
-    CHECK(w.frames > 0);
-    AMEOTO_CHECK_UNLESS_SANITIZED(w.frames > 48000);
+    CHECK(w.frames > 48000);
 }
 
 TEST_CASE("scene save on a full disk: /fail with the reason, the old scene file intact, no temporary left") {
@@ -339,16 +335,16 @@ TEST_CASE("JACK killed (SIGKILL) and started again: a /notice, OSC answers throu
     ameoto::test::JackServer jack;
     Daemon d({"--backend", "jack", "--jack-name", "ameoto_faults"}, jack.env(), ameoto::test::DaemonOptions::patient());
     OscTestClient client(d.port());
-    CHECK(frames_of(client) > 0);
+    CHECK(ameoto::test::audio_frames(client) > 0);
 
     jack.kill();
     const auto lost = wait_for_notice(client, "went away", 10s);
     REQUIRE_MESSAGE(lost, d.process().output());
     CHECK(lost->args[0].text == "jack");
     CHECK(d.process().output().find("the JACK server went away") != std::string::npos);
-    const auto frozen = frames_of(client);   // answered while JACK is gone
+    const auto frozen = ameoto::test::audio_frames(client);   // answered while JACK is gone
     std::this_thread::sleep_for(300ms);
-    CHECK(frames_of(client) == frozen);
+    CHECK(ameoto::test::audio_frames(client) == frozen);
 
     // The server is back somewhere between the start of jackd and jack_wait's return: playing again is
     // timed from the start (an upper bound on the delay the issue bounds) by a second client polling.

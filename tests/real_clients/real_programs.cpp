@@ -10,6 +10,7 @@
 #include <sstream>
 #include <thread>
 
+#include "tests/support/audio_clock.hpp"
 #include "tests/support/timing_scale.hpp"
 
 namespace ameoto::test {
@@ -38,23 +39,8 @@ std::string test_file(const std::string& relative) {
 
 double settled_rain_rate(OscTestClient& client) {
     // /rain/rate ramps linearly over 1 s of audio (docs/PROTOCOL.md), and the change was applied before
-    // the first /status below: once the audio clock (field 11, seconds rendered) has moved on 1.05 s
-    // from there, the ramp is over. The audio clock, not the wall's: a loaded machine, or the
-    // sanitizers, can leave the null backend rendering slower than real time.
-    auto status_now = [&] {
-        const auto status = client.request("/status", {}, "/status.reply", std::chrono::seconds(2));
-        REQUIRE(status);
-        REQUIRE(status->types == "fffiiiiififfs");
-        return *status;
-    };
-    const double start_s = status_now().args[10].number;
-    const auto give_up = std::chrono::steady_clock::now() + scaled(std::chrono::seconds(10));
-    for (;;) {
-        std::this_thread::sleep_for(std::chrono::milliseconds(100));
-        const auto status = status_now();
-        if (status.args[10].number - start_s >= 1.05) return status.args[11].number;
-        REQUIRE_MESSAGE(std::chrono::steady_clock::now() < give_up, "the audio clock stayed at " << status.args[10].number << " s");
-    }
+    // the first /status below: once the audio clock has moved on 1.05 s from there, the ramp is over.
+    return wait_for_audio(client, 1.05).args[11].number;
 }
 
 std::map<std::string, std::string> name_value_lines(const std::string& output, const std::string& prefix) {

@@ -14,6 +14,7 @@
 
 #include <unsupported/Eigen/FFT>
 
+#include "tests/support/sanitizer_bounds.hpp"
 #include "engine/core/random.hpp"
 #include "engine/models/soft_ground.hpp"
 #include "tests/support/rt_probe_scope.hpp"
@@ -314,6 +315,6 @@ TEST_CASE("soft_ground: cost (measured, reported in docs/engine.md)") {
         }
         MESSAGE(spec.name << ": " << best << " ns per sample at 4800 drops/s (" << active << " hits sounding, "
                           << g.stats().refused_full << " refused)");
-        CHECK(best < 5000.0);
+        AMEOTO_CHECK_UNLESS_SANITIZED(best < 5000.0);   // a cost bound: 6 873 ns under ASan in CI
     }
 }
