@@ -3,9 +3,11 @@
 #include <iostream>
 
 #include "server/daemon.hpp"
+#include "server/memory_return.hpp"
 #include "server/options.hpp"
 
 int main(int argc, char** argv) {
+    ameoto::use_one_heap();   // before any thread starts (server/memory_return.hpp)
     const ameoto::ParsedOptions parsed = ameoto::parse_options(argc, argv);
     if (parsed.show_help) {
         std::cout << ameoto::usage();

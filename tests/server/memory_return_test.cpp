@@ -1,0 +1,35 @@
+// server/memory_return: ameotod's heap policy, tested in fresh processes (tests/support/heap_probe.cpp),
+// since which arenas a process has depends on every thread that ever allocated in it.
+#include <doctest/doctest.h>
+
+#include <stdio.h>
+
+#include <string>
+
+#include "tests/support/sanitizer_bounds.hpp"
+
+namespace {
+
+// The probe's heap count, or -1 when it failed.
+int heaps_after_four_threads(const std::string& mode, const std::string& environment = "") {
+    const std::string command = "env -u MALLOC_ARENA_MAX -u GLIBC_TUNABLES " + environment + " " AMEOTO_HEAP_PROBE " " + mode;
+    FILE* p = popen(command.c_str(), "r");
+    REQUIRE(p != nullptr);
+    int heaps = -1;
+    if (std::fscanf(p, "%d", &heaps) != 1) heaps = -1;
+    CHECK(pclose(p) == 0);
+    return heaps;
+}
+
+}  // namespace
+
+TEST_CASE("memory_return: use_one_heap keeps every thread on one heap; the environment's own choice rules") {
+    // ASan replaces glibc's malloc, so there are no glibc arenas to count.
+    if (ameoto::test::stop_here_if_sanitized("glibc's arenas: AddressSanitizer has its own allocator")) return;
+    // Without it, glibc gives each new thread an arena of its own (up to 8 per core, so on any
+    // machine): the main heap and 4 more.
+    CHECK(heaps_after_four_threads("default") == 5);
+    CHECK(heaps_after_four_threads("one") == 1);
+    // An operator's MALLOC_ARENA_MAX is left in force (here 3: the main heap and two more).
+    CHECK(heaps_after_four_threads("one", "MALLOC_ARENA_MAX=3") == 3);
+}

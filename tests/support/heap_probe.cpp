@@ -1,0 +1,43 @@
+// heap_probe one|default: starts 4 threads that allocate at once, then prints how many heaps (arenas)
+// glibc's malloc keeps, read from malloc_info's XML. With "one" it first calls use_one_heap(), as
+// ameotod's main() does. Run by tests/server/memory_return_test.cpp in a process of its own: the
+// arenas a process has depend on every thread that ever allocated in it.
+#include <malloc.h>
+#include <stdio.h>
+
+#include <cstdlib>
+#include <cstring>
+#include <latch>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "server/memory_return.hpp"
+
+int main(int argc, char** argv) {
+    if (argc != 2 || (std::strcmp(argv[1], "one") != 0 && std::strcmp(argv[1], "default") != 0)) {
+        std::fprintf(stderr, "usage: heap_probe one|default\n");
+        return 2;
+    }
+    if (std::strcmp(argv[1], "one") == 0) ameoto::use_one_heap();
+    // All four alive at once (a thread that ends hands its arena on to the next one started).
+    std::latch all_allocated(4);
+    std::vector<std::thread> threads;
+    for (int t = 0; t < 4; ++t)
+        threads.emplace_back([&all_allocated] {
+            std::vector<std::string> kept;
+            for (int i = 0; i < 1000; ++i) kept.emplace_back(200, 'x');
+            all_allocated.arrive_and_wait();
+        });
+    for (auto& t : threads) t.join();
+    char* text = nullptr;
+    std::size_t size = 0;
+    FILE* out = open_memstream(&text, &size);
+    if (out == nullptr || malloc_info(0, out) != 0) return 1;
+    std::fclose(out);
+    int heaps = 0;
+    for (const char* at = text; (at = std::strstr(at, "<heap nr=")) != nullptr; at += 9) ++heaps;
+    std::free(text);
+    std::printf("%d\n", heaps);
+    return 0;
+}
