@@ -81,6 +81,9 @@ Options:
 
 Signals: SIGINT and SIGTERM stop cleanly (the WAV is finalised); SIGHUP closes the WAV
 and continues in a new file (never overwriting one that is still there).
+Memory: every thread allocates from one heap (glibc's M_ARENA_MAX 1), so RSS follows
+what the server holds across scene loads; MALLOC_ARENA_MAX or GLIBC_TUNABLES in the
+environment overrides that.
 Units: rain rate mm/h, drop diameter mm, speeds m/s, positions m.
 )";
 }

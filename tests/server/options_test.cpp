@@ -102,3 +102,9 @@ TEST_CASE("--block-trace names a file and its threshold in % of the period; off 
     CHECK(parse({"--block-trace-threshold", "0"}).error.find("--block-trace-threshold") != std::string::npos);
     CHECK(ameoto::usage().find("--block-trace FILE") != std::string::npos);
 }
+
+TEST_CASE("--help names the heap policy and the environment that overrides it (server/memory_return.hpp)") {
+    const std::string u = ameoto::usage();
+    CHECK(u.find("one heap") != std::string::npos);
+    CHECK(u.find("MALLOC_ARENA_MAX") != std::string::npos);
+}
