@@ -168,6 +168,7 @@ TEST_CASE("JACK: the server dies and returns; ameotod keeps answering OSC and pl
 
     jack.stop();
     REQUIRE_MESSAGE(d.process().wait_for_line("went away", 10s), d.process().output());
+    std::this_thread::sleep_for(300ms);   // a callback running when jackd stopped may finish its block
     const auto frozen_a = status_of(client).args[10].number;   // OSC still answers while JACK is gone
     std::this_thread::sleep_for(300ms);
     const auto frozen_b = status_of(client).args[10].number;
