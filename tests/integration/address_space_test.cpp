@@ -14,6 +14,7 @@
 
 #include "protocol/address_table.hpp"
 #include "tests/protocol/table_cases.hpp"
+#include "tests/support/audio_clock.hpp"
 #include "tests/support/daemon_process.hpp"
 #include "tests/support/osc_test_client.hpp"
 #include "tests/support/temp_dir.hpp"
@@ -33,13 +34,6 @@ std::string status_state(const DecodedMessage& status) {
     s << "rate " << status.args[11].number << ", " << status.args[8].number << " Hz, block " << status.args[9].integer << ", "
       << status.args[12].text;
     return s.str();
-}
-
-DecodedMessage status(OscTestClient& client) {
-    const auto reply = client.request("/status", {}, "/status.reply", 2s);
-    REQUIRE(reply);
-    REQUIRE(reply->types == "fffiiiiififfs");
-    return *reply;
 }
 
 // The scene as it plays: saved by the daemon itself, read back without its name line.
@@ -70,9 +64,9 @@ TEST_CASE("every address refuses every bad message over UDP with /fail, the stat
     // A dry start so the saved scene and the status are the daemon's state, nothing else.
     Daemon d({"--backend", "null", "--output", "-", "--rain", "3", "--scene-dir", folder.path().string()}, {}, ameoto::test::DaemonOptions::patient());
     OscTestClient client(d.port());
-    const std::string before_status = status_state(status(client));
+    const std::string before_status = status_state(ameoto::test::status_reply(client));
     const std::string before_scene = saved_scene(client, folder.path(), "before");
-    const double seconds_before = status(client).args[10].number;   // field 11: audio seconds
+    const double seconds_before = ameoto::test::status_reply(client).args[10].number;   // field 11: audio seconds
 
     std::size_t sent = 0;
     for (const ameoto::protocol::AddressSpec& spec : ameoto::protocol::address_table()) {
@@ -117,7 +111,7 @@ TEST_CASE("every address refuses every bad message over UDP with /fail, the stat
     for (const auto& other : client.others) MESSAGE("unexpected reply " << other.address);
     // Still serving, still playing, and in the state it was.
     REQUIRE(client.request("/sync", {OscArgument::from_int(42)}, "/synced", 2s));
-    const DecodedMessage after = status(client);
+    const DecodedMessage after = ameoto::test::status_reply(client);
     CHECK(status_state(after) == before_status);
     CHECK(after.args[10].number > seconds_before);
     CHECK(saved_scene(client, folder.path(), "after") == before_scene);
@@ -149,7 +143,7 @@ TEST_CASE("bad scene files over /scene/load fail with the file, line and field; 
     };
     Daemon d({"--backend", "null", "--output", "-", "--scene", "pond", "--scene-dir", folder.path().string()}, {}, ameoto::test::DaemonOptions::patient());
     OscTestClient client(d.port());
-    const std::string before_status = status_state(status(client));
+    const std::string before_status = status_state(ameoto::test::status_reply(client));
     const std::string before_scene = saved_scene(client, folder.path(), "before");
     for (const Expect& e : expected) {
         INFO(std::string(e.name));
@@ -158,11 +152,11 @@ TEST_CASE("bad scene files over /scene/load fail with the file, line and field; 
         CHECK(fail->args[0].text == "/scene/load");
         INFO(fail->args[1].text);
         CHECK(fail->args[1].text.find(e.says) != std::string::npos);
-        const double seconds = status(client).args[10].number;
+        const double seconds = ameoto::test::status_reply(client).args[10].number;
         std::this_thread::sleep_for(50ms);
-        CHECK(status(client).args[10].number > seconds);   // playing on
+        CHECK(ameoto::test::status_reply(client).args[10].number > seconds);   // playing on
     }
     CHECK(client.others.empty());
-    CHECK(status_state(status(client)) == before_status);
+    CHECK(status_state(ameoto::test::status_reply(client)) == before_status);
     CHECK(saved_scene(client, folder.path(), "after") == before_scene);
 }

@@ -15,6 +15,7 @@
 #include "tests/support/child_process.hpp"
 #include "tests/support/jack_server.hpp"
 #include "tests/support/timing_scale.hpp"
+#include "tests/support/audio_clock.hpp"
 #include "tests/support/daemon_process.hpp"
 #include "tests/support/osc_test_client.hpp"
 #include "tests/support/temp_dir.hpp"
@@ -49,12 +50,6 @@ ameoto::test::WavData record(const JackServer& jack, const std::string& client, 
     return ameoto::test::read_wav(path);
 }
 
-ameoto::protocol::DecodedMessage status_of(OscTestClient& client) {
-    const auto reply = client.request("/status", {}, "/status.reply", 2s);
-    REQUIRE(reply);
-    return *reply;
-}
-
 }  // namespace
 
 TEST_CASE("JACK: rain plays through JACK, sample-identical to the null backend, with no real-time violations") {
@@ -72,7 +67,7 @@ TEST_CASE("JACK: rain plays through JACK, sample-identical to the null backend, 
         CHECK(connections.out.find("system:playback_1") != std::string::npos);
         recorded = record(jack, "ameoto_t1", 2.0, "jack.wav");
         OscTestClient client(d.port());
-        const auto s = status_of(client);
+        const auto s = ameoto::test::status_reply(client);
         CHECK(s.args[12].text == "jack");
         CHECK(s.args[8].number == 48000.0);
         CHECK(s.args[9].integer == 256);
@@ -163,15 +158,15 @@ TEST_CASE("JACK: the server dies and returns; ameotod keeps answering OSC and pl
     JackServer jack;
     auto d = jack_daemon(jack, {"--jack-name", "ameoto_t3"});
     OscTestClient client(d.port());
-    const auto before = status_of(client).args[10].number;
+    const auto before = ameoto::test::audio_seconds(client);
     CHECK(before > 0);
 
     jack.stop();
     REQUIRE_MESSAGE(d.process().wait_for_line("went away", 10s), d.process().output());
     std::this_thread::sleep_for(300ms);   // a callback running when jackd stopped may finish its block
-    const auto frozen_a = status_of(client).args[10].number;   // OSC still answers while JACK is gone
+    const auto frozen_a = ameoto::test::audio_seconds(client);   // OSC still answers while JACK is gone
     std::this_thread::sleep_for(300ms);
-    const auto frozen_b = status_of(client).args[10].number;
+    const auto frozen_b = ameoto::test::audio_seconds(client);
     CHECK(frozen_a == frozen_b);                               // and no audio runs without a server
 
     const auto restart = std::chrono::steady_clock::now();
@@ -180,6 +175,6 @@ TEST_CASE("JACK: the server dies and returns; ameotod keeps answering OSC and pl
     const double back_after = std::chrono::duration<double>(std::chrono::steady_clock::now() - restart).count();
     MESSAGE("playing again " << back_after << " s after jackd was started again (includes jack_wait)");
     std::this_thread::sleep_for(300ms);
-    CHECK(status_of(client).args[10].number > frozen_b);         // the sample clock runs on
+    CHECK(ameoto::test::audio_seconds(client) > frozen_b);         // the sample clock runs on
     CHECK(d.process().running());
 }
