@@ -38,8 +38,9 @@ std::string test_file(const std::string& relative) {
 }
 
 double settled_rain_rate(OscTestClient& client) {
-    // /rain/rate ramps linearly over 1 s of audio (docs/PROTOCOL.md), and the change was applied before
-    // the first /status below: once the audio clock has moved on 1.05 s from there, the ramp is over.
+    // /rain/rate ramps linearly over 1 s of audio (docs/PROTOCOL.md). The caller has seen a reply sent
+    // after the change (/synced, or the program's own), so it was applied before wait_for_audio's first
+    // /status: once the audio clock has moved on 1.05 s from that reading, the ramp is over.
     return wait_for_audio(client, 1.05).args[11].number;
 }
 
