@@ -6,19 +6,15 @@
 #include <cmath>
 #include <vector>
 
+#include "server/backends/realtime_pace.hpp"
 #include "server/realtime/audio_bridge.hpp"
 
 namespace ameoto {
 namespace {
-void add_ns(timespec& t, std::int64_t ns) {
-    t.tv_nsec += ns;
-    while (t.tv_nsec >= 1000000000) {
-        t.tv_nsec -= 1000000000;
-        ++t.tv_sec;
-    }
-}
-bool later(const timespec& a, const timespec& b) {
-    return a.tv_sec > b.tv_sec || (a.tv_sec == b.tv_sec && a.tv_nsec > b.tv_nsec);
+std::int64_t monotonic_ns() {
+    timespec t{};
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return static_cast<std::int64_t>(t.tv_sec) * 1000000000 + t.tv_nsec;
 }
 }  // namespace
 
@@ -59,9 +55,7 @@ void NullBackend::run(AudioBridge& bridge) {
     const std::uint64_t total_frames = options_.duration_s
         ? static_cast<std::uint64_t>(std::llround(*options_.duration_s * options_.sample_rate))
         : UINT64_MAX;
-    const auto block_ns = static_cast<std::int64_t>(std::llround(1e9 * block / options_.sample_rate));
-    timespec deadline{};
-    clock_gettime(CLOCK_MONOTONIC, &deadline);
+    RealtimePace pace(block / options_.sample_rate, monotonic_ns());
     std::uint64_t done = 0;
 
     while (!stop_.load(std::memory_order_relaxed) && done < total_frames) {
@@ -82,15 +76,10 @@ void NullBackend::run(AudioBridge& bridge) {
         }
         done += static_cast<std::uint64_t>(frames);
         if (options_.realtime) {
-            add_ns(deadline, block_ns);
-            timespec now{};
-            clock_gettime(CLOCK_MONOTONIC, &now);
-            if (later(now, deadline)) {
-                xruns_.fetch_add(1);
-                deadline = now;   // late: restart the schedule from now instead of racing to catch up
-            } else {
-                clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &deadline, nullptr);
-            }
+            const RealtimePace::Next next = pace.after_block(monotonic_ns());
+            if (next.late) xruns_.fetch_add(1);
+            const timespec wake{static_cast<time_t>(next.wake_ns / 1000000000), static_cast<long>(next.wake_ns % 1000000000)};
+            clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &wake, nullptr);
         }
     }
     if (done >= total_frames && on_finished_) on_finished_();

@@ -8,9 +8,9 @@
 //   null.start(bridge); ... null.stop();
 //   null.wav()   // the WavWriter, or nullptr when discarding
 //
-// Pacing: realtime renders each block at its deadline on the monotonic clock (absolute deadlines, so
-// no drift); a block that finishes after its deadline counts as an xrun and the schedule restarts
-// from now. Offline (not realtime) renders as fast as the disk takes it: it waits for room in the
+// Pacing: realtime renders each block at its period boundary on the monotonic clock (absolute, so no
+// drift); a block that finishes after its boundary counts as an xrun, and the next one waits for the
+// following boundary as a sound card's next period would (realtime_pace.hpp says why). Offline (not realtime) renders as fast as the disk takes it: it waits for room in the
 // WAV ring rather than dropping, because an offline render must be complete and exact.
 
 #include <atomic>

@@ -34,7 +34,7 @@ ProgramRun run_sclang(const std::string& sclang, const TempDir& home, int port, 
                       const ChildOptions& options) {
     std::vector<std::string> env = {"HOME=" + home.path().string(), "QT_QPA_PLATFORM=offscreen",
                                     "AMEOTO_TEST_PORT=" + std::to_string(port),
-                                    // how long a script waits for /synced: 3 s, stretched with every
+                                    // how long a script waits for /synced or a reply: 3 s, stretched with every
                                     // other wait under the sanitizers (timing_scale.hpp)
                                     "AMEOTO_TEST_SYNC_WAIT=" + std::to_string(3 * timing_scale())};
     // QtWebEngine (linked into sclang) refuses to start its sandbox as root unless told.
@@ -75,7 +75,9 @@ TEST_CASE("SuperCollider: the install script puts Ameoto in the Extensions folde
     REQUIRE(status.size() == 13);
     CHECK(status.at("sample_rate_hz") == "48000.0");
     CHECK(status.at("block_size_frames") == "256");
-    CHECK(std::stoi(status.at("active_drops_full")) >= 2);
+    // The two drops the script sent are lattice drops, still sounding when it asked (right after
+    // /synced), when the callback has time for them: under the sanitizers the governor sheds them.
+    AMEOTO_CHECK_UNLESS_SANITIZED(std::stoi(status.at("active_drops_full")) >= 2);
     // Every field is f, i or s (protocol version 2), all of which sclang reads.
     CHECK(status.at("backend") == "null");
     CHECK(std::stod(status.at("seconds_rendered")) > 0.0);
