@@ -10,8 +10,9 @@
 //
 // Pacing: realtime renders each block at its period boundary on the monotonic clock (absolute, so no
 // drift); a block that finishes after its boundary counts as an xrun, and the next one waits for the
-// following boundary as a sound card's next period would (realtime_pace.hpp says why). Offline (not realtime) renders as fast as the disk takes it: it waits for room in the
-// WAV ring rather than dropping, because an offline render must be complete and exact.
+// following boundary, as a sound card's next period would (realtime_pace.hpp says why). Offline (not
+// realtime) renders as fast as the disk takes it: it waits for room in the WAV ring rather than
+// dropping, because an offline render must be complete and exact.
 
 #include <atomic>
 #include <functional>

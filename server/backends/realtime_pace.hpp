@@ -48,8 +48,6 @@ public:
         return next;
     }
 
-    double period_ns() const { return period_ns_; }
-
 private:
     std::int64_t boundary(std::uint64_t k) const {
         return start_ns_ + static_cast<std::int64_t>(std::llround(static_cast<double>(k) * period_ns_));

@@ -50,8 +50,8 @@ TEST_CASE("jack_peer on a real jackd: a callback every period, with its CPU time
     REQUIRE(std::sscanf(run.out.c_str() + at,
                         "3 s: callbacks %ld mean_cpu_pct %lf max_cpu_pct %lf over_50 %ld over_100 %ld xruns %ld wall_s %lf", &callbacks,
                         &mean, &largest, &over_50, &over_100, &xruns, &wall_s) == 7);
-    // The client was active for at least its 3 s (its main thread sleeps three times 1 s; a busy
-    // machine, as CI's sanitized run with a real-time ameotod beside it, may oversleep): at most one
+    // The client was active for at least its 3 s (its main thread sleeps three times 1 s, and on a
+    // busy machine, as in CI's sanitized run beside another suite, may oversleep): at most one
     // callback per 256-frame period of that wall time (187.5 a second at 48 kHz), and one more for a
     // period under way at activation. The dummy driver without real-time scheduling, on a busy
     // machine, may run fewer; a run with none would mean the client never ran.
