@@ -9,6 +9,8 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "tests/support/timing_scale.hpp"
+
 namespace ameoto::test {
 
 TcpTestClient::TcpTestClient(int port) {
@@ -50,7 +52,10 @@ void TcpTestClient::send(const std::string& address, const std::vector<protocol:
 }
 
 std::optional<protocol::DecodedMessage> TcpTestClient::receive(std::chrono::milliseconds timeout) {
-    const auto end = std::chrono::steady_clock::now() + timeout;
+    return receive_until(std::chrono::steady_clock::now() + scaled(timeout));
+}
+
+std::optional<protocol::DecodedMessage> TcpTestClient::receive_until(std::chrono::steady_clock::time_point end) {
     unsigned char size[4];
     if (!read_exactly(size, 4, end)) return std::nullopt;
     const std::uint32_t n = (std::uint32_t{size[0]} << 24) | (std::uint32_t{size[1]} << 16) | (std::uint32_t{size[2]} << 8) | size[3];
@@ -64,9 +69,9 @@ std::optional<protocol::DecodedMessage> TcpTestClient::receive(std::chrono::mill
 std::optional<protocol::DecodedMessage> TcpTestClient::request(const std::string& address, const std::vector<protocol::OscArgument>& args,
                                                                const std::string& reply, std::chrono::milliseconds timeout) {
     send(address, args);
-    const auto end = std::chrono::steady_clock::now() + timeout;
+    const auto end = std::chrono::steady_clock::now() + scaled(timeout);
     while (std::chrono::steady_clock::now() < end) {
-        auto m = receive(std::chrono::duration_cast<std::chrono::milliseconds>(end - std::chrono::steady_clock::now()));
+        auto m = receive_until(end);
         if (!m) return std::nullopt;
         if (m->address == reply) return m;
     }
@@ -74,7 +79,7 @@ std::optional<protocol::DecodedMessage> TcpTestClient::request(const std::string
 }
 
 bool TcpTestClient::closed_by_server(std::chrono::milliseconds timeout) {
-    const auto end = std::chrono::steady_clock::now() + timeout;
+    const auto end = std::chrono::steady_clock::now() + scaled(timeout);
     unsigned char sink[4096];
     for (;;) {
         const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(end - std::chrono::steady_clock::now());

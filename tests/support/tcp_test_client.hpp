@@ -1,6 +1,7 @@
 #pragma once
 // A TCP OSC client for tests (OSC 1.0 stream framing: each packet preceded by its size as a big-endian
-// int32), connected to ameotod's --tcp-port over loopback; every wait bounded.
+// int32), connected to ameotod's --tcp-port over loopback; every wait bounded, and timing_scale() times
+// as long in the sanitized build, as OscTestClient's (timing_scale.hpp).
 //
 // Interface:
 //   TcpTestClient c(port);                                   // throws std::runtime_error if it cannot connect
@@ -42,6 +43,7 @@ public:
     bool closed_by_server(std::chrono::milliseconds timeout);
 
 private:
+    std::optional<protocol::DecodedMessage> receive_until(std::chrono::steady_clock::time_point end);
     bool read_exactly(unsigned char* out, std::size_t n, std::chrono::steady_clock::time_point end);
     int fd_ = -1;
 };
