@@ -7,7 +7,8 @@
 #include "server/options.hpp"
 
 int main(int argc, char** argv) {
-    ameoto::use_one_heap();   // before any thread starts (server/memory_return.hpp)
+    ameoto::run_without_thread_caches(argv);   // may execute ameotod again (server/memory_return.hpp)
+    ameoto::use_one_heap();                    // before any thread starts
     const ameoto::ParsedOptions parsed = ameoto::parse_options(argc, argv);
     if (parsed.show_help) {
         std::cout << ameoto::usage();

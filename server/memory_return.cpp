@@ -1,11 +1,31 @@
 #include "server/memory_return.hpp"
 
 #include <malloc.h>
+#include <unistd.h>
 
 #include <cstdlib>
 #include <cstring>
+#include <string>
 
 namespace ameoto {
+
+void run_without_thread_caches(char** argv) {
+#if defined(__SANITIZE_ADDRESS__)
+    (void)argv;
+#else
+    const char* found = std::getenv("GLIBC_TUNABLES");
+    const bool had = found != nullptr;
+    const std::string before = had ? found : "";
+    if (before.find("glibc.malloc.tcache_count") != std::string::npos) return;
+    const std::string value = (before.empty() ? "" : before + ":") + "glibc.malloc.tcache_count=0";
+    if (setenv("GLIBC_TUNABLES", value.c_str(), 1) != 0) return;
+    execv("/proc/self/exe", argv);
+    // Still here: the exec failed (no /proc, say). Carry on with the cache, and leave the
+    // environment as it was for the programs this one may start.
+    if (had) setenv("GLIBC_TUNABLES", before.c_str(), 1);
+    else unsetenv("GLIBC_TUNABLES");
+#endif
+}
 
 void use_one_heap() {
     const char* tunables = std::getenv("GLIBC_TUNABLES");

@@ -81,9 +81,11 @@ Options:
 
 Signals: SIGINT and SIGTERM stop cleanly (the WAV is finalised); SIGHUP closes the WAV
 and continues in a new file (never overwriting one that is still there).
-Memory: every thread allocates from one heap (glibc's M_ARENA_MAX 1), so RSS follows
-what the server holds across scene loads; MALLOC_ARENA_MAX or GLIBC_TUNABLES in the
-environment overrides that.
+Memory: every thread allocates from one heap (glibc's M_ARENA_MAX 1) and without
+glibc's per-thread cache (ameotod starts itself again at once with
+GLIBC_TUNABLES=glibc.malloc.tcache_count=0 added), so RSS follows what the server
+holds across scene loads; MALLOC_ARENA_MAX, or GLIBC_TUNABLES naming arena_max or
+tcache_count, in the environment overrides either.
 Units: rain rate mm/h, drop diameter mm, speeds m/s, positions m.
 )";
 }

@@ -2,6 +2,10 @@
 // glibc's malloc keeps, read from malloc_info's XML. With "one" it first calls use_one_heap(), as
 // ameotod's main() does. Run by tests/server/memory_return_test.cpp in a process of its own: the
 // arenas a process has depend on every thread that ever allocated in it.
+// heap_probe cache|no-cache: frees five 24-byte blocks and prints how many of them glibc put in its
+// fast bins (mallinfo2's smblks) rather than in the thread's cache, which takes up to 7 of a size
+// (tcache_count). With "no-cache" it first calls run_without_thread_caches(argv), as ameotod's main()
+// does: that executes the probe again with the cache off, so all five land in the fast bins.
 #include <malloc.h>
 #include <stdio.h>
 
@@ -15,9 +19,20 @@
 #include "server/memory_return.hpp"
 
 int main(int argc, char** argv) {
-    if (argc != 2 || (std::strcmp(argv[1], "one") != 0 && std::strcmp(argv[1], "default") != 0)) {
-        std::fprintf(stderr, "usage: heap_probe one|default\n");
+    const bool cache_mode = argc == 2 && (std::strcmp(argv[1], "cache") == 0 || std::strcmp(argv[1], "no-cache") == 0);
+    if (argc != 2 || (std::strcmp(argv[1], "one") != 0 && std::strcmp(argv[1], "default") != 0 && !cache_mode)) {
+        std::fprintf(stderr, "usage: heap_probe one|default|cache|no-cache\n");
         return 2;
+    }
+    if (cache_mode) {
+        if (std::strcmp(argv[1], "no-cache") == 0) ameoto::run_without_thread_caches(argv);
+        void* blocks[5];
+        const std::size_t fast_before = mallinfo2().smblks;
+        for (auto*& b : blocks) b = std::malloc(24);
+        for (auto* b : blocks) std::free(b);
+        const std::size_t fast_after = mallinfo2().smblks;
+        std::printf("%zu\n", fast_after - fast_before);
+        return 0;
     }
     if (std::strcmp(argv[1], "one") == 0) ameoto::use_one_heap();
     // All four alive at once (a thread that ends hands its arena on to the next one started).
