@@ -40,8 +40,12 @@ TEST_CASE("memory_return: run_without_thread_caches runs the program again with 
     // none reach the fast bins; run again without the cache, all five do.
     CHECK(probe("cache") == 0);
     CHECK(probe("no-cache") == 5);
-    // An operator's tcache_count is left in force (3 in the cache, 2 in the fast bins), and other
-    // tunables are kept beside the one added (the arena count still applies: checked above).
+    // An operator's tcache_count is left in force (3 in the cache, 2 in the fast bins).
     CHECK(probe("no-cache", "GLIBC_TUNABLES=glibc.malloc.tcache_count=3") == 2);
+    // Other tunables are kept beside the one added: the cache is off (all five in the fast bins) and
+    // the operator's arena_max=2 still holds after the second execution (2 heaps for 4 threads, where
+    // glibc alone gives 5: the first test case).
     CHECK(probe("no-cache", "GLIBC_TUNABLES=glibc.malloc.arena_max=2") == 5);
+    CHECK(probe("no-cache-heaps", "GLIBC_TUNABLES=glibc.malloc.arena_max=2") == 2);
+    CHECK(probe("no-cache-heaps") == 5);
 }

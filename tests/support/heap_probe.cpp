@@ -6,6 +6,8 @@
 // fast bins (mallinfo2's smblks) rather than in the thread's cache, which takes up to 7 of a size
 // (tcache_count). With "no-cache" it first calls run_without_thread_caches(argv), as ameotod's main()
 // does: that executes the probe again with the cache off, so all five land in the fast bins.
+// heap_probe no-cache-heaps: run_without_thread_caches(argv), then the heap count as for "default":
+// shows that tunables already in GLIBC_TUNABLES (glibc.malloc.arena_max) survive the second execution.
 #include <malloc.h>
 #include <stdio.h>
 
@@ -19,13 +21,14 @@
 #include "server/memory_return.hpp"
 
 int main(int argc, char** argv) {
-    const bool cache_mode = argc == 2 && (std::strcmp(argv[1], "cache") == 0 || std::strcmp(argv[1], "no-cache") == 0);
-    if (argc != 2 || (std::strcmp(argv[1], "one") != 0 && std::strcmp(argv[1], "default") != 0 && !cache_mode)) {
-        std::fprintf(stderr, "usage: heap_probe one|default|cache|no-cache\n");
+    const std::string mode = argc == 2 ? argv[1] : "";
+    const bool cache_mode = mode == "cache" || mode == "no-cache";
+    if (mode != "one" && mode != "default" && mode != "no-cache-heaps" && !cache_mode) {
+        std::fprintf(stderr, "usage: heap_probe one|default|no-cache-heaps|cache|no-cache\n");
         return 2;
     }
+    if (mode == "no-cache" || mode == "no-cache-heaps") ameoto::run_without_thread_caches(argv);
     if (cache_mode) {
-        if (std::strcmp(argv[1], "no-cache") == 0) ameoto::run_without_thread_caches(argv);
         void* blocks[5];
         const std::size_t fast_before = mallinfo2().smblks;
         for (auto*& b : blocks) b = std::malloc(24);
@@ -34,7 +37,7 @@ int main(int argc, char** argv) {
         std::printf("%zu\n", fast_after - fast_before);
         return 0;
     }
-    if (std::strcmp(argv[1], "one") == 0) ameoto::use_one_heap();
+    if (mode == "one") ameoto::use_one_heap();
     // All four alive at once (a thread that ends hands its arena on to the next one started).
     std::latch all_allocated(4);
     std::vector<std::thread> threads;
