@@ -7,10 +7,20 @@
 #include <cstring>
 #include <string>
 
+// AddressSanitizer replaces malloc, so glibc's thread cache is not in use: nothing to turn off. g++
+// defines __SANITIZE_ADDRESS__ with -fsanitize=address; clang 14 only answers __has_feature.
+#if defined(__SANITIZE_ADDRESS__)
+#define AMEOTO_ADDRESS_SANITIZER 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define AMEOTO_ADDRESS_SANITIZER 1
+#endif
+#endif
+
 namespace ameoto {
 
 void run_without_thread_caches(char** argv) {
-#if defined(__SANITIZE_ADDRESS__)
+#if defined(AMEOTO_ADDRESS_SANITIZER)
     (void)argv;
 #else
     const char* found = std::getenv("GLIBC_TUNABLES");
