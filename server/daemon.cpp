@@ -208,6 +208,7 @@ bool Daemon::State::choose_backend() {
     n.block_size = options.block_size;
     n.channels = options.channels;
     n.realtime = options.realtime.value_or(!options.duration_s.has_value());
+    n.realtime_priority = options.realtime_priority;
     n.duration_s = options.duration_s;
     n.output = options.output.value_or(default_wav_name());
     try {
@@ -963,6 +964,7 @@ int Daemon::run() {
     wait_hup();
 
     s.backend->start(*s.bridge);
+    if (s.null) say("null backend render thread: " + s.null->scheduling());
     if (s.tcp) s.tcp->start();
     s.poll();
     s.measure_rate();

@@ -54,6 +54,11 @@ Options:
   --block FRAMES      null backend block size, 16..8192 frames (default 256)
   --realtime          null backend: pace to the clock (default unless --duration)
   --offline           null backend: render as fast as possible (default with --duration)
+  --realtime-priority N
+                      null backend, paced: the render thread's SCHED_FIFO priority,
+                      1..99, or 0 for normal scheduling (default 70, as JACK's
+                      clients; needs root or an rtprio limit, else it runs normally
+                      and says so)
   --duration SECONDS  stop after this many seconds of audio (> 0)
   --seed N            random seed, 0..2^64-1 (default 0): same seed and same timed
                       events give the same samples
@@ -119,6 +124,10 @@ ParsedOptions parse_options(int argc, const char* const* argv) {
             o.realtime = true;
         } else if (arg == "--offline") {
             o.realtime = false;
+        } else if (arg == "--realtime-priority") {
+            if (!value(v) || !parse_int(v, 0, 99, n))
+                return fail("--realtime-priority needs a priority 1..99, or 0 for normal scheduling");
+            o.realtime_priority = static_cast<int>(n);
         } else if (arg == "--port") {
             if (!value(v) || !parse_int(v, 0, 65535, n)) return fail("--port needs a port number 0..65535");
             o.port = static_cast<int>(n);

@@ -27,6 +27,8 @@ struct DaemonOptions {
     double sample_rate = 48000.0;         // null backend, Hz
     int block_size = 256;                 // null backend, frames
     std::optional<bool> realtime;         // null backend pacing; default: paced unless --duration
+    int realtime_priority = 70;           // null backend, paced: the render thread's SCHED_FIFO priority
+                                          // 1..99, or 0 for normal scheduling (jackd's -P / --no-realtime)
     std::optional<double> duration_s;
     std::uint64_t seed = 0;
     int channels = 2;

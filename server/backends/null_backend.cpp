@@ -4,6 +4,8 @@
 #include <time.h>
 
 #include <cmath>
+#include <cstring>
+#include <string>
 #include <vector>
 
 #include "server/backends/realtime_pace.hpp"
@@ -28,6 +30,21 @@ NullBackend::~NullBackend() { stop(); }
 void NullBackend::start(AudioBridge& bridge) {
     stop_.store(false);
     thread_ = std::thread([this, &bridge] { run(bridge); });
+    pthread_setname_np(thread_.native_handle(), "ameoto-render");
+    const int priority = options_.realtime_priority;
+    if (!options_.realtime) {
+        scheduling_ = "normal scheduling (offline render)";
+    } else if (priority == 0) {
+        scheduling_ = "normal scheduling (--realtime-priority 0)";
+    } else {
+        sched_param param{};
+        param.sched_priority = priority;
+        const int error = pthread_setschedparam(thread_.native_handle(), SCHED_FIFO, &param);
+        scheduling_ = error == 0 ? "SCHED_FIFO priority " + std::to_string(priority)
+                                 : "normal scheduling: SCHED_FIFO priority " + std::to_string(priority) + " refused (" +
+                                       std::strerror(error) +
+                                       "; run as root or give the user an rtprio limit, e.g. JACK's audio group)";
+    }
 }
 
 void NullBackend::stop() {
@@ -44,13 +61,6 @@ void NullBackend::run(AudioBridge& bridge) {
     std::vector<float*> outputs;
     for (auto& p : planes) outputs.push_back(p.data());
     std::vector<float> interleaved(static_cast<std::size_t>(block * channels));
-
-    if (options_.realtime) {
-        // Ask for real-time priority like a JACK client would; without the right it is only a hint.
-        sched_param param{};
-        param.sched_priority = 70;
-        pthread_setschedparam(pthread_self(), SCHED_FIFO, &param);
-    }
 
     const std::uint64_t total_frames = options_.duration_s
         ? static_cast<std::uint64_t>(std::llround(*options_.duration_s * options_.sample_rate))

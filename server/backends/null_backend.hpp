@@ -7,12 +7,20 @@
 //                                                                // render thread when --duration ends
 //   null.start(bridge); ... null.stop();
 //   null.wav()   // the WavWriter, or nullptr when discarding
+//   null.scheduling()   // after start(): how the render thread is scheduled, for the log
 //
 // Pacing: realtime renders each block at its period boundary on the monotonic clock (absolute, so no
 // drift); a block that finishes after its boundary counts as an xrun, and the next one waits for the
 // following boundary, as a sound card's next period would (realtime_pace.hpp says why). Offline (not
 // realtime) renders as fast as the disk takes it: it waits for room in the WAV ring rather than
 // dropping, because an offline render must be complete and exact.
+//
+// Scheduling: the render thread is named "ameoto-render" (ps -L, top -H). Paced, it asks for SCHED_FIFO
+// at realtime_priority (70 by default), as a JACK client's process thread runs; 0 keeps normal
+// scheduling (what jackd's --no-realtime does for its clients). start() sets it from the calling thread, so a refusal (no root and
+// no rtprio limit) is reported by scheduling() for the log rather than logged from the render thread;
+// the thread then runs at normal priority. Offline renders keep normal scheduling: they are meant to
+// take whatever CPU is free, not to preempt the machine.
 
 #include <atomic>
 #include <functional>
@@ -33,6 +41,7 @@ public:
         int block_size = 256;
         int channels = 2;
         bool realtime = true;
+        int realtime_priority = 70;         // SCHED_FIFO priority when realtime, 1..99; 0: normal
         std::optional<double> duration_s;   // stop after this much audio
         std::string output = "-";           // WAV path, or "-" to discard
     };
@@ -48,6 +57,7 @@ public:
     int block_size() const override { return options_.block_size; }
     WavWriter* wav() { return wav_.get(); }
     bool realtime() const { return options_.realtime; }
+    std::string scheduling() const { return scheduling_; }
 
 private:
     void run(AudioBridge& bridge);
@@ -58,6 +68,7 @@ private:
     std::atomic<bool> stop_{false};
     std::atomic<std::uint64_t> xruns_{0};
     std::thread thread_;
+    std::string scheduling_;   // start()'s outcome, in words
 };
 
 }  // namespace ameoto

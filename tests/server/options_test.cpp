@@ -62,6 +62,7 @@ TEST_CASE("bad values are refused with a message naming the option") {
         {"--port", "70000"}, {"--port", "12x"}, {"--port"}, {"--bind", "localhost.example"}, {"--backend", "alsa"},
         {"--jack-name", "a:b"}, {"--rate", "100"}, {"--rate", "nan"}, {"--block", "8"}, {"--duration", "0"},
         {"--duration", "-1"}, {"--seed", "-3"}, {"--channels", "0"}, {"--channels", "17"}, {"--scene", "../etc"}, {"--rain", "501"}, {"--rain", "-0.5"},
+        {"--realtime-priority", "-1"}, {"--realtime-priority", "100"}, {"--realtime-priority", "x"}, {"--realtime-priority"},
         {"--frobnicate"}};
     for (const auto& args : bad) {
         const auto p = parse(args);
@@ -69,6 +70,13 @@ TEST_CASE("bad values are refused with a message naming the option") {
         CHECK_FALSE(p.error.empty());
         CHECK(p.error.find(args[0]) != std::string::npos);
     }
+}
+
+TEST_CASE("--realtime-priority takes 0..99 (0: normal scheduling); 70 by default") {
+    CHECK(parse({}).options.realtime_priority == 70);
+    CHECK(parse({"--realtime-priority", "0"}).options.realtime_priority == 0);
+    CHECK(parse({"--realtime-priority", "99"}).options.realtime_priority == 99);
+    CHECK(ameoto::usage().find("--realtime-priority") != std::string::npos);
 }
 
 TEST_CASE("--help names the units") {
