@@ -2,8 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include "engine/core/physical_constants.hpp"
 
@@ -180,9 +185,32 @@ DisplacementRange Canopy::displacement_range() const {
 namespace {
 
 // Per lane, the extremes over the nodes in node order (std::min / std::max: a value replaces the
-// running one only when strictly beyond it, so NaN never wins). Restrict parameters: vectorised.
+// running one only when strictly beyond it, so NaN never wins). lanes is a multiple of 4 (Canopy pads
+// to it). With SSE2 (every x86-64), four lanes at a time in registers: minpd(x, y) gives y unless
+// x < y, so minpd(value, low) is std::min(low, value) exactly (equal values, +0 and -0, and NaN keep
+// low), and maxpd(value, high) is std::max(high, value): the same doubles as the scalar loop, which
+// kept its running extremes in memory and cost about 10 instructions a node (4 300 a reading of the
+// default canopy, read every step while a splash hovers over it: drop_on_canopy.cpp, collide()).
 void lane_extremes(std::size_t nodes, std::size_t lanes, const double* __restrict u, double* __restrict low,
                    double* __restrict high) {
+#if defined(__SSE2__)
+    for (std::size_t j = 0; j + 4 <= lanes; j += 4) {
+        __m128d low01 = _mm_set1_pd(std::numeric_limits<double>::infinity()), low23 = low01;
+        __m128d high01 = _mm_set1_pd(-std::numeric_limits<double>::infinity()), high23 = high01;
+        for (std::size_t i = 0; i < nodes; ++i) {
+            const double* const at = u + i * lanes + j;
+            const __m128d v01 = _mm_loadu_pd(at), v23 = _mm_loadu_pd(at + 2);
+            low01 = _mm_min_pd(v01, low01);
+            low23 = _mm_min_pd(v23, low23);
+            high01 = _mm_max_pd(v01, high01);
+            high23 = _mm_max_pd(v23, high23);
+        }
+        _mm_storeu_pd(low + j, low01);
+        _mm_storeu_pd(low + j + 2, low23);
+        _mm_storeu_pd(high + j, high01);
+        _mm_storeu_pd(high + j + 2, high23);
+    }
+#else
     for (std::size_t j = 0; j < lanes; ++j) {
         low[j] = std::numeric_limits<double>::infinity();
         high[j] = -std::numeric_limits<double>::infinity();
@@ -194,6 +222,7 @@ void lane_extremes(std::size_t nodes, std::size_t lanes, const double* __restric
             high[j] = std::max(high[j], row[j]);
         }
     }
+#endif
 }
 
 }  // namespace

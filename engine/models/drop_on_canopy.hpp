@@ -115,6 +115,8 @@ struct DropOnCanopyStats {
     long link_breaks = 0;
     std::uint64_t collisions = 0;   // drop mass / membrane mass collisions so far
     std::uint64_t drops_passed_over = 0;   // drops the collision broad phase skipped whole (per step)
+    std::uint64_t drops_passed_over_in_band = 0;   // of them, with their lowest mass in the band, skipped
+                                                   // by the membrane's displacement read that step
     long canopy_resets = 0;         // panels reset by the guard (never expected)
     std::uint64_t frames = 0;       // samples processed
 };
@@ -179,6 +181,8 @@ private:
     int near_masses_ = 0;         // masses in the band last step   } when collide() reads the
     int unread_steps_ = 0;        // steps since it read u           } membrane's displacement
     bool displaced_ = false;      // |u| beyond a quarter of the band at that reading
+    bool drops_in_band_ = false;  // a drop passed over last step (over `above`) reached into the band
+    std::uint64_t drops_passed_over_in_band_ = 0;
     std::uint64_t drops_passed_over_ = 0;   // stats()
     std::vector<int> scan_;       // collide(): an awake drop's masses to look at (collision_scan.hpp)
 };
