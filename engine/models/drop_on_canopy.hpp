@@ -181,7 +181,6 @@ private:
     int near_masses_ = 0;         // masses in the band last step   } when collide() reads the
     int unread_steps_ = 0;        // steps since it read u           } membrane's displacement
     bool displaced_ = false;      // |u| beyond a quarter of the band at that reading
-    bool drops_in_band_ = false;  // a drop passed over last step (over `above`) reached into the band
     std::uint64_t drops_passed_over_in_band_ = 0;
     std::uint64_t drops_passed_over_ = 0;   // stats()
     std::vector<int> scan_;       // collide(): an awake drop's masses to look at (collision_scan.hpp)
