@@ -130,9 +130,10 @@ int run_drop_bench(const BenchOptions& options, const CommandIo& io) {
     std::snprintf(line, sizeof line, "  from the medians: %.1f; each round on its own: %.1f to %.1f\n", at_once_median,
                   round_low, round_high);
     io.out << line;
-    io.out << "limit: each drop's per-mass passes (drag's square root, update: all 122 masses every step, most of them "
-              "single-mass pieces in flight) and its sparse link pass; then the canopy (its panels already stepped as SIMD "
-              "lanes) and its far field; see docs/bench.md, \"ameoto bench drop\"\n";
+    io.out << "limit: each drop's per-mass passes over its 122 masses (drag's square root, update) and its sparse link "
+              "pass, every sample until the splash is in the air, every second sample after (coarse steps: its pairs "
+              "and triples allow no longer); then the canopy (its panels already SIMD lanes) and its far field; see "
+              "docs/bench.md, \"ameoto bench drop\"\n";
     return exit_status::ok;
 }
 

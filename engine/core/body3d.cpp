@@ -138,6 +138,7 @@ void Body3D::clear() {
     last_energy_ = 0.0;
     last_position_sum_ = 0.0;
     lowest_z_ = -std::numeric_limits<double>::infinity();
+    coarse_looked_ = false;   // coarse_factor() looks at the links again
     resets_ = 0;
     dropped_breaks_ = 0;
     sub_dt_ = 0.0;
@@ -232,7 +233,17 @@ const Body3DStability& Body3D::finalize(double time_step_s, int forced_sub_steps
     // Below 16 masses the kernels' fixed cost outweighs their gain (a 2 mm drop, 7 masses: 0.29 us
     // against the scalar 0.20 us); either step gives the same bits.
     use_avx2_ = !portable_kernels_ && n >= 16 && cpu_has_avx2();
+    // Coarse steps' reach (body3d_coarse.cpp): only contacts and cores can start acting between masses
+    // that are apart; a body with neither has nothing to look out for.
+    double longest = 0.0;
+    bool can_touch = false;
+    for (std::size_t l = 0; l < link_a_.size(); ++l) {
+        longest = std::max(longest, std::max(rest_[l], core_length_[l]));
+        can_touch = can_touch || kind_[l] == LinkKind::contact || (kind_[l] == LinkKind::cohesive && core_stiffness_[l] > 0.0);
+    }
+    coarse_reach_m_ = can_touch ? coarse_reach * longest : std::numeric_limits<double>::infinity();
     lowest_z_ = -std::numeric_limits<double>::infinity();
+    coarse_looked_ = false;   // coarse_factor() looks at the links again
     finalized_ = true;
     return stability_;
 }
@@ -317,6 +328,7 @@ void Body3D::set_position(int mass, Vec3 p) {
     pz_[i] = p.z - sub_dt_ * v.z;
     next_bound_fresh_ = false;   // the sparse pass measures its bound again (sub_step_avx2())
     lowest_z_ = -std::numeric_limits<double>::infinity();   // unknown until the next step
+    coarse_looked_ = false;   // coarse_factor() looks at the links again
 }
 
 void Body3D::set_velocity(int mass, Vec3 v) {
@@ -346,6 +358,7 @@ void Body3D::reset() {
     last_energy_ = 0.0;
     last_position_sum_ = 0.0;
     lowest_z_ = -std::numeric_limits<double>::infinity();
+    coarse_looked_ = false;   // coarse_factor() looks at the links again
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -965,8 +978,8 @@ void Body3D::sub_step_avx2(int index) {
     s.gx = gravity_.x;
     s.gy = gravity_.y;
     s.gz = gravity_.z;
-    s.dt = sub_dt_;
-    s.inv_dt = 1.0 / sub_dt_;
+    s.dt = sub_dt_ * dt_scale_;   // x 1.0 (exact) but in a coarse step
+    s.inv_dt = 1.0 / s.dt;
     s.cordis = integrator_ == Integrator::explicit_verlet;
     s.energy = energy_limit_ < std::numeric_limits<double>::infinity();
     s.mirror = nullptr;
@@ -1079,7 +1092,7 @@ void Body3D::sub_step_baseline(int index) {
     const double* __restrict inv_m = inv_mass_.data();
     const double* __restrict lin = linear_drag_.data();
     const double* __restrict quad = quadratic_drag_.data();
-    const double dt = sub_dt_, inv_dt = 1.0 / dt;
+    const double dt = sub_dt_ * dt_scale_, inv_dt = 1.0 / dt;   // x 1.0 (exact) but in a coarse step
     const bool cordis = integrator_ == Integrator::explicit_verlet;
 
     // 1. Velocities (CORDIS: backward difference) and mass-local forces: external, gravity, drag.
@@ -1299,10 +1312,21 @@ double Body3D::generic_links(int index) {
     return elastic2;
 }
 
-bool Body3D::step() {
+bool Body3D::step(int time_multiple) {
     event_count_ = 0;
     if (!finalized_) return false;   // built or changed since finalize(): nothing is sized to run
-    for (int s = 0; s < stability_.sub_steps; ++s) sub_step(s);
+    if (time_multiple > 1 && integrator_ == Integrator::symplectic_euler) {
+        // A coarse step (see the header): the same sub-steps with a k times longer step.
+        dt_scale_ = static_cast<double>(time_multiple);
+        for (int s = 0; s < stability_.sub_steps; ++s) sub_step(s);
+        dt_scale_ = 1.0;
+        since_look_ += time_multiple * stability_.time_step;
+    } else {
+        // CORDIS keeps x[n-1], tied to the sub-step: k ordinary steps (their breaks all listed).
+        for (int k = 0; k < std::max(time_multiple, 1); ++k)
+            for (int s = 0; s < stability_.sub_steps; ++s) sub_step(s);
+        since_look_ += std::max(time_multiple, 1) * stability_.time_step;
+    }
     // Held for this step only. Cleared only if apply_force() was called since the last clearing (collisions
     // touch a drop for a few steps of its life): otherwise they are all +0.0 already.
     if (external_forces_) {

@@ -23,6 +23,8 @@
 //   bool ok = body.step();                                    // one output step (all sub-steps); false if
 //                                                             // the guard reset the body (or if the body
 //                                                             // was not finalized: then it does nothing)
+//   int k = body.coarse_factor(max_k, floor_z);               // how many output steps may be taken as one
+//   body.step(k);                                             // k output steps as one (a coarse step)
 //   for (const LinkBreak& e : body.breaks()) ...              // links that broke during that step
 //   body.set_position(m, p); body.set_velocity(m, v); body.reset();
 //   body.position(m), velocity(m), momentum(), energy(), resets(), link_broken(l), stability(),
@@ -89,6 +91,28 @@
 // together at the end (no chain of dependent adds through every mass). Tested every step on a
 // shattering drop (dense and sparse): AVX2 uniform pass, scalar uniform pass, AVX2 per-mass kernels
 // with the generic pass.
+//
+// Coarse steps (a body in flight; drop_pool.hpp uses them for a splash over the membrane). step(k) takes
+// k output steps as one: symplectic Euler with the time step k T' (T' the sub-step), the same kernels
+// and operations with a longer step, so the AVX2 and scalar steps still agree to the bit, and step(1)
+// is step() exactly (T' x 1.0 = T'); with CORDIS (whose state is x[n-1], tied to T'), k ordinary steps
+// one after another. An external force acts over the whole of it. coarse_factor(max_k, floor_z) says
+// which k (1..max_k) keeps the body stable and clear of the floor (drop_pool.hpp's "coarse steps"):
+//   - stable: Gershgorin as finalize(), but over the links that can act before the links are looked at
+//     again: intact links (k + k_c), and of the broken ones only cores (k_c) and contacts whose masses
+//     are within their reach + coarse_reach (4 rest lengths) of touching; the largest k <= max_k with
+//     margin (omega^2 (k T')^2 + 2 gamma k T') / 4 < 0.9, as finalize() picks sub-steps. A shattered
+//     drop's lone pieces have no intact link, so its stiffest piece decides (a pair of masses: k = 3);
+//   - a look (a pass over the masses for the fastest speed, one over the links) takes a speed bound:
+//     1.5 x the fastest mass's speed plus 1 m/s (head-room for what a piece's own links turn into
+//     speed), plus gravity's gain since; two masses approach at most twice that. The links are looked
+//     at again once they may have approached by coarse_reach since the last look, counting the step to
+//     come (at a splash's 6-9 m/s and 4 rest lengths of about a millimetre: every 10 or so samples at
+//     48 kHz). New breaks only remove stiffness, so they need no new look;
+//   - clear of the floor: the lowest mass (lowest_z(), from the last step) above floor_z by more than
+//     the step's travel at that speed bound;
+//   - 1 (no coarse step) for CORDIS, a body not finalized, an unknown lowest mass (after set_position,
+//     reset, finalize), or an external force applied for the step to come.
 //
 // External forces per mass: gravity m g, linear drag -c v (the seed's model, section 4.5), quadratic
 // drag -b |v| v with b = rho_air C_d A / 2 (body3d_drag.hpp gives C_d and b for water drops), and
@@ -204,7 +228,9 @@ public:
     bool set_integrator(Integrator integrator);   // any time; state carries over; false (and no change)
                                                   // for a scheme Body3D does not run
     void apply_force(int mass, Vec3 newtons);
-    bool step();
+    bool step(int time_multiple = 1);             // time_multiple output steps as one (see "Coarse steps")
+    int coarse_factor(int max_multiple, double floor_z);   // 1..max_multiple (see "Coarse steps")
+    bool external_forces_pending() const { return external_forces_; }   // apply_force() since the last step
     std::span<const LinkBreak> breaks() const { return {events_.data(), event_count_}; }
     void set_position(int mass, Vec3 p);          // keeps the mass's velocity
     void set_velocity(int mass, Vec3 v);          // ignored for fixed points
@@ -270,6 +296,7 @@ private:
     double uniform_cohesive_links(int index);   // the baseline's link pass for uniform cohesive links
     void build_link_scratch();             // finalize(): the uniform pass's lists and scratch
     void check_link_args(int a, int b) const;
+    int stable_coarse_multiple();          // coarse_factor()'s look at the links (body3d_coarse.cpp)
 
     // masses (structure of arrays)
     std::vector<double> x_, y_, z_;          // position, m
@@ -322,6 +349,15 @@ private:
     double last_energy_ = 0.0;       // measured during the last sub-step, for the guard
     double last_position_sum_ = 0.0; // sum of all coordinates after the last sub-step (finite check)
     double lowest_z_ = -std::numeric_limits<double>::infinity();   // lowest_z()
+    double dt_scale_ = 1.0;          // step(k): k for the sub-steps of a coarse step, else 1
+    // coarse_factor()'s look at the links (body3d_coarse.cpp): the positions it was made at and its answer.
+    static constexpr double coarse_reach = 16.0;   // rest lengths: how near a broken link counts as acting
+    static constexpr int coarse_limit = 64;       // the largest multiple looked for
+    bool coarse_looked_ = false;
+    int coarse_stable_ = 1;          // the largest stable multiple (<= coarse_limit) at the last look
+    double look_speed_ = 0.0;        // m/s, the speed bound taken at the last look
+    double since_look_ = 0.0;        // s stepped since the last look
+    double coarse_reach_m_ = 0.0;    // m, coarse_reach x the longest rest length (finalize())
     bool external_forces_ = false;   // apply_force() since ex_, ey_, ez_ were last cleared
     long resets_ = 0;
     long dropped_breaks_ = 0;

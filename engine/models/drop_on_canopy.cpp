@@ -23,6 +23,7 @@ DropPoolConfig pool_config(const DropOnCanopyConfig& c) {
     p.max_sub_steps = 64;   // low sample rates need more sub-steps for the drops' cores
     p.retire_below = c.retire_below_m;
     p.max_lifetime = c.max_lifetime_s;
+    p.coarse_max = c.coarse_steps;
     return p;
 }
 
@@ -57,6 +58,8 @@ const DropOnCanopyConfig& DropOnCanopy::checked(const DropOnCanopyConfig& c) {
     if (!(c.restitution >= 0.0 && c.restitution <= 1.0))
         throw std::invalid_argument("restitution " + number(c.restitution) + " is outside 0..1");
     if (c.guard_interval < 0) throw std::invalid_argument("guard interval must be 0 or more samples");
+    if (c.coarse_steps < 1 || c.coarse_steps > 64)
+        throw std::invalid_argument("coarse steps " + std::to_string(c.coarse_steps) + " is outside 1..64");
     if (c.capacity < 1 || c.capacity > 256)
         throw std::invalid_argument("capacity " + std::to_string(c.capacity) + " is outside 1..256");
     if (!(c.gap_m >= 0.0 && c.gap_m <= 0.1)) throw std::invalid_argument("gap " + number(c.gap_m) + " m is outside 0..0.1");
@@ -115,6 +118,7 @@ DropOnCanopy::DropOnCanopy(Built, const DropOnCanopyConfig& config, Canopy&& can
     bottom_ = canopy_.rest_height(r, 0.0);
     rim_normal_z_ = canopy_.surface_normal(r, 0.0).z;
     reach_ = 0.05 / rim_normal_z_;
+    pool_.set_coarse_floor(top_ + reach_);   // collide() sets it each sample (see there)
     double shortest = 1e300;
     const RayleighRadiator& radiator = far_field_.radiator();
     for (int p = 0; p < radiator.point_count(); ++p)
@@ -255,6 +259,10 @@ void DropOnCanopy::collide() {
         have_u = true;
     }
     const double band_top = top_ + reach_;
+    // Coarse steps (drop_pool.hpp) this sample for a drop wholly above: the membrane's highest point read
+    // now, with 2 mm for what it can rise in the few samples of a coarse step (0.1 mm at 1 m/s over
+    // 4 samples at 48 kHz) and the collider's skin; unread, the band, which it never reaches.
+    pool_.set_coarse_floor(have_u ? above + 2e-3 + skin : band_top);
     // A mass higher than this is neither looked up (it is over `above`) nor counted as near (over the
     // band): one comparison for most of a splash's masses in flight; a drop whose lowest mass is over it
     // is skipped whole.

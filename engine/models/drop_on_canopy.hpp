@@ -43,6 +43,11 @@
 // (drop_on_canopy.cpp, collide(), gives the argument); a whole drop whose lowest mass is above is passed
 // over at once (DropPool::lowest_z).
 //
+// Coarse steps (drop_pool.hpp): collide() sets the pool's floor each sample to the membrane's highest
+// point read that sample plus 2 mm and the collider's skin (unread: the band's top), so a splash wholly
+// in the air above it steps up to coarse_steps samples at once. Nothing can touch it meanwhile: the
+// sound is what stepping every sample gives, bit for bit, until a piece comes down again (tested).
+//
 // Placement: drop() puts the drop's lowest mass gap_m (0.5 mm) above the rest surface at (x, y)
 // (DropPool::underside), moving straight down at `speed`, so it reaches the membrane within a few
 // samples (a 5 mm drop at 9.1 m/s covers 0.19 mm per sample at 48 kHz); with gap_m = 0 it strikes at
@@ -96,6 +101,8 @@ struct DropOnCanopyConfig {
     double pickup_x = 0.2, pickup_y = 0.05;        // m, the pickup's plan point (mass pickup)
     double retire_below_m = -1.0;                  // m: a drop whose masses are all below retires
     double max_lifetime_s = 30.0;                  // s (0: never)
+    int coarse_steps = 4;                          // 1..64: samples a drop wholly over the band may take
+                                                   // as one (drop_pool.hpp, "Coarse steps"; 1: never)
     int guard_interval = 256;                      // samples between runs of the canopy's guard (0: only
                                                    // when the caller calls guard())
     NetworkOptions network{};                      // the panels' integrator (core/method_choice.hpp picks

@@ -21,6 +21,7 @@ DropPool::DropPool(const DropPoolConfig& config) : config_(config) {
     if (!(config_.time_step > 0.0) || !std::isfinite(config_.time_step)) throw std::invalid_argument("drop pool: time step must be positive");
     if (config_.max_liquids < 1 || config_.retire_interval < 1 || config_.max_sub_steps < 1)
         throw std::invalid_argument("drop pool: max liquids, max sub-steps and retire interval must be >= 1");
+    if (config_.coarse_max < 1 || config_.coarse_max > 64) throw std::invalid_argument("drop pool: coarse max must be in 1..64");
 
     // Every mass count a diameter up to the largest can ask for (drop_lattice caches across pools).
     max_target_ = seed_mass_count(config_.max_diameter);
@@ -190,6 +191,7 @@ bool DropPool::spawn(double diameter, int liquid, Vec3 centre, Vec3 velocity, Dr
     for (int m = 0; m < s.body.mass_count(); ++m) s.spawn_lowest_z = std::min(s.spawn_lowest_z, s.body.position(m).z);
     s.pieces = s.components.compute(s.body);
     s.steps = 0;
+    s.coarse_left = 0;
     s.serial = next_serial_++;
     active_.push_back(index);
     ++stats_.spawned;
@@ -236,6 +238,15 @@ Body3D& DropPool::awake(int drop) const {
         }
     }
     return s.body;
+}
+
+Body3D& DropPool::touched(int drop) {
+    Slot& s = slot(drop);
+    if (s.coarse_left > 0) {
+        s.coarse_left = 0;   // steps from the next step() on, from where the coarse step left it
+        ++stats_.coarse_interrupted;
+    }
+    return awake(drop);
 }
 
 void DropPool::step_dormant(Slot& s) const {
@@ -302,7 +313,19 @@ void DropPool::step() {
             if ((max_steps > 0 && s.steps >= max_steps) || (check && all_done(s))) release(i);
             continue;
         }
-        if (!s.body.step()) {   // the guard put the drop back as spawned: whole again
+        if (s.coarse_left > 0) {   // a coarse step covered this one (see the header)
+            --s.coarse_left;
+            ++stats_.coarse_sat_out;
+            if ((max_steps > 0 && s.steps >= max_steps) || (check && all_done(s))) release(i);
+            continue;
+        }
+        const int multiple = config_.coarse_max > 1 ? s.body.coarse_factor(config_.coarse_max, coarse_floor_) : 1;
+        if (multiple > 1) {
+            ++stats_.coarse_steps;
+            s.coarse_left = multiple - 1;
+        }
+        if (!s.body.step(multiple)) {   // the guard put the drop back as spawned: whole again
+            s.coarse_left = 0;
             ++stats_.resets;
             s.pieces = s.components.compute(s.body);
         }

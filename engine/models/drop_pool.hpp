@@ -23,6 +23,7 @@
 //   pool.lowest_z(d);                                 // m, no mass of the drop is lower (broad phase)
 //   pool.body(d); pool.calibration(d); pool.serial(d); // its Body3D (wakes it), calibration, spawn number
 //   pool.retire(d); pool.clear();
+//   pool.set_coarse_floor(z);                         // m: drops wholly above may take coarse steps (below)
 //   pool.stats();                                     // spawned, refused, rejected, retired, breaks, breakups
 //   pool.underside(D);                                // m, centre to lowest mass (placing a drop on a surface)
 //
@@ -56,10 +57,22 @@
 // gone from the scene: the caller's choice) retires, as does one older than max_lifetime (a safety net;
 // 0 = never). The slot returns to the free list.
 //
+// Coarse steps (config.coarse_max > 1, and a floor set): an awake drop whose every mass is above the
+// floor by more than it can travel takes k output steps as one (Body3D::coarse_factor() picks k, at
+// most coarse_max: stable over the links that can act, clear of the floor; body3d.hpp, "Coarse steps")
+// and then sits out the next k - 1 step() calls. Its masses show the state at the end of the coarse
+// step meanwhile (at most k - 1 steps ahead). The caller sets the floor where nothing can touch a drop
+// above it (drop_on_canopy.cpp: 5 cm along the normal over the canopy's highest rest point, which its
+// membrane never reaches): a splash's pieces in flight, most of a shattered drop's life, cost a third
+// or a quarter. apply_force, set_position and set_velocity during the steps sat out end them (counted
+// in stats().coarse_interrupted; the floor's margin means a collision never does). Default: off
+// (coarse_max 1, floor +infinity).
+//
 // Cost: one Body3D step per active drop; measured in docs/engine.md ("The drop").
 
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <memory>
 #include <span>
 #include <utility>
@@ -85,6 +98,7 @@ struct DropPoolConfig {
     Vec3 gravity{0.0, 0.0, -constants::gravity};
     Integrator integrator = Integrator::symplectic_euler;
     DropOptions options;
+    int coarse_max = 1;                        // output steps a drop in flight may take as one (1: never)
 };
 
 struct DropPoolStats {
@@ -95,6 +109,9 @@ struct DropPoolStats {
     long link_breaks = 0;  // links broken
     long breakups = 0;     // pieces gained (a drop that splits in three adds 2)
     long resets = 0;       // Body3D guard resets (never expected)
+    long coarse_steps = 0;         // steps a drop took as k > 1 output steps
+    long coarse_sat_out = 0;       // step() calls a drop sat out after a coarse step
+    long coarse_interrupted = 0;   // coarse steps cut short by a force or a move (never expected)
 };
 
 class DropPool {
@@ -119,9 +136,12 @@ public:
     Vec3 position(int drop, int mass) const;
     Vec3 velocity(int drop, int mass) const;
     double mass(int drop, int mass) const { return slot(drop).body.mass(mass); }
-    void apply_force(int drop, int mass, Vec3 force) { awake(drop).apply_force(mass, force); }
-    void set_position(int drop, int mass, Vec3 p) { awake(drop).set_position(mass, p); }
-    void set_velocity(int drop, int mass, Vec3 v) { awake(drop).set_velocity(mass, v); }
+    void apply_force(int drop, int mass, Vec3 force) { touched(drop).apply_force(mass, force); }
+    void set_position(int drop, int mass, Vec3 p) { touched(drop).set_position(mass, p); }
+    void set_velocity(int drop, int mass, Vec3 v) { touched(drop).set_velocity(mass, v); }
+    void set_coarse_floor(double z) { coarse_floor_ = z; }   // m (+infinity: no coarse steps)
+    double coarse_floor() const { return coarse_floor_; }
+    int coarse_steps_left(int drop) const { return slot(drop).coarse_left; }   // step() calls it sits out
     Body3D& body(int drop) { return awake(drop); }
     const Body3D& body(int drop) const { return awake(drop); }
     bool dormant(int drop) const { return slot(drop).dormant; }
@@ -171,9 +191,11 @@ private:
         int pieces = 0;
         long steps = 0;
         std::uint64_t serial = 0;
+        int coarse_left = 0;   // step() calls to sit out after a coarse step
     };
     Slot& slot(int drop) const { return slots_[static_cast<std::size_t>(drop)]; }
     Body3D& awake(int drop) const;   // wakes a dormant drop (no allocation; the physics is unchanged)
+    Body3D& touched(int drop);       // awake(), and ends a coarse step's sitting out
     void step_dormant(Slot& s) const;
     void set_changed_piece_drag(Slot& s);
     bool all_done(const Slot& s) const;
@@ -193,6 +215,7 @@ private:
     int max_masses_ = 0;
     int max_target_ = 0;
     long steps_since_check_ = 0;
+    double coarse_floor_ = std::numeric_limits<double>::infinity();
 };
 
 }  // namespace ameoto

@@ -80,6 +80,14 @@ TEST_CASE("drop_pool: construction sizes everything; liquids are checked when ad
     DropPoolConfig none = small_config(1);
     none.capacity = 0;
     CHECK_THROWS_AS(DropPool{none}, std::invalid_argument);
+    for (int coarse : {0, 65}) {   // coarse steps: 1 (off) to 64 samples as one
+        DropPoolConfig bad = small_config(1);
+        bad.coarse_max = coarse;
+        CHECK_THROWS_WITH_AS(DropPool{bad}, "drop pool: coarse max must be in 1..64", std::invalid_argument);
+    }
+    // Off by default: no floor, one sample per step.
+    CHECK(DropPoolConfig{}.coarse_max == 1);
+    CHECK(pool.coarse_floor() == std::numeric_limits<double>::infinity());
 }
 
 // add_liquid's check is cached per process (drop_pool.cpp) by everything but the pool's limit: each
