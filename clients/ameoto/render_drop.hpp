@@ -33,6 +33,7 @@ struct RenderDropOptions {
     std::optional<double> x, y;         // m, canopy coordinates; both or neither
     SceneOutput output = SceneOutput::far_field;
     int channels = 1;                   // 1 or 2
+    int coarse_steps = 4;               // 1..64: samples a splash in the air may take as one (1: never)
     bool quiet = false;
     std::string wav_path;               // -o, required
     std::string plot_path;              // --plot, optional
