@@ -119,6 +119,9 @@ void Body3D::reserve(int masses, int links) {
     reserve_touched(candidates_, l);
     reserve_touched(near_links_, l);
     for (auto* a : {&listed_x_, &listed_y_, &listed_z_}) reserve_touched(*a, m);
+    reserve_touched(coarse_bonds_, l);
+    reserve_touched(core_extra_, m);
+    reserve_touched(touched_, m);
 }
 
 void Body3D::clear() {
@@ -242,6 +245,10 @@ const Body3DStability& Body3D::finalize(double time_step_s, int forced_sub_steps
         can_touch = can_touch || kind_[l] == LinkKind::contact || (kind_[l] == LinkKind::cohesive && core_stiffness_[l] > 0.0);
     }
     coarse_reach_m_ = can_touch ? coarse_reach * longest : std::numeric_limits<double>::infinity();
+    core_extra_.assign(n, 0.0);
+    touched_.assign(n, 0);
+    coarse_bonds_.clear();
+    coarse_bonds_.reserve(link_a_.size());   // within reserve()'s capacity: no allocation
     lowest_z_ = -std::numeric_limits<double>::infinity();
     coarse_looked_ = false;   // coarse_factor() looks at the links again
     finalized_ = true;
@@ -1321,11 +1328,13 @@ bool Body3D::step(int time_multiple) {
         for (int s = 0; s < stability_.sub_steps; ++s) sub_step(s);
         dt_scale_ = 1.0;
         since_look_ += time_multiple * stability_.time_step;
+        since_bonds_ += time_multiple * stability_.time_step;
     } else {
         // CORDIS keeps x[n-1], tied to the sub-step: k ordinary steps (their breaks all listed).
         for (int k = 0; k < std::max(time_multiple, 1); ++k)
             for (int s = 0; s < stability_.sub_steps; ++s) sub_step(s);
         since_look_ += std::max(time_multiple, 1) * stability_.time_step;
+        since_bonds_ += std::max(time_multiple, 1) * stability_.time_step;
     }
     // Held for this step only. Cleared only if apply_force() was called since the last clearing (collisions
     // touch a drop for a few steps of its life): otherwise they are all +0.0 already.

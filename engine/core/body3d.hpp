@@ -98,11 +98,15 @@
 // is step() exactly (T' x 1.0 = T'); with CORDIS (whose state is x[n-1], tied to T'), k ordinary steps
 // one after another. An external force acts over the whole of it. coarse_factor(max_k, floor_z) says
 // which k (1..max_k) keeps the body stable and clear of the floor (drop_pool.hpp's "coarse steps"):
-//   - stable: Gershgorin as finalize(), but over the links that can act before the links are looked at
-//     again: intact links (k + k_c), and of the broken ones only cores (k_c) and contacts whose masses
-//     are within their reach + coarse_reach (4 rest lengths) of touching; the largest k <= max_k with
-//     margin (omega^2 (k T')^2 + 2 gamma k T') / 4 < 0.9, as finalize() picks sub-steps. A shattered
-//     drop's lone pieces have no intact link, so its stiffest piece decides (a pair of masses: k = 3);
+//   - stable: Gershgorin as finalize(), but over what can act within the step: intact links' springs
+//     and dampers; of the broken links only cores (k_c) and contacts whose masses are within their
+//     length + coarse_reach (16 rest lengths) of touching at the last look; and an intact cohesive
+//     link's own core only if its masses could come closer than the core's length within the step,
+//     at 1.5 x their relative speed and the largest acceleration their bonds can give them (a bond's
+//     masses move nearly together, and its core, in a drop 1 450 times stiffer than its spring, is
+//     what limits k); the others are clear for a time computed with them, and checked again after it.
+//     The largest k <= max_k with margin (omega^2 (k T')^2 + 2 gamma k T') / 4 < 0.9, as finalize()
+//     picks sub-steps;
 //   - a look (a pass over the masses for the fastest speed, one over the links) takes a speed bound:
 //     1.5 x the fastest mass's speed plus 1 m/s (head-room for what a piece's own links turn into
 //     speed), plus gravity's gain since; two masses approach at most twice that. The links are looked
@@ -296,7 +300,8 @@ private:
     double uniform_cohesive_links(int index);   // the baseline's link pass for uniform cohesive links
     void build_link_scratch();             // finalize(): the uniform pass's lists and scratch
     void check_link_args(int a, int b) const;
-    int stable_coarse_multiple();          // coarse_factor()'s look at the links (body3d_coarse.cpp)
+    void look_at_links();                  // coarse_factor()'s look at the links (body3d_coarse.cpp)
+    void check_bonds(double step_s);       // ... and at the bonds' cores (body3d_coarse.cpp)
 
     // masses (structure of arrays)
     std::vector<double> x_, y_, z_;          // position, m
@@ -354,7 +359,16 @@ private:
     static constexpr double coarse_reach = 16.0;   // rest lengths: how near a broken link counts as acting
     static constexpr int coarse_limit = 64;       // the largest multiple looked for
     bool coarse_looked_ = false;
-    int coarse_stable_ = 1;          // the largest stable multiple (<= coarse_limit) at the last look
+    double coarse_omega2_ = 0.0;     // 1/s^2, the look's Gershgorin bound, bonds' cores left out
+    double coarse_gamma_ = 0.0;      // 1/s, the look's damping bound
+    std::vector<std::int32_t> coarse_bonds_;   // intact cohesive links with a core, at the look
+    std::vector<double> core_extra_;           // per mass scratch (zero between calls)
+    std::vector<std::int32_t> touched_;        // the masses check_bonds() wrote there
+    double bond_accel_ = 0.0;        // m/s^2, how fast a bond's masses can speed towards each other
+    bool bonds_checked_ = false;
+    double bonds_omega2_ = 0.0;      // 1/s^2, the look's bound with the bonds' cores that may engage
+    double bonds_clear_for_ = 0.0;   // s, from the check: how long the others stay clear
+    double since_bonds_ = 0.0;       // s stepped since the check
     double look_speed_ = 0.0;        // m/s, the speed bound taken at the last look
     double since_look_ = 0.0;        // s stepped since the last look
     double coarse_reach_m_ = 0.0;    // m, coarse_reach x the longest rest length (finalize())

@@ -23,7 +23,7 @@ namespace {
 constexpr double kBurst = 8.0;   // m/s, the burst's outward speed
 
 // A 5 mm water drop as body3d_test.cpp's shattering drop (122 masses, 537 cohesive links with the
-// calibration of engine/models/drop.hpp), falling at terminal speed onto z = 0.
+// calibration of engine/models/drop.hpp), at terminal speed.
 Body3D water_drop(bool portable) {
     Body3D body;
     const auto shape = ameoto::lattice_ball_shape(125);
@@ -41,18 +41,6 @@ Body3D water_drop(bool portable) {
     body.set_portable_kernels(portable);
     body.finalize(kT);
     return body;
-}
-
-// The floor of body3d_test.cpp: each mass below z = 0 pushed up by a stiff damped penalty. Elastic
-// enough that the splash rebounds into the air, where coarse steps apply.
-void floor_forces(Body3D& body) {
-    for (int i = 0; i < body.mass_count(); ++i) {
-        const Vec3 p = body.position(i);
-        if (p.z >= 0.0) continue;
-        const double m = body.mass(i), omega = 2e4;
-        const double push = m * omega * omega * (-p.z) - 0.2 * m * omega * body.velocity(i).z;
-        body.apply_force(i, Vec3{0.0, 0.0, std::max(0.0, push)});
-    }
 }
 
 // The same drop bursting in the air, as a splash's crown does: every mass flung out from the centre

@@ -136,7 +136,7 @@ TEST_CASE("drop_on_canopy: a splash in flight takes coarse steps; the sound is e
     // so the canopy, and with it the sound, is exactly what stepping every sample gives until a piece
     // comes down again (a 5 mm splash on nylon rises for about 0.1 s and lands again after 0.5 s). What
     // the pieces' flight itself changes is symplectic Euler's error with the longer step: about
-    // g t (k - 1) T / 2, 31 um after 0.3 s for k = 2 at 48 kHz.
+    // g t (k - 1) T / 2, 92 um after 0.3 s for k = 4 at 48 kHz (the most DropOnCanopy asks for).
     auto run = [](int coarse_steps, int frames, DropOnCanopy*& keep) {
         DropOnCanopyConfig c = small_config();
         c.coarse_steps = coarse_steps;
@@ -162,14 +162,15 @@ TEST_CASE("drop_on_canopy: a splash in flight takes coarse steps; the sound is e
     CHECK(sa.pieces == sb.pieces);
     CHECK(sa.masses == sa.masses_at_spawn);   // conservation, exactly
     CHECK(sa.mass_kg == sa.mass_at_spawn_kg);
-    // The pieces in flight: their centre of mass within 0.1 mm of every-sample stepping's.
+    // The pieces in flight: their centre of mass within 1.5 x that bound of every-sample stepping's.
+    const double bound = 1.5 * 9.80665 * 0.3 * (4 - 1) / 48000.0 / 2.0;
     const auto ma = coarse->snapshot(), mb = fine->snapshot();
     REQUIRE(ma.size() == mb.size());
     ameoto::Vec3 da{};
     for (std::size_t i = 0; i < ma.size(); ++i) da = da + (ma[i].position - mb[i].position);
     da = da / static_cast<double>(ma.size());
     MESSAGE("centre of mass, coarse - fine: " << da.x * 1e6 << ", " << da.y * 1e6 << ", " << da.z * 1e6 << " um");
-    CHECK(ameoto::norm(da) < 1e-4);
+    CHECK(ameoto::norm(da) < bound);
     CHECK(ameoto::norm(da) > 0.0);   // the flight did change: the coarse steps were taken
 }
 
