@@ -131,9 +131,9 @@ int run_drop_bench(const BenchOptions& options, const CommandIo& io) {
                   round_low, round_high);
     io.out << line;
     io.out << "limit: each drop's per-mass passes over its 122 masses (drag's square root, update) and its sparse link "
-              "pass, every sample until the splash is in the air, every second sample after (coarse steps: its pairs "
-              "and triples allow no longer); then the canopy (its panels already SIMD lanes) and its far field; see "
-              "docs/bench.md, \"ameoto bench drop\"\n";
+              "pass, every sample until the splash is in the air, then steps of 3-4 samples (coarse steps; choosing them "
+              "costs a look over its links every 20 or so samples); then the canopy (its panels already SIMD lanes) and "
+              "its far field; see docs/bench.md, \"ameoto bench drop\"\n";
     return exit_status::ok;
 }
 
