@@ -278,6 +278,7 @@ TEST_CASE("drop_on_canopy: drop() and process() never allocate") {
     CHECK(audit.entries() > 0);
     CHECK_MESSAGE(audit.violations() == 0, audit.first());
     CHECK(scene.stats().pieces > 2);
+    CHECK(scene.pool().stats().coarse_steps > 0);   // the splash's coarse steps ran inside the audit too
 }
 
 namespace {
