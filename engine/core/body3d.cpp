@@ -191,12 +191,7 @@ const Body3DStability& Body3D::finalize(double time_step_s, int forced_sub_steps
         z_sum[b] += share * damping_[l];
     }
     double omega2 = 0.0, gamma = 0.0;
-    for (std::size_t i = 0; i < n; ++i) {
-        if (fixed_[i]) continue;
-        const double drag = linear_drag_[i] + 2.0 * quadratic_drag_[i] * speed_bound_;
-        omega2 = std::max(omega2, k_sum[i] * inv_mass_[i]);
-        gamma = std::max(gamma, (z_sum[i] + drag) * inv_mass_[i]);
-    }
+    gershgorin_maxima(omega2, gamma);
     stability_.omega_max_bound = std::sqrt(omega2);
     stability_.gamma_max_bound = gamma;
     stability_.time_step = time_step_s;
@@ -253,6 +248,20 @@ const Body3DStability& Body3D::finalize(double time_step_s, int forced_sub_steps
     coarse_looked_ = false;   // coarse_factor() looks at the links again
     finalized_ = true;
     return stability_;
+}
+
+// The largest omega^2 and gamma over the free masses from the per-mass sums in k_sum_ and z_sum_
+// (finalize() and coarse_factor()'s look fill them): omega^2 <= k_sum / m, gamma <= (z_sum + drag) / m,
+// the quadratic drag linearised at the speed bound (see the header).
+void Body3D::gershgorin_maxima(double& omega2, double& gamma) const {
+    omega2 = 0.0;
+    gamma = 0.0;
+    for (std::size_t i = 0; i < x_.size(); ++i) {
+        if (fixed_[i]) continue;
+        const double drag = linear_drag_[i] + 2.0 * quadratic_drag_[i] * speed_bound_;
+        omega2 = std::max(omega2, k_sum_[i] * inv_mass_[i]);
+        gamma = std::max(gamma, (z_sum_[i] + drag) * inv_mass_[i]);
+    }
 }
 
 // The AVX2 uniform pass's lists. Per group of 4 masses (4 g .. 4 g + 3), rows of 4 slots, one per

@@ -302,6 +302,7 @@ private:
     void check_link_args(int a, int b) const;
     void look_at_links();                  // coarse_factor()'s look at the links (body3d_coarse.cpp)
     void check_bonds(double step_s);       // ... and at the bonds' cores (body3d_coarse.cpp)
+    void gershgorin_maxima(double& omega2, double& gamma) const;   // from k_sum_, z_sum_ (finalize, looks)
 
     // masses (structure of arrays)
     std::vector<double> x_, y_, z_;          // position, m

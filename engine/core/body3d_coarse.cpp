@@ -127,15 +127,7 @@ void Body3D::look_at_links() {
         z_sum_[a] += share * z;
         z_sum_[b] += share * z;
     }
-    double omega2 = 0.0, gamma = 0.0;
-    for (std::size_t i = 0; i < n; ++i) {
-        if (fixed_[i]) continue;
-        const double drag = linear_drag_[i] + 2.0 * quadratic_drag_[i] * speed_bound_;
-        omega2 = std::max(omega2, k_sum_[i] * inv_mass_[i]);
-        gamma = std::max(gamma, (z_sum_[i] + drag) * inv_mass_[i]);
-    }
-    coarse_omega2_ = omega2;
-    coarse_gamma_ = gamma;
+    gershgorin_maxima(coarse_omega2_, coarse_gamma_);
     // A bond pulls or pushes each of its masses by at most its break force (beyond it, it breaks; its
     // spring's push before the core engages, k (l0 - l_c), and its damper's are far smaller: 1e-5 N
     // against 1e-4 N in a 5 mm water drop, counted as a second break force). A mass with d bonds:

@@ -11,6 +11,7 @@
 #include "engine/core/lattice_ball.hpp"
 #include "tests/support/rt_probe_scope.hpp"
 #include "tests/support/test_constants.hpp"
+#include "tests/support/water_drop_body.hpp"
 
 using namespace ameoto::test::common;
 
@@ -26,16 +27,7 @@ constexpr double kBurst = 8.0;   // m/s, the burst's outward speed
 // calibration of engine/models/drop.hpp), at terminal speed.
 Body3D water_drop(bool portable) {
     Body3D body;
-    const auto shape = ameoto::lattice_ball_shape(125);
-    const double d = 5e-3, h = d * shape.spacing;
-    for (const Vec3& p : shape.position) {
-        const int m = body.add_mass(5.354e-7, Vec3{0.0, 0.0, 0.5 * d} + d * p);
-        body.set_velocity(m, Vec3{0.3, 0.0, -9.09});
-        body.set_quadratic_drag(m, 6.36e-8);
-    }
-    for (int l = 0; l < shape.link_count(); ++l)
-        body.add_cohesive(shape.link_a[static_cast<std::size_t>(l)], shape.link_b[static_cast<std::size_t>(l)], 0.09976, 6.327e-6, h,
-                          1.074e-4, 0.9 * h, 144.5);
+    ameoto::test::add_five_mm_water_drop(body, Vec3{0.3, 0.0, -9.09});
     body.set_gravity(Vec3{0.0, 0.0, -9.80665});
     body.set_integrator(Integrator::symplectic_euler);
     body.set_portable_kernels(portable);

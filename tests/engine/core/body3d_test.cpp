@@ -12,6 +12,7 @@
 #include "engine/core/random.hpp"
 #include "tests/support/rt_probe_scope.hpp"
 #include "tests/support/test_constants.hpp"
+#include "tests/support/water_drop_body.hpp"
 
 using namespace ameoto::test::common;
 
@@ -268,16 +269,7 @@ TEST_CASE("body3d: a drop that shatters on a floor gives the same bits in every 
     // the vector ones). Every step their states and break events must agree to the bit.
     auto build = [](bool generic, bool portable, Integrator scheme) {
         Body3D body;
-        const auto shape = ameoto::lattice_ball_shape(125);
-        const double d = 5e-3, h = d * shape.spacing;
-        for (const Vec3& p : shape.position) {
-            const int m = body.add_mass(5.354e-7, Vec3{0.0, 0.0, 0.5 * d} + d * p);
-            body.set_velocity(m, Vec3{0.3, 0.0, -9.09});
-            body.set_quadratic_drag(m, 6.36e-8);
-        }
-        for (int l = 0; l < shape.link_count(); ++l)
-            body.add_cohesive(shape.link_a[static_cast<std::size_t>(l)], shape.link_b[static_cast<std::size_t>(l)], 0.09976,
-                              6.327e-6, h, 1.074e-4, 0.9 * h, 144.5);
+        ameoto::test::add_five_mm_water_drop(body, Vec3{0.3, 0.0, -9.09});
         if (generic) {
             const int a = body.add_mass(1e-6, Vec3{1.0, 0.0, 0.0});
             const int b = body.add_mass(1e-6, Vec3{1.001, 0.0, 0.0});
