@@ -27,7 +27,6 @@ int Body3D::coarse_factor(int max_multiple, double floor_z) {
         if (!std::isfinite(v2_max)) return 1;
         look_speed_ = 1.5 * std::sqrt(v2_max) + 1.0;
         since_look_ = 0.0;
-        // The look holds while 2 x speed x (time since + the step) < reach: at most this long.
         look_at_links();
         coarse_looked_ = true;
         if (!(2.0 * speed() * longest < coarse_reach_m_)) return 1;   // too fast for a look to hold over one step
