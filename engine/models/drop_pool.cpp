@@ -304,19 +304,21 @@ void DropPool::step() {
     const bool check = ++steps_since_check_ >= config_.retire_interval;
     if (check) steps_since_check_ = 0;
     const long max_steps = config_.max_lifetime > 0.0 ? std::lround(config_.max_lifetime / config_.time_step) : 0;
+    // Too old, or (at a check) all its masses done: the slot returns to the free list.
+    auto finished = [&](const Slot& s) { return (max_steps > 0 && s.steps >= max_steps) || (check && all_done(s)); };
     // Backwards: release() moves the last active drop into the freed place.
     for (std::size_t i = active_.size(); i-- > 0;) {
         Slot& s = slot(active_[i]);
         ++s.steps;
         if (s.dormant) {
             step_dormant(s);
-            if ((max_steps > 0 && s.steps >= max_steps) || (check && all_done(s))) release(i);
+            if (finished(s)) release(i);
             continue;
         }
         if (s.coarse_left > 0) {   // a coarse step covered this one (see the header)
             --s.coarse_left;
             ++stats_.coarse_sat_out;
-            if ((max_steps > 0 && s.steps >= max_steps) || (check && all_done(s))) release(i);
+            if (finished(s)) release(i);
             continue;
         }
         const int multiple = config_.coarse_max > 1 ? s.body.coarse_factor(config_.coarse_max, coarse_floor_) : 1;
@@ -340,7 +342,7 @@ void DropPool::step() {
             }
             s.pieces = pieces;
         }
-        if ((max_steps > 0 && s.steps >= max_steps) || (check && all_done(s))) release(i);
+        if (finished(s)) release(i);
     }
 }
 

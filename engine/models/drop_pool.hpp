@@ -62,9 +62,9 @@
 // most coarse_max: stable over the links that can act, clear of the floor; body3d.hpp, "Coarse steps")
 // and then sits out the next k - 1 step() calls. Its masses show the state at the end of the coarse
 // step meanwhile (at most k - 1 steps ahead). The caller sets the floor where nothing can touch a drop
-// above it (drop_on_canopy.cpp: 5 cm along the normal over the canopy's highest rest point, which its
-// membrane never reaches): a splash's pieces in flight, most of a shattered drop's life, cost a third
-// or a quarter. apply_force, set_position and set_velocity during the steps sat out end them (counted
+// above it (drop_on_canopy.cpp, each sample: the membrane's highest point read that sample plus 2 mm and
+// the collider's skin, or the top of the 5 cm band the membrane never reaches): a splash's pieces in
+// flight, most of a shattered drop's life, then cost a third or a quarter. apply_force, set_position and set_velocity during the steps sat out end them (counted
 // in stats().coarse_interrupted; the floor's margin means a collision never does). Default: off
 // (coarse_max 1, floor +infinity).
 //
@@ -141,7 +141,6 @@ public:
     void set_velocity(int drop, int mass, Vec3 v) { touched(drop).set_velocity(mass, v); }
     void set_coarse_floor(double z) { coarse_floor_ = z; }   // m (+infinity: no coarse steps)
     double coarse_floor() const { return coarse_floor_; }
-    int coarse_steps_left(int drop) const { return slot(drop).coarse_left; }   // step() calls it sits out
     Body3D& body(int drop) { return awake(drop); }
     const Body3D& body(int drop) const { return awake(drop); }
     bool dormant(int drop) const { return slot(drop).dormant; }
