@@ -48,9 +48,19 @@ std::optional<FirstScene> read_first_scene(const DaemonOptions& options, double 
     // offline render (null backend, not paced) stays reproducible to the sample.
     first.base.adaptive_lod = !options.fixed_detail && live;
     first.folder = options.scene_folder ? std::filesystem::path(*options.scene_folder) : SceneStore::default_folder();
+    // A name is a name (built in, or the folder's); anything else parse_options let through is a file's path.
+    const bool by_name = is_scene_name(options.scene);
     const std::map<std::string, MembraneMaterial> no_custom_materials;   // none is defined before the first scene
+    if (!by_name) {
+        try {
+            first.scene = SceneStore::read_file(options.scene);
+        } catch (const std::exception& e) {
+            warn(std::string("--scene: ") + e.what());   // it names the file (and the line and the key)
+            return std::nullopt;
+        }
+    }
     try {
-        first.scene = SceneStore(first.folder).load(options.scene);
+        if (by_name) first.scene = SceneStore(first.folder).load(options.scene);
         if (options.rain_mm_per_h) first.scene.rain.rate_mm_per_h = *options.rain_mm_per_h;
         first.config = configure_for_scene(first.base, first.scene, find_custom_material, &no_custom_materials);
     } catch (const std::exception& e) {

@@ -53,8 +53,8 @@ struct FirstScene {
     std::filesystem::path folder;   // the scene folder (--scene-dir)
 };
 
-// --scene NAME (built in, or NAME.scene in the folder), then --rain. Says why and returns nullopt when
-// it cannot be read or used.
+// --scene NAME (built in, or NAME.scene in the folder) or --scene PATH.scene (a file anywhere: the
+// command line is trusted), then --rain. Says why and returns nullopt when it cannot be read or used.
 std::optional<FirstScene> read_first_scene(const DaemonOptions& options, double sample_rate, bool live);
 
 class SceneManager {
