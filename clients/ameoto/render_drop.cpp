@@ -81,7 +81,7 @@ std::string render_usage() {
            "  --coarse-steps N    1..64 samples a splash wholly in the air (touching nothing) may\n"
            "                      take as one step (default 4; 1: every piece every sample). The\n"
            "                      sound is the same to the bit until a piece lands again, then\n"
-           "                      differs by about 1 % (docs/engine.md, \"Coarse steps\")\n"
+           "                      differs by about 1 % (docs/drop.md, \"Coarse steps for a splash in flight\")\n"
            "  --quiet             no progress on stderr\n"
            "  --plot FILE.svg     also write a plot: pieces over time, a side view of the drop's\n"
            "                      masses at a few times, the waveform and the spectrogram\n"

@@ -80,7 +80,7 @@
 //      listings after it look at those only, until the sum of the listings' bounds (which bounds the
 //      approach since the full listing) passes 28 h;
 //   3. per mass, four at a time: the dense pass's link forces, then the update.
-// A 5 mm drop per 48 kHz step, scalar -> AVX2 (docs/engine.md, "The drop"): awake 5.6 -> 3.1 us,
+// A 5 mm drop per 48 kHz step, scalar -> AVX2 (docs/drop.md, "Cost of a step"): awake 5.6 -> 3.1 us,
 // shattered 1.8 -> 0.81 us.
 // Bit identity. The AVX2 step gives the scalar step's result to the bit, so a render is the same on any
 // x86-64: each lane performs the same IEEE operations in the same order (+, -, *, /, sqrt are correctly
