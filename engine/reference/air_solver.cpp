@@ -245,6 +245,30 @@ void AirSolver::step() {
     // 3. The pressure at t_n+1.
     update_pressure();
     ++steps_;
+    for (Probe& q : probes_) q.samples.push_back(pressure_at(q.x, q.y, q.z));
+    for (DofProbe& q : dof_probes_) {
+        q.velocity.push_back(structure_.velocity(q.dof));
+        q.force.push_back(air_force_[static_cast<std::size_t>(q.dof)]);
+    }
+}
+
+int AirSolver::add_probe(double x, double y, double z) {
+    probes_.push_back({x, y, z, {}});
+    return static_cast<int>(probes_.size()) - 1;
+}
+
+int AirSolver::add_dof_probe(int dof) {
+    if (dof < 0 || dof >= structure_.size()) throw std::invalid_argument("AirSolver::add_dof_probe: no such DOF");
+    dof_probes_.push_back({dof, {}, {}});
+    return static_cast<int>(dof_probes_.size()) - 1;
+}
+
+void AirSolver::reserve_probes(std::size_t steps) {
+    for (Probe& q : probes_) q.samples.reserve(q.samples.size() + steps);
+    for (DofProbe& q : dof_probes_) {
+        q.velocity.reserve(q.velocity.size() + steps);
+        q.force.reserve(q.force.size() + steps);
+    }
 }
 
 void AirSolver::add_pressure(int i, int j, int k, double pa) {

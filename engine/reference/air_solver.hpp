@@ -19,6 +19,11 @@
 //   air.pressure_at(x, y, z)       // Pa, trilinear between cell centres, at the current time t_n
 //   air.dof_velocity(d), air.dof_displacement(d), air.dof_air_force(d)   // the last step's
 //   air.set_air_loading(false)     // the structure in vacuum: the air neither drives nor is driven
+//   int q = air.add_probe(x, y, z) // a pressure time series, one sample per step after it (at t_n+1):
+//   air.probe(q)                   //   air.probe(q)[n]; add_dof_probe(d): dof_probe_velocity(q) and
+//                                  //   dof_probe_force(q) (the air's force), likewise; reserve_probes(steps)
+//                                  //   keeps step() from allocating
+// A point within half a cell of the screen interpolates across it: listen at |z| >= dx / 2.
 //
 // The grid (Yee 1966; for acoustics Botteldooren 1994): pressure at cell centres, each particle-velocity
 // component on the faces normal to it; leapfrog in time, velocity at half steps. rho0 and c are
@@ -133,6 +138,13 @@ public:
     double dof_air_force(int dof) const { return air_force_[static_cast<std::size_t>(dof)]; }
     const StructureStepper& structure() const { return structure_; }
     double acoustic_energy() const;                // J in the interior (not the layers)
+
+    int add_probe(double x, double y, double z);
+    const std::vector<double>& probe(int q) const { return probes_[static_cast<std::size_t>(q)].samples; }
+    int add_dof_probe(int dof);
+    const std::vector<double>& dof_probe_velocity(int q) const { return dof_probes_[static_cast<std::size_t>(q)].velocity; }
+    const std::vector<double>& dof_probe_force(int q) const { return dof_probes_[static_cast<std::size_t>(q)].force; }
+    void reserve_probes(std::size_t steps);
     std::size_t cells() const { return p_.size(); }
 
 private:
@@ -162,6 +174,16 @@ private:
     bool faces_dirty_ = true;
     StructureStepper structure_;
     std::vector<double> external_, air_force_, total_force_;
+    struct Probe {
+        double x, y, z;
+        std::vector<double> samples;
+    };
+    struct DofProbe {
+        int dof;
+        std::vector<double> velocity, force;
+    };
+    std::vector<Probe> probes_;
+    std::vector<DofProbe> dof_probes_;
 };
 
 }  // namespace ameoto::reference

@@ -70,15 +70,14 @@ PistonResult baffled_piston(const PistonSetup& setup) {
     const double c = air.sound_speed(), rho = air.density(), dt = air.time_step();
     const Pulse pulse(1.1 * setup.ka_high * c / r.effective_radius);
     const double t_end = pulse.end() + std::hypot(z, a) / c + 6.0 * a / c;
-    std::vector<double> u, p;
+    const int listener = air.add_probe(0.0, 0.0, z), piston = air.add_dof_probe(0);
     while (air.time() < t_end) {
-        const double v = pulse(air.time() + 0.5 * dt);
-        air.prescribe_velocity(0, v);
-        u.push_back(v);
+        air.prescribe_velocity(0, pulse(air.time() + 0.5 * dt));
         air.step();
-        p.push_back(air.pressure_at(0.0, 0.0, z));
     }
     r.steps = air.steps();
+    const std::vector<double>& u = air.dof_probe_velocity(piston);
+    const std::vector<double>& p = air.probe(listener);
     const double ae = r.effective_radius, R = std::hypot(z, ae);
     for (double ka = setup.ka_low; ka <= setup.ka_high + 1e-9; ka += setup.ka_step) {
         const double k = ka / ae, f = k * c / (2.0 * pi);
