@@ -235,7 +235,7 @@ std::string reference_usage() {
            "\n"
            "Runs the offline air reference's validations (engine/reference; docs/air-reference.md) and prints\n"
            "each figure against its target. Needs no server. Default: piston, disc, timpani and reflection, each\n"
-           "at its full-resolution spacing (piston a/16, disc a/12, timpani a/24; tens of seconds in all).\n"
+           "at its full-resolution spacing (piston a/16, disc a/12, timpani a/24; about 30 s in all).\n"
            "\n"
            "  piston      a baffled piston's on-axis pressure against Kinsler's, ka 0.5..5 (within 1 dB)\n"
            "  disc        a rigid disc in free air: Lamb's added mass (5 %), the dipole's far field (1.5 dB)\n"
