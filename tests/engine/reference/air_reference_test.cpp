@@ -12,7 +12,9 @@
 #include "engine/reference/canopy_in_air.hpp"
 #include "engine/reference/validations.hpp"
 
-using namespace ameoto::reference;
+// Everything inside the namespace: the suite may be a unity build, where a file-scope using-directive
+// would reach the other test files of its batch.
+namespace ameoto::reference {
 
 namespace {
 
@@ -232,3 +234,5 @@ TEST_CASE("reference: bad grids and structures are refused") {
     c.geometry.curvature_radius_m = 2.0;
     CHECK_THROWS_AS(run_canopy_in_air(c), std::invalid_argument);
 }
+
+}  // namespace ameoto::reference
