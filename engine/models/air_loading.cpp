@@ -5,6 +5,8 @@
 #include <stdexcept>
 #include <string>
 
+#include <Eigen/Eigenvalues>
+
 #include "engine/core/physical_constants.hpp"
 #include "engine/models/canopy.hpp"
 
@@ -151,6 +153,30 @@ AddedMass canopy_added_mass(const Canopy& canopy, double square_side_m, double a
     };
     const ScreenSampling s = sample_screen({-r, -r}, {r, r}, square_side_m, canopy.panel_count() * nodes, owner);
     return screen_added_mass(s, air_density);
+}
+
+AirLoadedModes air_loaded_modes(const Canopy& canopy, const AddedMass& air) {
+    const int panels = canopy.panel_count(), nodes = canopy.nodes_per_panel(), n = panels * nodes;
+    if (air.matrix.rows() != n || air.matrix.cols() != n)
+        throw std::invalid_argument("air_loaded_modes: the added mass is not the canopy's (" + std::to_string(air.matrix.rows()) +
+                                    " cells, " + std::to_string(n) + " nodes)");
+    // The panels are one body copied (canopy.hpp): one panel's K and C, placed on the diagonal.
+    const auto& arrays = canopy.panel(0).network.arrays();
+    const Eigen::MatrixXd kp = Eigen::MatrixXd(arrays.stiffness_matrix());
+    const Eigen::MatrixXd cp = Eigen::MatrixXd(arrays.damping_matrix());
+    Eigen::MatrixXd k = Eigen::MatrixXd::Zero(n, n), c = Eigen::MatrixXd::Zero(n, n), m = air.matrix;
+    for (int p = 0; p < panels; ++p) {
+        k.block(p * nodes, p * nodes, nodes, nodes) = kp;
+        c.block(p * nodes, p * nodes, nodes, nodes) = cp;
+        for (int i = 0; i < nodes; ++i) m(p * nodes + i, p * nodes + i) += arrays.mass(static_cast<std::size_t>(i));
+    }
+    const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> solver(k, m);
+    if (solver.info() != Eigen::Success) throw std::runtime_error("air_loaded_modes: eigen-solve failed");
+    AirLoadedModes out;
+    out.omega = solver.eigenvalues().cwiseMax(0.0).cwiseSqrt();
+    out.shapes = solver.eigenvectors();
+    out.damping_rate = 0.5 * (out.shapes.transpose() * c * out.shapes).diagonal();
+    return out;
 }
 
 }  // namespace ameoto

@@ -13,6 +13,8 @@
 //                                                         // (index panel * nodes + node)
 //   a.matrix * acceleration = the force the air puts on each cell, with the sign reversed: the
 //   equation of motion in air is (M + M_a) u'' + C u' + K u = f.
+//   AirLoadedModes m = air_loaded_modes(canopy, a);       // the whole canopy's modes in air:
+//                                                         // K phi = omega^2 (M + M_a) phi
 //
 // Method. A thin screen moving along its normal with velocity w(x, y) in incompressible, irrotational
 // air has a potential phi that jumps across it by mu = phi(top) - phi(bottom); the screen is a doublet
@@ -69,6 +71,19 @@ AddedMass screen_added_mass(const ScreenSampling& sampling, double air_density);
 // The umbrella's canopy seen from above (a flat canopy; a curved one is taken as its plan: the shallow
 // shell's approximation, canopy.hpp): each square belongs to the node Canopy::locate gives there.
 AddedMass canopy_added_mass(const Canopy& canopy, double square_side_m, double air_density);
+
+// The modes of the whole canopy (every panel; node index panel * nodes + node) in air, from the
+// panels' own K and M (its lattice) and the air's M_a: mass-normalised, Phi' (M + M_a) Phi = I, with
+// each mode's decay rate s_k = (Phi' C Phi)_kk / 2 from the material's damping C = alpha M + beta K
+// (classical modal damping: in air C is no longer proportional to the mass matrix). Throws
+// std::invalid_argument when a does not match the canopy's node count, std::runtime_error if the
+// eigen-solve fails.
+struct AirLoadedModes {
+    Eigen::VectorXd omega;          // rad/s, ascending
+    Eigen::MatrixXd shapes;         // [node, mode]
+    Eigen::VectorXd damping_rate;   // 1/s
+};
+AirLoadedModes air_loaded_modes(const Canopy& canopy, const AddedMass& air);
 
 // The velocity along +z at p induced by a vortex segment a -> b of unit circulation, all in one plane
 // (Biot-Savart; 0 on the segment's line). Exposed for its test.
