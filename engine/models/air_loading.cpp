@@ -179,4 +179,54 @@ AirLoadedModes air_loaded_modes(const Canopy& canopy, const AddedMass& air) {
     return out;
 }
 
+Eigen::VectorXd radiation_damping(const AirLoadedModes& modes, const AddedMass& air, double air_density,
+                                  double speed_of_sound, int polar_points, int azimuth_points) {
+    if (polar_points < 2 || azimuth_points < 4)
+        throw std::invalid_argument("radiation_damping: at least 2 polar and 4 azimuth points");
+    const Eigen::Index n = modes.omega.size();
+    // Gauss-Legendre nodes and weights on mu = cos(theta) in [0, 1] (Newton on P_n, Abramowitz & Stegun 25.4.29).
+    std::vector<double> mu(static_cast<std::size_t>(polar_points)), weight(mu.size());
+    for (int k = 0; k < polar_points; ++k) {
+        double x = std::cos(constants::pi * (k + 0.75) / (polar_points + 0.5)), dp = 1.0;
+        for (int it = 0; it < 100; ++it) {
+            double p0 = 1.0, p1 = x;
+            for (int j = 2; j <= polar_points; ++j) {
+                const double p2 = ((2 * j - 1) * x * p1 - (j - 1) * p0) / j;
+                p0 = p1;
+                p1 = p2;
+            }
+            dp = polar_points * (x * p1 - p0) / (x * x - 1.0);
+            const double step = p1 / dp;
+            x -= step;
+            if (std::abs(step) < 1e-15) break;
+        }
+        mu[static_cast<std::size_t>(k)] = 0.5 * (x + 1.0);   // [-1, 1] -> [0, 1]
+        weight[static_cast<std::size_t>(k)] = 1.0 / ((1.0 - x * x) * dp * dp);   // 2 / ((1 - x^2) P'^2), halved
+    }
+    const Eigen::MatrixXd source = air.matrix * modes.shapes;   // (M_a phi)_i per mode: N per unit q''
+    Eigen::VectorXd rate(n);
+    for (Eigen::Index m = 0; m < n; ++m) {
+        const double w = modes.omega[m], k = w / speed_of_sound;
+        double integral = 0.0;
+        for (std::size_t a = 0; a < mu.size(); ++a) {
+            const double sin_theta = std::sqrt(std::max(0.0, 1.0 - mu[a] * mu[a]));
+            for (int b = 0; b < azimuth_points; ++b) {
+                const double psi = 2.0 * constants::pi * b / azimuth_points;
+                const double kx = k * sin_theta * std::cos(psi), ky = k * sin_theta * std::sin(psi);
+                double re = 0.0, im = 0.0;
+                for (Eigen::Index i = 0; i < source.rows(); ++i) {
+                    const Point2 y = air.centroid[static_cast<std::size_t>(i)];
+                    const double phase = kx * y.x + ky * y.y;
+                    re += source(i, m) * std::cos(phase);
+                    im += source(i, m) * std::sin(phase);
+                }
+                integral += weight[a] * (2.0 * constants::pi / azimuth_points) * mu[a] * mu[a] * (re * re + im * im);
+            }
+        }
+        integral *= 2.0;   // both half-spaces
+        rate[m] = k * k * w * w / (32.0 * constants::pi * constants::pi * air_density * speed_of_sound) * integral;
+    }
+    return rate;
+}
+
 }  // namespace ameoto

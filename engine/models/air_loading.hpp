@@ -85,6 +85,21 @@ struct AirLoadedModes {
 };
 AirLoadedModes air_loaded_modes(const Canopy& canopy, const AddedMass& air);
 
+// Each mode's decay rate by radiation (1/s), for a flat screen: the mode's pressure jump, from the
+// incompressible solution (Delta p_i A_i = (M_a phi)_i q''), radiates as a sheet of dipoles along the
+// normal; at frequency w = c k the far field at direction (theta, psi) is
+//   p = (i k cos(theta) e^(-ikR) / 4 pi R) S,   S = sum_i (M_a phi)_i e^(i k r . y_i) q'',
+// and the power W = (1 / 2 rho0 c) integral |p|^2 R^2 d(Omega) against the mode's energy
+// E = w^2 Q^2 / 2 (mass-normalised) gives
+//   s_rad = W / 2E = k^2 w^2 / (32 pi^2 rho0 c) integral cos^2(theta) |S / q''|^2 d(Omega)
+// (for a rigid body, S = the force it puts on the air, and W is a point force's k^2 F^2 / 24 pi rho0 c).
+// The integral over both half-spaces (|S| is even in cos(theta)) by Gauss-Legendre in cos(theta) and
+// the trapezoid rule in azimuth. Approximation: the source is the incompressible near field's pressure
+// jump (ka small, or a subsonic mode whose radiating part is small); the radiation's reaction on the
+// modes' frequencies is left out.
+Eigen::VectorXd radiation_damping(const AirLoadedModes& modes, const AddedMass& air, double air_density,
+                                  double speed_of_sound, int polar_points = 12, int azimuth_points = 32);
+
 // The velocity along +z at p induced by a vortex segment a -> b of unit circulation, all in one plane
 // (Biot-Savart; 0 on the segment's line). Exposed for its test.
 double ring_segment_velocity(Point2 p, Point2 a, Point2 b);

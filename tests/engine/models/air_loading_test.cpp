@@ -182,8 +182,18 @@ TEST_CASE("air loading: the umbrella's lowest modes fall into 70-90 Hz in air") 
     const double f_vac = vac.omega[0] / (2 * kAirTestPi), f_air = air.omega[0] / (2 * kAirTestPi);
     std::printf("umbrella: lowest mode %.1f Hz in vacuum, %.1f Hz in air; air's mass on the first: %.2f x the fabric's\n", f_vac,
                 f_air, (f_vac * f_vac) / (f_air * f_air) - 1.0);
-    for (int j = 0; j < 12; ++j) std::printf("  canopy mode %d in air: %.1f Hz, decay %.1f /s\n", j, air.omega[j] / (2 * kAirTestPi),
-                                             air.damping_rate[j]);
+    ameoto::AirLoadedModes lowest{air.omega.head(12), air.shapes.leftCols(12), air.damping_rate.head(12)};
+    const Eigen::VectorXd radiation =
+        ameoto::radiation_damping(lowest, added, kAirTestRho, ameoto::constants::speed_of_sound_air);
+    // The panels moving together (modes 0 and 8) carry the canopy's net force: they radiate as a dipole
+    // and lose more to the air than to the fabric; modes with nodal lines between the panels radiate as
+    // higher multipoles, orders of magnitude less.
+    CHECK(radiation[0] > air.damping_rate[0]);
+    CHECK(radiation[8] > air.damping_rate[8]);
+    for (int j = 1; j < 8; ++j) CHECK(radiation[j] < 0.2 * radiation[0]);
+    for (int j = 0; j < 12; ++j)
+        std::printf("  canopy mode %d in air: %.1f Hz, decay %.1f /s by the fabric, %.1f /s by radiation\n", j,
+                    air.omega[j] / (2 * kAirTestPi), air.damping_rate[j], radiation[j]);
     // Mass-normalised over M + M_a; and the air lengthens every mode's ring: the material's alpha M
     // term is the same, its beta K term falls with omega^2.
     Eigen::MatrixXd m = added.matrix;
@@ -194,4 +204,31 @@ TEST_CASE("air loading: the umbrella's lowest modes fall into 70-90 Hz in air") 
     CHECK(air.damping_rate[0] < vac.damping_rate[0]);
     CHECK(f_air > 60.0);
     CHECK(f_air < 100.0);
+}
+
+TEST_CASE("air loading: a rigid disc's radiation damping is a point force's dipole power at small ka") {
+    // A body moving with acceleration a puts the force m_a a on the air; at small ka it radiates as a point
+    // force F: W = k^2 |F|^2 / (24 pi rho0 c) (Morse & Ingard, Theoretical Acoustics, 7.1; the dipole), so a
+    // uniform mode of total mass M = m + m_a (phi = 1 / sqrt M) decays by s = W / 2E = k^2 w^2 m_a^2 / (24 pi rho0 c M).
+    const double a = 0.1, c = ameoto::constants::speed_of_sound_air;
+    const auto lattice = ameoto::build_triangular_lattice(circle(a, 48), 0.02);
+    const AddedMass added = disc_added_mass(a, lattice, 0.02 / 6.0);
+    const double ma = added.matrix.sum(), body = 0.01, total = body + ma;
+    ameoto::AirLoadedModes mode;
+    mode.shapes = Eigen::MatrixXd::Constant(added.area.size(), 1, 1.0 / std::sqrt(total));
+    mode.damping_rate = Eigen::VectorXd::Zero(1);
+    for (double ka : {0.02, 0.05}) {
+        const double w = ka * c / a, k = ka / a;
+        mode.omega = Eigen::VectorXd::Constant(1, w);
+        const double s = ameoto::radiation_damping(mode, added, kAirTestRho, c)[0];
+        const double expected = k * k * w * w * ma * ma / (24.0 * kAirTestPi * kAirTestRho * c * total);
+        std::printf("disc a = %.2f m, ka %.2f: radiation decay %.4g /s, point dipole %.4g /s\n", a, ka, s, expected);
+        CHECK(s == doctest::Approx(expected).epsilon(0.01));
+    }
+    // At ka = 2 the cells' phases across the disc cut the far field below the point dipole's.
+    mode.omega = Eigen::VectorXd::Constant(1, 2.0 * c / a);
+    const double s2 = ameoto::radiation_damping(mode, added, kAirTestRho, c)[0];
+    const double point2 = std::pow(2.0 / a, 2) * std::pow(2.0 * c / a, 2) * ma * ma / (24.0 * kAirTestPi * kAirTestRho * c * total);
+    CHECK(s2 < point2);
+    CHECK(s2 > 0.2 * point2);
 }
