@@ -6,6 +6,7 @@
 #include "clients/ameoto/bench_drop.hpp"
 #include "clients/ameoto/bench_engine.hpp"
 #include "clients/ameoto/bench_lattices.hpp"
+#include "clients/ameoto/bench_levels.hpp"
 #include "clients/ameoto/bench_options.hpp"
 #include "clients/ameoto/bench_scene.hpp"
 #include "clients/ameoto/exit_status.hpp"
@@ -18,6 +19,7 @@ std::string bench_usage() {
            "       ameoto bench scene [--json] [--seconds S]\n"
            "       ameoto bench accuracy [--json] [--csv FILE] [--svg FILE] [--stability-svg FILE] [--table FILE]\n"
            "       ameoto bench lattices [--max-diameter MM] [--table FILE]\n"
+           "       ameoto bench levels [--seconds S] [--scene NAME]... [--json | --markdown]\n"
            "\n"
            "drop: the cost of the seed's full model, 5 mm water drops at terminal speed on the 8-panel\n"
            "nylon canopy at 48 kHz (impact and breakup), and how many at once one core can carry.\n"
@@ -28,6 +30,8 @@ std::string bench_usage() {
            "stability map, and the accuracy knob's data (ameoto bench accuracy --help; docs/accuracy.md).\n"
            "lattices: the drop lattices' stretch-mode analysis, timed per lattice, and its committed table\n"
            "(ameoto bench lattices --help; engine/models/stretch_mode_table.hpp).\n"
+           "levels: each built-in scene's LAeq and Leq at its listener at its default rain, 25, 50 and\n"
+           "100 mm/h, and the slope per decade of rain rate (ameoto bench levels --help; docs/levels.md).\n"
            "\n"
            "Measures the physics engine on this machine (no server needed): every method (the\n"
            "transverse network with each integrator, the grid membrane in float and double) on\n"
@@ -56,6 +60,7 @@ std::string bench_usage() {
 int run_bench(const CommandWords& words, const CommandIo& io) {
     if (std::find(words.begin(), words.end(), "accuracy") != words.end()) return run_accuracy_bench(words, io);
     if (std::find(words.begin(), words.end(), "lattices") != words.end()) return run_lattices_bench(words, io);
+    if (std::find(words.begin(), words.end(), "levels") != words.end()) return run_levels_bench(words, io);
     BenchOptions options;
     std::string error;
     switch (parse_bench_options(words, options, error)) {
