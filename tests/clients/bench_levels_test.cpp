@@ -33,11 +33,11 @@ SceneLevels short_run(const std::string& name) {
 }
 
 void report(const SceneLevels& s) {
-    std::string levels;
-    for (const LevelReading& l : s.levels)
-        levels += " " + std::to_string(l.rain_mm_per_h) + " mm/h: " + std::to_string(l.laeq_db) + " dBA " +
-                  std::to_string(l.leq_db) + " dB;";
-    MESSAGE(s.scene.name << levels << " slope " << s.slope_a_db_per_decade << " (A) " << s.slope_z_db_per_decade << " (Z)");
+    std::ostringstream text;
+    text << s.scene.name;
+    for (const LevelReading& l : s.levels) text << " " << l.rain_mm_per_h << " mm/h: " << l.laeq_db << " dBA " << l.leq_db << " dB;";
+    text << " slope " << s.slope_a_db_per_decade << " (A) " << s.slope_z_db_per_decade << " (Z)";
+    MESSAGE(text.str());
 }
 
 }  // namespace
