@@ -307,6 +307,7 @@ struct ReferenceScene {
         p.max_sub_steps = 64;
         p.retire_below = c.retire_below_m;
         p.max_lifetime = c.max_lifetime_s;
+        p.options.tilted = c.impact == ameoto::ImpactModel::wet;
         return p;
     }
 
@@ -315,7 +316,7 @@ struct ReferenceScene {
           dt(1.0 / c.sample_rate),
           canopy(c.geometry, c.material, dt),
           pool(pool_config(c)),
-          collider(canopy, dt, ameoto::CollisionOptions{.restitution = c.restitution}),
+          collider(canopy, dt, ameoto::collision_options(c)),
           far_field(canopy, ameoto::ListenerLayout::mono(ameoto::Vec3{0.0, 0.0, -c.listener_below_m}), dt),
           panel_forces(static_cast<std::size_t>(canopy.panel_count()), 0.0),
           pressures(1, 0.0) {
@@ -326,14 +327,19 @@ struct ReferenceScene {
 
     bool drop(double diameter, double speed, double x, double y) {   // DropOnCanopy::drop's placement
         const double v = speed > 0.0 ? speed : ameoto::arrival_speed(diameter, config.liquid.density);
-        const double z = canopy.rest_height(x, y) + pool.underside(diameter) + config.gap_m;
+        const double touch =
+            collider.reach(ameoto::calibrate_drop(diameter, config.liquid, pool.config().options).node_mass);
+        const double z = canopy.rest_height(x, y) + pool.underside(diameter) + touch + config.gap_m;
         return pool.spawn(diameter, liquid, ameoto::Vec3{x, y, z}, ameoto::Vec3{0.0, 0.0, -v});
     }
 
     // Masses the exact test (over max u) and the travel-aware lower band (drop_on_canopy.cpp) would
     // skip, evaluated here independently of the scene.
     void count_skippable() {
-        const double r = canopy.geometry().radius_m, skin = collider.options().skin_m;
+        // Wet: a mass touches up to its reach over a node and is held up to 3/7 of its parcel under it:
+        // the bounds widen by the reach's cap (drop_on_canopy.cpp).
+        const double touch = config.impact == ameoto::ImpactModel::wet ? collider.options().max_reach_m : 0.0;
+        const double r = canopy.geometry().radius_m, skin = collider.options().skin_m + touch;
         const double nz = canopy.surface_normal(r, 0.0).z, bottom = canopy.rest_height(r, 0.0);
         const ameoto::DisplacementRange u = canopy.displacement_range();
         const double u_max = u.highest;
@@ -343,7 +349,7 @@ struct ReferenceScene {
                 const ameoto::Vec3 p = pool.position(d, m), v = pool.velocity(d, m);
                 if (p.x * p.x + p.y * p.y > r * r) continue;
                 const double a = (p.z - canopy.rest_height(p.x, p.y)) * canopy.surface_normal(p.x, p.y).z;
-                if (a > u_max) ++skippable_above;
+                if (a > u_max + touch) ++skippable_above;
                 if (p.z < bottom - (0.05 + skin + dt * (std::fabs(v.x) + std::fabs(v.y) + std::fabs(v.z))) / nz)
                     ++skippable_below;
             }
