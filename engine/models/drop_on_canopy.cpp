@@ -142,9 +142,12 @@ bool DropOnCanopy::drop(double diameter_m, double speed_m_per_s, double x_m, dou
     if (!(speed_m_per_s >= 0.0 && std::isfinite(speed_m_per_s))) return false;
     if (canopy_.locate(x_m, y_m).panel < 0) return false;
     const double speed = speed_m_per_s > 0.0 ? speed_m_per_s : arrival_speed(diameter_m, config_.liquid.density);
-    // Wet: the lowest mass's parcel, not its centre, gap_m over the surface (it touches at its reach).
-    const double touch = collider_.reach(calibrate_drop(pool_.lattice(seed_mass_count(diameter_m)), diameter_m,
+    // Wet: the lowest mass's parcel, not its centre, gap_m over the surface (it touches at its reach;
+    // 1 nm inside it, so that with gap_m = 0 the rounding of the sums below cannot leave it a hair out
+    // and the strike still comes at the first sample).
+    const double reach = collider_.reach(calibrate_drop(pool_.lattice(seed_mass_count(diameter_m)), diameter_m,
                                                         config_.liquid, pool_.config().options).node_mass);
+    const double touch = reach > 0.0 ? reach - 1e-9 : 0.0;
     const double z = canopy_.rest_height(x_m, y_m) + pool_.underside(diameter_m) + touch + config_.gap_m;
     if (!pool_.spawn(diameter_m, liquid_, Vec3{x_m, y_m, z}, Vec3{0.0, 0.0, -speed})) return false;
     // The new drop has the highest serial.
