@@ -95,7 +95,8 @@ std::string render_usage() {
            "Examples:\n"
            "  ameoto render drop --diameter 5 -o drop.wav\n"
            "  ameoto render drop --diameter 3 --speed 4 --material vinyl --channels 2 -o d.wav --plot d.svg\n"
-           "  ameoto render drop --diameter 2 --liquid milk --x 0.2 --y 0 --output-kind mass -o m.wav\n";
+           "  ameoto render drop --diameter 2 --liquid milk --x 0.2 --y 0 --output-kind mass -o m.wav\n"
+           "  ameoto render drop --diameter 4 --impact seed -o seed.wav\n";
 }
 
 RenderParse parse_render_drop_options(const CommandWords& words, RenderDropOptions& o, std::string& error) {

@@ -1,7 +1,7 @@
 // The lattice drop on a rigid plane (engine/models/wet_impact.hpp, measure_rigid_impact): the force
 // pulse against Gordillo et al. (2018) and where the impact's energy goes, for docs/impacts.md.
 //
-//   build/tests/rigid_impact_bench [--impact wet|seed] [--rate HZ] [--trace D_MM]
+//   build/tests/rigid_impact_bench [--impact wet|seed] [--restitution E] [--rate HZ] [--trace D_MM]
 // prints, per diameter (1, 2, 4 mm and the others of the table) at its terminal speed: masses,
 // impulse / (m V), peak / (0.8 rho V^2 D^2), peak time / (D / V), the 5-95 % impulse span / (D / V),
 // pieces, and the energy table as fractions of the initial kinetic energy (over 20 ms). --trace prints
@@ -15,19 +15,21 @@
 
 int main(int argc, char** argv) {
     ameoto::ImpactModel model = ameoto::ImpactModel::wet;
-    double rate = 48000.0, trace = 0.0;
+    double rate = 48000.0, trace = 0.0, restitution = 1.0;   // e: the seed exchange's
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         if (a == "--impact" && i + 1 < argc) {
             const auto m = ameoto::find_impact_model(argv[++i]);
             if (!m) { std::fprintf(stderr, "--impact: wet or seed\n"); return 2; }
             model = *m;
+        } else if (a == "--restitution" && i + 1 < argc) {
+            restitution = std::atof(argv[++i]);
         } else if (a == "--rate" && i + 1 < argc) {
             rate = std::atof(argv[++i]);
         } else if (a == "--trace" && i + 1 < argc) {
             trace = std::atof(argv[++i]);
         } else {
-            std::fprintf(stderr, "usage: rigid_impact_bench [--impact wet|seed] [--rate HZ] [--trace D_MM]\n");
+            std::fprintf(stderr, "usage: rigid_impact_bench [--impact wet|seed] [--restitution E] [--rate HZ] [--trace D_MM]\n");
             return 2;
         }
     }
@@ -37,6 +39,7 @@ int main(int argc, char** argv) {
         s.diameter_m = d_mm * 1e-3;
         s.sample_rate = rate;
         s.law.model = model;
+        s.law.restitution = restitution;
         s.seconds = seconds;
         return s;
     };
@@ -47,7 +50,7 @@ int main(int argc, char** argv) {
             std::printf("%.4f %.4f\n", ((static_cast<double>(n) - r.first_contact) + 0.5) * T / r.tau(), r.force[n] / f0);
         return 0;
     }
-    std::printf("impact %s at %.0f Hz\n", ameoto::impact_model_name(model), rate);
+    std::printf("impact %s (e %.2f for seed) at %.0f Hz\n", ameoto::impact_model_name(model), restitution, rate);
     std::printf("%5s %5s %6s %6s %8s %8s %8s %8s %6s |%7s %7s %7s %7s %7s %7s %7s %7s %8s\n", "D_mm", "V", "masses",
                 "J/mV", "F/0.8", "t_pk/tau", "len/tau", "J_ms", "pieces", "kin", "flying", "elastic", "collis", "viscous",
                 "drag", "broken", "gravity", "residual");
