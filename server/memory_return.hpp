@@ -19,7 +19,7 @@
 // JACK the scenes were built and freed across two of them, and what one arena kept (a scene's blocks
 // still live, pages shared with them) moved between them from load to load: at the same point of the
 // soak's scene cycle the two held 16-38 and 18-45 MB, so RSS read for one scene varied by tens of MB
-// (docs/reliability.md, "Soak"). With one heap (mallopt M_ARENA_MAX 1; the audio thread takes no
+// (docs/soak.md, "How memory stays flat"). With one heap (mallopt M_ARENA_MAX 1; the audio thread takes no
 // part, and the control and worker threads' allocations are few and off the real-time path) the same
 // soak read the umbrella's heap at 50.7, 50.1, 50.3 MB a cycle apart. MALLOC_ARENA_MAX or
 // GLIBC_TUNABLES in the environment, an operator's own choice, is left to rule.
@@ -32,7 +32,7 @@
 // little differently, leaving more pages with a live block on them. Loading the five scenes back to
 // back (tests/bench/scene-cycle, null backend, no traffic), the umbrella's [heap] RSS rose 2.5 MiB in
 // 15 rounds by default, 0.5 MiB with the tcache off (glibc.malloc.tcache_count=0), and 2.3 MiB with
-// only the fast bins off (M_MXFAST 0); docs/reliability.md ("Soak") has the figures. glibc reads that setting only from GLIBC_TUNABLES when a
+// only the fast bins off (M_MXFAST 0); docs/soak.md ("Tried and left out") has the figures. glibc reads that setting only from GLIBC_TUNABLES when a
 // process starts (mallopt has no tcache option), so ameotod, unless the environment already names
 // glibc.malloc.tcache_count, executes itself again at once with it appended: same PID, arguments and
 // environment otherwise, before any thread, file or socket exists. If that exec fails it carries on

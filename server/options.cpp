@@ -63,9 +63,14 @@ Options:
   --seed N            random seed, 0..2^64-1 (default 0): same seed and same timed
                       events give the same samples
   --channels N        output channels, 1..16 (default 2)
-  --scene NAME        scene to start with: umbrella (default: light rain, 2 mm/h, on
+  --scene NAME|FILE.scene
+                      scene to start with: umbrella (default: light rain, 2 mm/h, on
                       an 8-panel nylon umbrella of 0.5 m radius), pond, tin-roof,
-                      forest, street, or NAME.scene in the scene folder
+                      forest, street, NAME.scene in the scene folder, or a scene file
+                      anywhere by its path (ending in .scene, relative to the current
+                      folder; format in docs/scenes.md). A file that cannot be read or
+                      parsed stops ameotod with exit status 1 and its file, line and
+                      key. Over OSC, /scene/load takes names only
   --scene-dir DIR     the scene folder for /scene/load and /scene/save (default
                       $XDG_DATA_HOME/ameoto/scenes, else ~/.local/share/ameoto/scenes)
   --rain MM/H         starting rain rate, 0..500 mm/h (default: the scene's; 0 for a
@@ -181,8 +186,10 @@ ParsedOptions parse_options(int argc, const char* const* argv) {
             if (!value(v) || !parse_double(v, 0, 500, d)) return fail("--rain needs a rain rate 0..500 mm/h");
             o.rain_mm_per_h = d;
         } else if (arg == "--scene") {
-            if (!value(v)) return fail("--scene needs a scene name");
-            if (!is_scene_name(v)) return fail("--scene: '" + v + "' is not a scene name (1-32 of A-Z a-z 0-9 - _; not a path)");
+            // The command line is trusted: a path is taken as given (over OSC, names only).
+            if (!value(v)) return fail("--scene needs a scene name or a .scene file");
+            if (!is_scene_name(v) && !v.ends_with(".scene"))
+                return fail("--scene: '" + v + "' is neither a scene name (1-32 of A-Z a-z 0-9 - _) nor a file ending in .scene");
             o.scene = v;
         } else if (arg == "--block-trace") {
             if (!value(v) || v.empty()) return fail("--block-trace needs a file name");

@@ -32,7 +32,8 @@ struct DaemonOptions {
     std::optional<double> duration_s;
     std::uint64_t seed = 0;
     int channels = 2;
-    std::string scene = "umbrella";       // a built-in scene or a NAME.scene in scene_folder
+    std::string scene = "umbrella";       // a built-in scene, a NAME.scene in scene_folder (is_scene_name),
+                                          // or else the path of a scene file (ending in .scene)
     std::optional<std::string> scene_folder;   // default: SceneStore::default_folder()
     std::optional<double> rain_mm_per_h;   // starting rain rate; default: the scene's
     bool fixed_detail = false;            // never shed detail by measured load (output as offline)

@@ -38,16 +38,10 @@ std::filesystem::path SceneStore::path_of(const std::string& name) const {
     return folder_ / (name + ".scene");
 }
 
-SceneDescription SceneStore::load(const std::string& name) const {
-    if (auto built_in = builtin_scene(name)) return *built_in;
-    const std::filesystem::path path = path_of(name);
-    Fd f;
-    f.fd = ::open(path.c_str(), O_RDONLY | O_NOFOLLOW | O_CLOEXEC);
-    if (f.fd < 0) {
-        if (errno == ENOENT) throw std::runtime_error("no scene named '" + name + "' (built in: umbrella, pond, tin-roof, forest, street; none in " + folder_.string() + ")");
-        if (errno == ELOOP) throw std::runtime_error(path.string() + " is a link: scenes are read only from the folder itself");
-        throw std::runtime_error(os_error("cannot open", path));
-    }
+namespace {
+
+// An open scene file: a regular file of at most 64 KiB, read whole and parsed under its path's name.
+SceneDescription read_open_file(const Fd& f, const std::filesystem::path& path) {
     struct stat st {};
     if (::fstat(f.fd, &st) != 0) throw std::runtime_error(os_error("cannot stat", path));
     if (!S_ISREG(st.st_mode)) throw std::runtime_error(path.string() + " is not a regular file");
@@ -64,6 +58,28 @@ SceneDescription SceneStore::load(const std::string& name) const {
     }
     text.resize(got);
     return parse_scene(text, path.string());
+}
+
+}  // namespace
+
+SceneDescription SceneStore::load(const std::string& name) const {
+    if (auto built_in = builtin_scene(name)) return *built_in;
+    const std::filesystem::path path = path_of(name);
+    Fd f;
+    f.fd = ::open(path.c_str(), O_RDONLY | O_NOFOLLOW | O_CLOEXEC);
+    if (f.fd < 0) {
+        if (errno == ENOENT) throw std::runtime_error("no scene named '" + name + "' (built in: umbrella, pond, tin-roof, forest, street; none in " + folder_.string() + ")");
+        if (errno == ELOOP) throw std::runtime_error(path.string() + " is a link: scenes are read only from the folder itself");
+        throw std::runtime_error(os_error("cannot open", path));
+    }
+    return read_open_file(f, path);
+}
+
+SceneDescription SceneStore::read_file(const std::filesystem::path& path) {
+    Fd f;
+    f.fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);   // a FIFO is refused below, not waited on
+    if (f.fd < 0) throw std::runtime_error(os_error("cannot open", path));
+    return read_open_file(f, path);
 }
 
 void SceneStore::save(const std::string& name, const SceneDescription& scene) const {

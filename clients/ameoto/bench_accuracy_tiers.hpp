@@ -1,7 +1,7 @@
 #pragma once
 // The "drop tiers" rows of `ameoto bench accuracy`: the scene's levels of detail (full: a lattice drop;
 // template: its recorded contact force replayed; texture: a noise grain of its template's energy and
-// colour; docs/engine.md "Levels of detail") on the umbrella scene, each drop forced into one tier.
+// colour; docs/rain.md "Levels of detail") on the umbrella scene, each drop forced into one tier.
 //
 // Interface:
 //   TierRender r = render_tier(LodTier::texture, rate_mm_per_h, seconds, seed);   // the scene's output
@@ -23,7 +23,7 @@
 // comparison. For the texture it is the only meaningful one: a grain is noise with its template's
 // energy and spectral centroid, not its waveform, so only the statistics of many drops (the long-term
 // spectral envelope and level) can match; what the texture promises is its templates' energy per drop
-// (texture_grains.hpp, docs/engine.md), so the broadband level difference is reported beside D.
+// (texture_grains.hpp, docs/rain.md), so the broadband level difference is reported beside D.
 // Cost: CPU per drop, as `ameoto bench scene` measures it (bench_scene.hpp): the umbrella scene with
 // every rain drop forced into the tier against the same scene dry, thread CPU time, median of `runs`
 // pairs; full at the error run's rate (bench scene's 0.3 mm/h fills the lattice pool when every

@@ -1,6 +1,7 @@
 // ameoto: the command-line client of ameotod. This file only dispatches: `ameoto COMMAND ...`
 // runs the subcommand of that name with the words after it; each subcommand lives in its own
-// files (send_command, status_command, watch_command, bench_command, render_drop) and parses its own options. A new
+// files (send_command, status_command, watch_command, bench_command, render_drop,
+// reference_command) and parses its own options. A new
 // subcommand is one row in `commands` plus its line in general_usage() (usage.cpp).
 #include <iostream>
 #include <string>
@@ -10,6 +11,7 @@
 #include "clients/ameoto/bench_command.hpp"
 #include "clients/ameoto/command_io.hpp"
 #include "clients/ameoto/exit_status.hpp"
+#include "clients/ameoto/reference_command.hpp"
 #include "clients/ameoto/render_drop.hpp"
 #include "clients/ameoto/send_command.hpp"
 #include "clients/ameoto/status_command.hpp"
@@ -32,6 +34,7 @@ constexpr Subcommand commands[] = {
     {"watch", run_watch, watch_usage},
     {"bench", run_bench, bench_usage},
     {"render", run_render, render_usage},
+    {"reference", run_reference, reference_usage},
 };
 
 const Subcommand* find_command(std::string_view name) {

@@ -81,7 +81,7 @@ std::string render_usage() {
            "  --coarse-steps N    1..64 samples a splash wholly in the air (touching nothing) may\n"
            "                      take as one step (default 4; 1: every piece every sample). The\n"
            "                      sound is the same to the bit until a piece lands again, then\n"
-           "                      differs by about 1 % (docs/engine.md, \"Coarse steps\")\n"
+           "                      differs by about 1 % (docs/drop.md, \"Coarse steps for a splash in flight\")\n"
            "  --impact MODEL      how the drop's masses meet the membrane: wet (default: stopped\n"
            "                      as a liquid is, impulse m V, spreading; docs/impacts.md) or seed\n"
            "                      (the seed's elastic exchange: they bounce, impulse about 2 m V)\n"

@@ -77,6 +77,7 @@ std::string general_usage() {
                "  watch     live level meters and load in the terminal (Ctrl-C quits)\n"
                "  bench     measure the physics engine on this machine: speed, accuracy (no server needed)\n"
                "  render    render one drop on the umbrella to a WAV file, offline (no server needed)\n"
+               "  reference run the offline air reference's validations (FDTD; no server needed)\n"
                "  help      this text, or a command's: ameoto help send\n"
                "\n"
                "Options (--host and --port: send, status and watch):\n") +

@@ -57,11 +57,13 @@
 //     spring's, -k (L - l0).
 // Internal links exert equal and opposite forces, so they conserve momentum (to rounding).
 //
-// Vectorisation (body3d.cpp). finalize() picks one of two steps: on a CPU with AVX2, for a body of 16
-// masses or more, kernels compiled for AVX2 whatever the build's target, written on 4-lane vectors
-// (GCC vector extensions); otherwise (or after set_portable_kernels(true)) the scalar step, which is
-// the reference. (The same vector code built for baseline x86-64, two 128-bit halves per vector, ran
-// 4 times slower than the scalar step.)
+// Vectorisation (the scalar reference and the AVX2 kernels side by side: body3d_step_scalar.cpp and
+// body3d_step_avx2.cpp, body3d_links_scalar.cpp and body3d_links_avx2.cpp; body3d_sparse_links.cpp).
+// finalize() picks one of two steps: on a CPU with AVX2, for a body of 16 masses or more, kernels
+// compiled for AVX2 whatever the build's target, written on 4-lane vectors (GCC vector extensions);
+// otherwise (or after set_portable_kernels(true)) the scalar step, which is the reference. (The
+// same vector code built for baseline x86-64, two 128-bit halves per vector, ran 4 times slower than the
+// scalar step.)
 //   1. per mass, four masses at a time: velocities (CORDIS), gravity, drag, external forces;
 //   2. the links. Any body: generic_links(), a scalar loop that adds s u to a and -s u to b in link
 //      order. A body whose links are all cohesive with one set of parameters (a drop): four links at a
@@ -78,12 +80,12 @@
 //      listings after it look at those only, until the sum of the listings' bounds (which bounds the
 //      approach since the full listing) passes 28 h;
 //   3. per mass, four at a time: the dense pass's link forces, then the update.
-// A 5 mm drop per 48 kHz step, scalar -> AVX2 (docs/engine.md, "The drop"): awake 5.6 -> 3.1 us,
+// A 5 mm drop per 48 kHz step, scalar -> AVX2 (docs/drop.md, "Cost of a step"): awake 5.6 -> 3.1 us,
 // shattered 1.8 -> 0.81 us.
 // Bit identity. The AVX2 step gives the scalar step's result to the bit, so a render is the same on any
 // x86-64: each lane performs the same IEEE operations in the same order (+, -, *, /, sqrt are correctly
-// rounded whatever the vector width; no FMA: AVX2 does not include it and body3d.cpp is built with
-// -ffp-contract=off; nothing is reassociated); branches become lane masks; every force reaches its
+// rounded whatever the vector width; no FMA: AVX2 does not include it and every body3d_*.cpp is built
+// with -ffp-contract=off; nothing is reassociated); branches become lane masks; every force reaches its
 // mass's accumulator in link order, as in the scalar pass, and a link that adds nothing there adds
 // -0.0 here, which leaves any sum unchanged (x + -0 = x for every x, -0 included); the energies, which
 // cross lanes, are added lane by lane in the scalar order; the guard's position sum is kept as four
@@ -188,6 +190,10 @@ struct LinkBreak {
     double force = 0.0;          // N, the axial force that broke it (positive: pushing a and b apart)
     std::int32_t sub_step = 0;   // which sub-step of the step
 };
+
+namespace body3d_avx2 {
+struct StepView;   // the AVX2 kernels' view of a body (body3d_avx2.hpp, private)
+}
 
 class Body3D {
 public:
@@ -294,11 +300,12 @@ public:
 private:
     static std::size_t idx(int i) { return static_cast<std::size_t>(i); }
     void sub_step(int index);              // sub_step_avx2() or sub_step_baseline() (finalize() picks)
-    void sub_step_avx2(int index);         // the vectorised kernels
-    void sub_step_baseline(int index);     // scalar: the reference
-    double generic_links(int index);       // the link pass for any links (scalar)
-    double uniform_cohesive_links(int index);   // the baseline's link pass for uniform cohesive links
-    void build_link_scratch();             // finalize(): the uniform pass's lists and scratch
+    void sub_step_avx2(int index);         // the vectorised kernels (body3d_step_avx2.cpp)
+    void sub_step_baseline(int index);     // scalar: the reference (body3d_step_scalar.cpp)
+    double generic_links(int index);       // the link pass for any links (scalar; body3d_links_scalar.cpp)
+    double uniform_cohesive_links(int index);   // the baseline's link pass for uniform cohesive links (ditto)
+    double sparse_links_pass(body3d_avx2::StepView& s);   // the AVX2 sparse pass (body3d_sparse_links.cpp)
+    void build_link_scratch();             // finalize(): the uniform pass's lists and scratch (body3d_build.cpp)
     void check_link_args(int a, int b) const;
     void look_at_links();                  // coarse_factor()'s look at the links (body3d_coarse.cpp)
     void check_bonds(double step_s);       // ... and at the bonds' cores (body3d_coarse.cpp)
@@ -330,17 +337,17 @@ private:
     std::vector<std::int32_t> slot_start_;       // per group: where its slots start (groups + 1 entries)
     std::vector<std::int32_t> degree_;           // per mass, build_link_scratch()'s count
     std::vector<std::int32_t> link_ends_;        // per link 8 a, 8 b: its masses' rows in the mirror
-    std::vector<std::int32_t> candidates_;       // the sparse pass's links, in order (sub_step_avx2())
+    std::vector<std::int32_t> candidates_;       // the sparse pass's links, in order (sparse_links_pass())
     std::vector<std::int32_t> near_links_;       // what a partial listing looks at, in order
     std::size_t near_link_count_ = 0;
     double far_travel_ = 0.0;                    // m, the approach bound since the last full listing
-    static constexpr double far_margin = 32.0;   // h: a full listing's near links (sub_step_avx2())
+    static constexpr double far_margin = 32.0;   // h: a full listing's near links (sparse_links_pass())
     static constexpr double near_margin = 4.0;   // h: a candidate's margin, listed again after half of it
     std::vector<double> listed_x_, listed_y_, listed_z_;   // the positions they were listed at
     std::size_t candidate_count_ = 0;
     bool candidates_valid_ = false;
     double next_bound2_ = 0.0;         // the approach bound of the positions the last update wrote
-    bool next_bound_fresh_ = false;    // ... and no mass has been moved since (sub_step_avx2())
+    bool next_bound_fresh_ = false;    // ... and no mass has been moved since (sparse_links_pass())
     // events
     std::vector<LinkBreak> events_;
     std::size_t event_count_ = 0;

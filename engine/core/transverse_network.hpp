@@ -22,7 +22,7 @@
 //   net.positions(out), net.velocities(out)                 // every mass at once (out: mass_count())
 //   net.guard_resets(), net.guard_options()                 // the runtime guard's count and settings
 //
-// Integrators (integrators/*.hpp, docs/engine.md "Integrators and stability"): explicit Verlet (the
+// Integrators (integrators/*.hpp, docs/integrators.md "Integrators and stability"): explicit Verlet (the
 // CORDIS scheme, default), symplectic Euler, trapezoidal (Newmark average acceleration), backward Euler,
 // modal. Link force F1 = -F2 = -k (x1 - x2) - z (v1 - v2) (rest length zero for transverse
 // displacement: the membrane's tension lives in k, see models/membrane.hpp).

@@ -43,7 +43,7 @@
 // computed once per lattice shape and cached for the process. Every shape up to 8 mm is tabulated
 // (stretch_mode_table.hpp: the same bits, committed), so the process computes only larger ones.
 // Tests: the Lanczos value agrees with the dense eigensolver; a simulated free drop stretched by 1 %
-// oscillates within 10 % of Rayleigh (measured values in docs/engine.md, "The drop").
+// oscillates within 10 % of Rayleigh (measured values in docs/drop.md, "The lattice drop").
 //
 // Viscous damping (Lamb 1932, art. 355): mode n decays as exp(-t / tau), tau = a^2 / ((n-1)(2n+1) nu),
 // nu = mu / rho; n = 2: tau = a^2 / (5 nu). A damper z = beta k on every link makes the damping

@@ -68,7 +68,7 @@
 // in stats().coarse_interrupted; the floor's margin means a collision never does). Default: off
 // (coarse_max 1, floor +infinity).
 //
-// Cost: one Body3D step per active drop; measured in docs/engine.md ("The drop").
+// Cost: one Body3D step per active drop; measured in docs/drop.md ("Cost of a step").
 
 #include <cstdint>
 #include <functional>

@@ -33,7 +33,7 @@
 // s A per node by total_mass / nodes, link_damping > 0 replaces beta k on every link and anchor link
 // (still proportional: C = (z / k) K + alpha M).
 //
-// Presets (docs/engine.md "Materials" has the table with the measured modes of the default panel):
+// Presets (docs/canopy.md "Materials" has the table with the measured modes of the default panel):
 //   nylon       s = 0.06 kg/m^2, T = 1000 N/m, alpha 20 /s, beta 2e-6 s (eta 0.013 .. 0.033, 100 Hz - 2 kHz)
 //   vinyl       s = 0.20 kg/m^2, T = 200 N/m, alpha 60 /s, beta 1.6e-5 s (eta 0.06 .. 0.2, 50 Hz - 2 kHz)
 //   seed-nylon  0.12 kg per panel, links 1.2e9 N/m, dampers 0.231 N s/m (seed section 5.1.2)
@@ -65,7 +65,7 @@ struct MembraneMaterial {
     double wave_speed() const;     // c = sqrt(T / s), m/s
 
     // Nylon umbrella fabric: 60 g/m^2 (typical canopy taffeta is 50-70), tensioned to 1 kN/m: a taut
-    // canopy, above the 120-640 N/m that the estimates in docs/engine.md ("Materials") suggest; the
+    // canopy, above the 120-640 N/m that the estimates in docs/canopy.md ("Materials") suggest; the
     // ~50-mass panel's modes then span 217 Hz to 1.1 kHz. Loss factor 0.013-0.033 (a light, lightly
     // damped fabric).
     static MembraneMaterial nylon_canopy();

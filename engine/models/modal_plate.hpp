@@ -69,8 +69,8 @@
 // drop's: the pulse is unchanged).
 // Cost: per sample, one two-pole update per kept mode (structure of arrays, two modes per SSE2 vector);
 // while a pulse lasts, one multiply-add per mode per strike under way (the kick is separable in m and n,
-// and the modes run grouped by m so it is contiguous). Bounded by max_modes. Measured (docs/engine.md,
-// "Hard and soft surfaces"): about 0.5 ns per mode and sample ringing; tin roof 1.0 us, glass 0.08 us, car
+// and the modes run grouped by m so it is contiguous). Bounded by max_modes. Measured (docs/surfaces.md,
+// "Hard: the modal plate"): about 0.5 ns per mode and sample ringing; tin roof 1.0 us, glass 0.08 us, car
 // roof 1.2 us per sample; in 4800 drops/s about 2.5 us.
 
 #include <cstdint>
@@ -99,7 +99,7 @@ struct PlateSpec {
 
     // Galvanised steel roofing sheet, 0.5 mm, a 1.0 x 0.6 m panel between purlins; E 210 GPa, nu 0.3
     // (EN 1993-1-1, 3.2.6), rho 7850 kg/m^3 (EN 1991-1-1, Table A.4), eta_s 0.01 (assumed: the sheet
-    // itself loses ~1e-4, Cremer & Heckl; screws and laps add most; docs/engine.md). f_11 = 4.6 Hz, f_c = 24 kHz;
+    // itself loses ~1e-4, Cremer & Heckl; screws and laps add most; docs/surfaces.md). f_11 = 4.6 Hz, f_c = 24 kHz;
     // 1921 odd-odd modes to 20 kHz.
     static PlateSpec tin_roof();
     // Float glass, 4 mm, 0.8 x 0.6 m: E 70 GPa, nu 0.2, rho 2500 kg/m^3 (EN 572-1), eta_s 0.01 (assumed:

@@ -33,7 +33,7 @@
 // (Mundo et al. 1995: K = We^1/2 Re^1/4 > 57.7, with water's sigma 0.0728 N/m and mu 1.0e-3 Pa s).
 // The efficiencies are tuning constants, not measurements: leaves 3e-6, half what the glass pane radiates
 // for the same drop measured the same way (5.9e-6; tin roof 1.8e-5, car roof 2.4e-6: modal_plate_test),
-// soil 3e-7, 10 dB below leaves (docs/engine.md has the table).
+// soil 3e-7, 10 dB below leaves (docs/surfaces.md has the table).
 //
 // Leaves. A whole leaf bends at tens of Hz (computed: a 6 cm square lamina, 0.25 mm thick, E 0.1-1 GPa,
 // 700 kg/m^3, simply supported: 25-80 Hz), so the 1-6 kHz rustle is not its flexure; we take each hit to

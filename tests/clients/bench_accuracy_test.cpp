@@ -105,7 +105,7 @@ TEST_CASE("bench accuracy: the texture tier carries the full tier's level and co
     const double centroid_ratio = spectral_centroid_hz(t.texture_s) / spectral_centroid_hz(t.full_s);
     MESSAGE("texture against full: level " << level << " dB, centroid x" << centroid_ratio << ", distance "
                                            << band_distance_db(t.texture_s, t.full_s) << " dB (third octaves; not promised)");
-    // Level: each grain carries its template's energy within 10 % on average (0.41 dB; docs/engine.md "Levels of
+    // Level: each grain carries its template's energy within 10 % on average (0.41 dB; docs/rain.md "Levels of
     // detail", texture_grains_test), measured for each size at one point of the cap (half way out along a panel)
     // while the rain strikes all of it; 1.5 dB allows 0.41 dB for the calibration and about 1 dB for that
     // position (a judgement, not derived: measured 0.9 dB here, the template tier itself -0.1 dB).

@@ -39,6 +39,6 @@ TEST_CASE("memory: loading the pond and the umbrella again and again leaves the 
             << later[2] << " KiB");
     // Without the pages given back each cycle added 20-40 MB here (glibc kept the freed scene in its arenas;
     // measured 65, 101, 115, 136, 149 MB after five cycles). With them, the readings moved within about 1.2 MiB of each other
-    // (measured here: 28.4-29.2 MB; 67.2-68.0 MB once the drop pool's capacity is written at build time, engine/core/body3d.cpp): 4 MiB leaves room for that and still catches a scene kept per load.
+    // (measured here: 28.4-29.2 MB; 67.2-68.0 MB once the drop pool's capacity is written at build time, engine/core/body3d_build.cpp): 4 MiB leaves room for that and still catches a scene kept per load.
     AMEOTO_CHECK_UNLESS_SANITIZED(highest - first < 4 * 1024);
 }

@@ -2,6 +2,7 @@
 
 #include <doctest/doctest.h>
 
+#include <string>
 #include <vector>
 
 namespace {
@@ -115,4 +116,17 @@ TEST_CASE("--help names the heap policy and the environment that overrides it (s
     const std::string u = ameoto::usage();
     CHECK(u.find("one heap") != std::string::npos);
     CHECK(u.find("MALLOC_ARENA_MAX") != std::string::npos);
+}
+
+TEST_CASE("--scene takes a name or a scene file's path (the command line is trusted); anything else is refused") {
+    CHECK(parse({"--scene", "my-rain"}).options.scene == "my-rain");            // the folder's, or built in
+    CHECK(parse({"--scene", "my.scene"}).options.scene == "my.scene");          // a file, relative to the current folder
+    CHECK(parse({"--scene", "../rain/my.scene"}).options.scene == "../rain/my.scene");
+    CHECK(parse({"--scene", "/srv/rain/x.scene"}).error.empty());
+    for (const char* bad : {"../etc", "/tmp/x", "my.scene.txt", ""}) {
+        const auto p = parse({"--scene", bad});
+        INFO(bad);
+        CHECK(p.error.find("--scene: '" + std::string(bad) + "' is neither a scene name") == 0);
+    }
+    CHECK(ameoto::usage().find("--scene NAME|FILE.scene") != std::string::npos);
 }

@@ -2,6 +2,7 @@
 #include "server/scene_store.hpp"
 
 #include <doctest/doctest.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <filesystem>
@@ -18,6 +19,14 @@ namespace {
 std::string error_of(const SceneStore& store, const std::string& name) {
     try {
         store.load(name);
+    } catch (const std::exception& e) {
+        return e.what();
+    }
+    return "";
+}
+std::string file_error_of(const std::filesystem::path& path) {
+    try {
+        SceneStore::read_file(path);
     } catch (const std::exception& e) {
         return e.what();
     }
@@ -127,4 +136,38 @@ TEST_CASE("scene store: a save never writes through a link, at the scene's name 
     }
     // Nothing was written outside the folder.
     CHECK(std::distance(std::filesystem::directory_iterator(elsewhere.path()), {}) == 1);
+}
+
+TEST_CASE("scene store: read_file takes a path (ameotod's --scene FILE.scene), links included; errors name the file, line and key") {
+    ameoto::test::TempDir dir("ameoto-scene-file");
+    const auto path = dir.path() / "elsewhere" / "my.scene";
+    std::filesystem::create_directories(path.parent_path());
+    SceneDescription s = *ameoto::builtin_scene("forest");
+    s.name = "from-a-file";
+    s.rain.rate_mm_per_h = 7.5;
+    std::ofstream(path) << ameoto::format_scene(s);
+    CHECK(SceneStore::read_file(path) == s);
+    // The command line is trusted: a link is followed (a folder's NAME.scene never is).
+    std::filesystem::create_symlink(path, dir.path() / "linked.scene");
+    CHECK(SceneStore::read_file(dir.path() / "linked.scene") == s);
+    // Malformed: the file, the line and the key, as SceneFileError carries them.
+    const auto broken = dir.path() / "broken.scene";
+    std::ofstream(broken) << "ameoto-scene 1\nname fine\nrain rate=900\n";
+    try {
+        SceneStore::read_file(broken);
+        FAIL("a malformed file was read");
+    } catch (const ameoto::SceneFileError& e) {
+        CHECK(e.file() == broken.string());
+        CHECK(e.line() == 3);
+        CHECK(e.field() == "rate");
+        CHECK(std::string(e.what()) == broken.string() + ":3: rate: 900 mm/h is outside 0..500");
+    }
+    // Missing, a folder, a FIFO (refused, not waited on), too large.
+    CHECK(file_error_of(dir.path() / "nowhere.scene") == "cannot open " + (dir.path() / "nowhere.scene").string() + ": No such file or directory");
+    std::filesystem::create_directory(dir.path() / "folder.scene");
+    CHECK(file_error_of(dir.path() / "folder.scene").find("not a regular file") != std::string::npos);
+    REQUIRE(::mkfifo((dir.path() / "pipe.scene").c_str(), 0600) == 0);
+    CHECK(file_error_of(dir.path() / "pipe.scene").find("not a regular file") != std::string::npos);
+    std::ofstream(dir.path() / "huge.scene") << std::string(100000, '#');
+    CHECK(file_error_of(dir.path() / "huge.scene").find("larger than 64 KiB") != std::string::npos);
 }

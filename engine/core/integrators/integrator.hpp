@@ -10,7 +10,7 @@
 //   integrator_name(Integrator)    // "explicit Verlet", ... for messages
 //   conditionally_stable(Integrator)   // true for the explicit schemes (omega T < 2 family)
 //
-// Stability and warping of each (../../shared/reference/physics.md section 3; docs/engine.md,
+// Stability and warping of each (../../shared/reference/physics.md section 3; docs/integrators.md,
 // "Integrators and stability"):
 //   explicit Verlet, symplectic Euler: stable iff omega^2 T^2 + 2 gamma T < 4 (gamma = z/m), frequency
 //     (2/T) asin(omega0 T / 2);

@@ -24,7 +24,7 @@
 // its two masses' rows are contiguous runs of lanes() doubles, loaded and stored without gather or
 // scatter, and no two lanes of one row can conflict. The loop over lanes vectorises (two doubles per
 // SSE2 register in the baseline build; four per AVX2 register in kernels compiled for AVX2 whatever the
-// build's target, picked at init() where the CPU has AVX2, as core/body3d.cpp does).
+// build's target, picked at init() where the CPU has AVX2, as core/body3d_step_avx2.cpp does).
 //
 // Bit identity. Each lane performs exactly the IEEE operations of ExplicitVerlet::step /
 // SymplecticEuler::step and TransverseNetwork::step (integrators/explicit_verlet.cpp, symplectic_euler.cpp,

@@ -247,7 +247,7 @@ TEST_CASE("canopy: geometry and materials are checked, with reasons; stability p
         CHECK(std::string(e.what()) == verdict.reason);
     }
 
-    // The seed's nylon: sub-steps by default (27 at 48 kHz, docs/engine.md), refused under 'refuse'.
+    // The seed's nylon: sub-steps by default (27 at 48 kHz, docs/integrators.md), refused under 'refuse'.
     const auto seed = ameoto::MembraneMaterial::seed_nylon();
     const ameoto::Canopy sub(ameoto::CanopyGeometry{}, seed, kT);
     CHECK(sub.panel(0).network.stability().sub_steps == 27);

@@ -378,7 +378,7 @@ TEST_CASE("drop: 0.5 and 1 mm drops (one mass) cannot break; 2 and 3 mm drops br
 
 TEST_CASE("drop: the model's splash threshold: a 5 mm drop set down at 0.5 m/s stays whole") {
     // Mundo's K = We^(1/2) Re^(1/4) at 0.5 m/s is 28, below 57.7: no splash. The model's onset for
-    // 5 mm is about 1.07 m/s (K = 67), documented in docs/engine.md.
+    // 5 mm is about 1.07 m/s (K = 67), documented in docs/drop.md.
     const double d = 5e-3;
     CHECK(mundo_k(d, 0.5, ameoto::liquids::water()) < 57.7);
     const Impact slow = strike(d, 0.5, DragPreset::quadratic);

@@ -447,7 +447,7 @@ TEST_CASE("membrane: a custom material too stiff for the integrator is refused w
 }
 
 TEST_CASE("table: the materials on the default umbrella panel") {
-    // Modes of the default panel (8 x 0.5 m canopy, ~50 masses) for each preset at 48 kHz; docs/engine.md
+    // Modes of the default panel (8 x 0.5 m canopy, ~50 masses) for each preset at 48 kHz; docs/canopy.md
     // "Materials". Checks: the same lattice with k = T / sqrt 3 and m = s A scales every mode by the
     // wave speed c = sqrt(T / s) (exact up to the eigen-solver's rounding); nylon's lowest mode is the
     // documented 217 Hz.
@@ -477,6 +477,6 @@ TEST_CASE("table: the materials on the default umbrella panel") {
     }
     const double c_nylon = rows[0].m.wave_speed(), c_vinyl = rows[2].m.wave_speed();
     CHECK(rows[2].f1 / rows[0].f1 == doctest::Approx(c_vinyl / c_nylon).epsilon(1e-9));
-    CHECK(rows[0].f1 == doctest::Approx(217.0).epsilon(0.01));   // docs/engine.md, 1 %
+    CHECK(rows[0].f1 == doctest::Approx(217.0).epsilon(0.01));   // docs/canopy.md, 1 %
     CHECK(rows[1].f1 > 24000.0);                                  // seed-nylon: ultrasonic (membrane.hpp)
 }

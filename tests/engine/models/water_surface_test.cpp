@@ -381,7 +381,7 @@ TEST_CASE("water_surface: strike, sample and process neither allocate nor lock (
 }
 
 TEST_CASE("water_surface: cost per ringing bubble per sample") {
-    // Figures for docs/engine.md, not pass/fail bounds beyond a generous sanity limit.
+    // Figures for docs/surfaces.md, not pass/fail bounds beyond a generous sanity limit.
     // The machine may be shared: each figure is the best of 5 runs.
     // (1) The bubble loop alone: 256 bubbles of 3 mm (about 100 ms each), 256-sample blocks at 48 kHz.
     std::vector<ameoto::Bubble> bubbles(256);

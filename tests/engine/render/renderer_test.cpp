@@ -366,7 +366,7 @@ TEST_CASE("renderer: heavy rain gives every level of detail, and /lod limits the
 TEST_CASE("renderer: the heaviest rain uses grains and stays finite, within full scale") {
     // The texture tier exists to save time (figures: ameoto bench, docs/bench.md); here only that grains
     // are used in the heaviest rain and that the output stays finite and within full scale (100 Pa: the
-    // model's peaks at 100 mm/h are about 66 Pa, docs/engine.md).
+    // model's peaks at 100 mm/h are about 66 Pa, docs/rain.md).
     ameoto::RendererConfig cfg;
     cfg.rain_rate_mm_per_h = 100.0;
     ameoto::Renderer r(cfg);

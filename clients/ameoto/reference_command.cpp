@@ -1,0 +1,323 @@
+// `ameoto reference`: see reference_command.hpp.
+#include "clients/ameoto/reference_command.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+#include "clients/ameoto/exit_status.hpp"
+#include "clients/ameoto/json_text.hpp"
+#include "clients/ameoto/number_text.hpp"
+#include "clients/ameoto/option_reader.hpp"
+#include "engine/reference/canopy_in_air.hpp"
+#include "engine/reference/validations.hpp"
+
+namespace ameoto::client {
+
+// The helpers in a named namespace of their own: the client may be built as a unity build, where an
+// anonymous namespace's names meet every other file's.
+namespace reference_cli {
+
+using namespace ameoto::reference;
+
+const std::vector<std::string> known = {"piston", "disc", "timpani", "reflection", "canopy"};
+
+std::string signed_fixed(double x, int digits) {
+    char buffer[64];
+    std::snprintf(buffer, sizeof buffer, "%+.*f", digits, x);
+    return buffer;
+}
+
+// Collects the figures: text lines as they come, and the JSON object's members.
+struct Report {
+    std::ostream& out;
+    bool json = false;
+    bool all_ok = true;
+    std::vector<std::string> members;        // "name": {...} per validation
+    std::vector<std::string> current;        // the current validation's members
+    void line(const std::string& text) {
+        if (!json) out << text << '\n' << std::flush;
+    }
+    void figure(const std::string& key, double value) { current.push_back(json_string(key) + ": " + json_number(value)); }
+    void raw(const std::string& key, const std::string& value) { current.push_back(json_string(key) + ": " + value); }
+    const char* judge(bool ok) {
+        all_ok = all_ok && ok;
+        return ok ? "ok" : "MISS";
+    }
+    void close(const std::string& name) {
+        std::string body = "{";
+        for (std::size_t q = 0; q < current.size(); ++q) body += (q ? ", " : "") + current[q];
+        members.push_back(json_string(name) + ": " + body + "}");
+        current.clear();
+    }
+};
+
+std::string array(const std::vector<double>& v) {
+    std::string s = "[";
+    for (std::size_t q = 0; q < v.size(); ++q) s += (q ? ", " : "") + json_number(v[q]);
+    return s + "]";
+}
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+void run_piston(Report& r, double dx) {
+    PistonSetup s;
+    s.cells_per_radius = s.radius_m / (dx > 0.0 ? dx : s.radius_m / 16.0);
+    const auto t0 = std::chrono::steady_clock::now();
+    const PistonResult p = baffled_piston(s);
+    const double took = seconds_since(t0);
+    r.line("piston: a baffled piston, a = " + fixed(s.radius_m, 3) + " m (effective " + fixed(p.effective_radius, 4) +
+           " m), dx = " + fixed(p.dx * 1e3, 2) + " mm (" + fixed(s.cells_per_radius, 1) + " cells per radius), " +
+           std::to_string(p.cells) + " cells, " + std::to_string(p.steps) + " steps, " + fixed(took, 1) + " s");
+    r.line("  on-axis |p/U| at z = " + fixed(p.listener_z, 3) + " m against Kinsler (target: within 1 dB, ka 0.5..5)");
+    std::vector<double> ka, err;
+    for (const auto& q : p.points) {
+        r.line("  ka " + fixed(q.ka, 2) + "  " + fixed(q.simulated_db, 2) + " dB  analytic " + fixed(q.analytic_db, 2) +
+               " dB  error " + signed_fixed(q.error_db(), 2) + " dB");
+        ka.push_back(q.ka);
+        err.push_back(q.error_db());
+    }
+    const bool ok = p.worst_error_db() < 1.0;
+    r.line("  worst " + fixed(p.worst_error_db(), 2) + " dB: " + r.judge(ok));
+    r.figure("dx_m", p.dx);
+    r.figure("cells_per_radius", s.cells_per_radius);
+    r.figure("seconds", took);
+    r.raw("ka", array(ka));
+    r.raw("error_db", array(err));
+    r.figure("worst_error_db", p.worst_error_db());
+    r.raw("ok", ok ? "true" : "false");
+    r.close("piston");
+}
+
+void run_disc(Report& r, double dx) {
+    DiscSetup s;
+    s.cells_per_radius = s.radius_m / (dx > 0.0 ? dx : s.radius_m / 12.0);
+    s.disc_mass_kg = 0.05;
+    s.margin_over_radius = 1.0;
+    const auto t0 = std::chrono::steady_clock::now();
+    const DiscResult d = rigid_disc(s);
+    const double took = seconds_since(t0);
+    r.line("disc: a rigid disc in free air, a = " + fixed(s.radius_m, 3) + " m (effective " + fixed(d.effective_radius, 4) +
+           " m), dx = " + fixed(d.dx * 1e3, 2) + " mm (" + fixed(s.cells_per_radius, 1) + " cells per radius), " +
+           std::to_string(d.cells) + " cells, " + std::to_string(d.steps) + " steps per run, two runs, " + fixed(took, 1) + " s");
+    const bool mass_ok = std::abs(d.mass_error()) < 0.05;
+    r.line("  added mass at ka " + fixed(s.mass_ka, 2) + ": " + fixed(d.added_mass * 1e3, 3) + " g against Lamb's (8/3) rho0 a^3 = " +
+           fixed(d.lamb_mass * 1e3, 3) + " g: " + signed_fixed(100.0 * d.mass_error(), 2) + " % (target: within 5 %): " +
+           r.judge(mass_ok));
+    const double forced = d.force_driven_added_mass / d.lamb_mass - 1.0;
+    const bool forced_ok = std::abs(forced) < 0.05;
+    r.line("  the free 50 g disc driven by a force: " + fixed(d.force_driven_added_mass * 1e3, 3) + " g, " +
+           signed_fixed(100.0 * forced, 2) + " % (target: within 5 %): " + r.judge(forced_ok));
+    std::string masses = "  added mass / Lamb's by ka:";
+    for (std::size_t q = 0; q < d.mass_ka.size(); ++q) {
+        masses += ' ';
+        masses += fixed(d.mass_ka[q], 3);
+        masses += ':';
+        masses += fixed(d.mass_ratio[q], 4);
+    }
+    r.line(masses);
+    r.line("  on-axis |p/U| at r = " + fixed(d.listener_r, 2) + " m against the dipole (8/3) a^3 U, 4ka/(3 pi) of the piston's far field"
+           " (target: within 1.5 dB, ka 0.1..0.3)");
+    std::vector<double> ka, err;
+    double worst_small = 0.0;
+    for (const auto& q : d.points) {
+        r.line("  ka " + fixed(q.ka, 2) + "  " + fixed(q.simulated_db, 2) + " dB  dipole " + fixed(q.analytic_db, 2) + " dB  error " +
+               signed_fixed(q.error_db(), 2) + " dB" + (q.ka > 0.3 + 1e-9 ? "  (beyond small ka)" : ""));
+        if (q.ka <= 0.3 + 1e-9) worst_small = std::max(worst_small, std::abs(q.error_db()));
+        ka.push_back(q.ka);
+        err.push_back(q.error_db());
+    }
+    const bool far_ok = worst_small < 1.5;
+    r.line("  worst over ka 0.1..0.3 " + fixed(worst_small, 2) + " dB: " + r.judge(far_ok));
+    r.figure("dx_m", d.dx);
+    r.figure("cells_per_radius", s.cells_per_radius);
+    r.figure("seconds", took);
+    r.figure("added_mass_kg", d.added_mass);
+    r.figure("lamb_mass_kg", d.lamb_mass);
+    r.figure("added_mass_error", d.mass_error());
+    r.figure("force_driven_added_mass_kg", d.force_driven_added_mass);
+    r.raw("ka", array(ka));
+    r.raw("error_db", array(err));
+    r.figure("worst_error_db_small_ka", worst_small);
+    r.raw("ok", mass_ok && forced_ok && far_ok ? "true" : "false");
+    r.close("disc");
+}
+
+void run_timpani(Report& r, double dx) {
+    TimpaniSetup s;
+    s.cells_per_radius = s.radius_m / (dx > 0.0 ? dx : s.radius_m / 24.0);
+    const auto t0 = std::chrono::steady_clock::now();
+    const TimpaniResult t = timpani(s);
+    const double took = seconds_since(t0);
+    static constexpr double bessel[5] = {3.831705970, 5.135622302, 6.380161896, 7.588342435, 8.771483816};
+    r.line("timpani: Christian et al.'s head in free air (a = 0.328 m, s = 0.2653 kg/m^2, T = 3990 N/m), dx = " +
+           fixed(t.dx * 1e3, 2) + " mm (" + fixed(s.cells_per_radius, 1) + " cells per radius), " + std::to_string(t.cells) +
+           " cells, " + std::to_string(t.steps) + " steps, " + fixed(took, 1) + " s");
+    r.line("  mode   vacuum Hz  air Hz   ratio vacuum (Bessel)  ratio air  corrected  measured  error");
+    bool ok = true;
+    std::vector<double> corrected;
+    for (int m = 1; m <= 5; ++m) {
+        std::string row = "  (" + std::to_string(m) + ",1)  " + fixed(t.vacuum_hz[m - 1], 1) + "      " + fixed(t.air_hz[m - 1], 1);
+        if (m > 1) {
+            const double c = t.air_ratio(m) * (bessel[m - 1] / bessel[0]) / t.vacuum_ratio(m);
+            const double e = c / timpani_measured_ratio[m - 2] - 1.0;
+            ok = ok && std::abs(e) < 0.03;
+            corrected.push_back(c);
+            row += "    " + fixed(t.vacuum_ratio(m), 3) + " (" + fixed(bessel[m - 1] / bessel[0], 3) + ")        " +
+                   fixed(t.air_ratio(m), 3) + "      " + fixed(c, 3) + "      " + fixed(timpani_measured_ratio[m - 2], 2) +
+                   "      " + signed_fixed(100.0 * e, 1) + " % (raw " +
+                   signed_fixed(100.0 * (t.air_ratio(m) / timpani_measured_ratio[m - 2] - 1.0), 1) + " %)";
+        }
+        r.line(row);
+    }
+    r.line("  ratios, corrected by the discrete membrane's own vacuum error (target: within 3 %): " + std::string(r.judge(ok)));
+    const bool low_ok = t.lowering() > 0.64 && t.lowering() < 0.76;
+    r.line("  (1,1) in air / in vacuum " + fixed(t.lowering(), 3) + " (target 0.64..0.76): " + r.judge(low_ok));
+    r.figure("dx_m", t.dx);
+    r.figure("cells_per_radius", s.cells_per_radius);
+    r.figure("seconds", took);
+    r.raw("vacuum_hz", array(std::vector<double>(t.vacuum_hz, t.vacuum_hz + 5)));
+    r.raw("air_hz", array(std::vector<double>(t.air_hz, t.air_hz + 5)));
+    r.raw("corrected_ratios", array(corrected));
+    r.figure("lowering", t.lowering());
+    r.raw("ok", ok && low_ok ? "true" : "false");
+    r.close("timpani");
+}
+
+void run_reflection(Report& r, double dx) {
+    ReflectionSetup s;
+    if (dx > 0.0) s.dx = dx;
+    const auto t0 = std::chrono::steady_clock::now();
+    const ReflectionResult b = layer_reflection(s);
+    const double took = seconds_since(t0);
+    const bool ok = b.normal_db < -60.0 && b.oblique_db < -60.0;
+    r.line("reflection: " + std::to_string(s.pml_cells) + " cells of split-field PML (design R0 " + fixed(s.pml_reflection * 1e4, 1) +
+           "e-4), a point source's pulse 2 cells from it, " + fixed(took, 1) + " s");
+    r.line("  normal " + fixed(b.normal_db, 1) + " dB, 45 degrees " + fixed(b.oblique_db, 1) + " dB of the direct peak (target below -60 dB): " +
+           r.judge(ok));
+    r.figure("pml_cells", s.pml_cells);
+    r.figure("normal_db", b.normal_db);
+    r.figure("oblique_db", b.oblique_db);
+    r.raw("ok", ok ? "true" : "false");
+    r.close("reflection");
+}
+
+void run_canopy(Report& r, double dx) {
+    CanopyInAirSetup s;
+    s.dx = dx > 0.0 ? dx : 0.025;
+    s.margin_m = 0.15;
+    s.duration_s = 0.1;
+    const auto t0 = std::chrono::steady_clock::now();
+    const std::vector<PanelMode> modes = panel_modes_in_air(s, 4);
+    const double took = seconds_since(t0);
+    r.line("canopy: the default flat nylon canopy (8 panels, R = 0.5 m, 50 masses each) struck at panel 0's centre, dx = " +
+           fixed(s.dx * 1e3, 1) + " mm, " + fixed(s.duration_s * 1e3, 0) + " ms, " + fixed(took, 1) + " s (no target: the fast model's figures)");
+    std::vector<double> vac, air;
+    for (std::size_t q = 0; q < modes.size(); ++q) {
+        r.line("  panel mode " + std::to_string(q + 1) + ": " + fixed(modes[q].vacuum_hz, 1) + " Hz in vacuum, " + fixed(modes[q].air_hz, 1) +
+               " Hz in air (x " + fixed(modes[q].air_hz / modes[q].vacuum_hz, 3) + ")");
+        vac.push_back(modes[q].vacuum_hz);
+        air.push_back(modes[q].air_hz);
+    }
+    r.figure("dx_m", s.dx);
+    r.raw("vacuum_hz", array(vac));
+    r.raw("air_hz", array(air));
+    r.close("canopy");
+}
+
+}  // namespace reference_cli
+
+std::string reference_usage() {
+    return "usage: ameoto reference [piston] [disc] [timpani] [reflection] [canopy] [--dx M] [--json]\n"
+           "\n"
+           "Runs the offline air reference's validations (engine/reference; docs/air-reference.md) and prints\n"
+           "each figure against its target. Needs no server. Default: piston, disc, timpani and reflection, each\n"
+           "at its full-resolution spacing (piston a/16, disc a/12, timpani a/24; about 30 s in all).\n"
+           "\n"
+           "  piston      a baffled piston's on-axis pressure against Kinsler's, ka 0.5..5 (within 1 dB)\n"
+           "  disc        a rigid disc in free air: Lamb's added mass (5 %), the dipole's far field (1.5 dB)\n"
+           "  timpani     Christian et al.'s head in free air: mode ratios (3 %), (1,1) lowering (0.64..0.76)\n"
+           "  reflection  the absorbing layer's reflection of a pulse (below -60 dB)\n"
+           "  canopy      the default canopy's lowest panel modes in vacuum and in air (no target)\n"
+           "\n"
+           "Options:\n"
+           "  --dx M      grid spacing in m for every validation chosen (0.001..0.1)\n"
+           "  --json      one JSON object on stdout instead of the text\n"
+           "  --help      this text\n"
+           "\n"
+           "Exit status: 0 every figure within its target; 1 any missed; 2 usage error.\n"
+           "Example: ameoto reference timpani --dx 0.01\n";
+}
+
+ReferenceParse parse_reference_options(const CommandWords& words, ReferenceOptions& o, std::string& error) {
+    OptionReader reader(words);
+    for (auto kind = reader.next_word(); kind != OptionReader::Word::end; kind = reader.next_word()) {
+        if (kind == OptionReader::Word::positional) {
+            const std::string& w = reader.positional();
+            bool found = false;
+            for (const auto& k : reference_cli::known) found = found || k == w;
+            if (!found) {
+                error = "unknown validation '" + w + "' (known: piston, disc, timpani, reflection, canopy)";
+                return ReferenceParse::error;
+            }
+            o.validations.push_back(w);
+            continue;
+        }
+        const std::string& name = reader.name();
+        if (name == "--help" || name == "-h") return ReferenceParse::help;
+        if (name == "--json") {
+            if (!reader.flag_into(error)) return ReferenceParse::error;
+            o.json = true;
+        } else if (name == "--dx") {
+            const auto v = reader.number_into(0.001, 0.1, "m", error);
+            if (!v) return ReferenceParse::error;
+            o.dx_m = *v;
+        } else {
+            error = reader.unknown();
+            return ReferenceParse::error;
+        }
+    }
+    return ReferenceParse::run;
+}
+
+int run_reference(const CommandWords& words, const CommandIo& io) {
+    ReferenceOptions o;
+    std::string error;
+    switch (parse_reference_options(words, o, error)) {
+    case ReferenceParse::help:
+        io.out << reference_usage();
+        return exit_status::ok;
+    case ReferenceParse::error:
+        io.err << "ameoto reference: " << error << " (see ameoto reference --help)\n";
+        return exit_status::usage;
+    case ReferenceParse::run:
+        break;
+    }
+    if (o.validations.empty()) o.validations = {"piston", "disc", "timpani", "reflection"};
+    reference_cli::Report report{io.out, o.json, true, {}, {}};
+    try {
+        for (const auto& v : o.validations) {
+            if (v == "piston") reference_cli::run_piston(report, o.dx_m);
+            else if (v == "disc") reference_cli::run_disc(report, o.dx_m);
+            else if (v == "timpani") reference_cli::run_timpani(report, o.dx_m);
+            else if (v == "reflection") reference_cli::run_reflection(report, o.dx_m);
+            else if (v == "canopy") reference_cli::run_canopy(report, o.dx_m);
+        }
+    } catch (const std::exception& e) {
+        io.err << "ameoto reference: " << e.what() << '\n';
+        return exit_status::refused;
+    }
+    if (o.json) {
+        io.out << "{";
+        for (std::size_t q = 0; q < report.members.size(); ++q) io.out << (q ? ", " : "") << report.members[q];
+        io.out << ", \"ok\": " << (report.all_ok ? "true" : "false") << "}\n";
+    } else {
+        io.out << (report.all_ok ? "every figure within its target\n" : "some figures MISSED their targets\n");
+    }
+    return report.all_ok ? exit_status::ok : exit_status::refused;
+}
+
+}  // namespace ameoto::client

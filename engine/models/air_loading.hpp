@@ -1,0 +1,77 @@
+#pragma once
+// The air's mass on a thin flat screen (a membrane) in unbounded air, loaded on both faces, with no
+// baffle: the incompressible added-mass matrix of its moving cells, by the vortex-ring (uniform doublet
+// panel) method.
+//
+// Interface (build phase only: everything here allocates; never on the audio thread):
+//   ScreenSampling s = sample_screen(lo, hi, h, owner);   // squares of side h over the box [lo, hi],
+//                                                         // each owned by owner(centre): a cell index
+//                                                         // 0..N-1, or -1 where there is no screen
+//   AddedMass a = screen_added_mass(s, rho0);             // a.matrix (N x N, kg), a.area (m^2 per
+//                                                         // cell), a.centroid (collocation points)
+//   AddedMass c = canopy_added_mass(canopy, h, rho0);     // the umbrella's nodes, panel-major
+//                                                         // (index panel * nodes + node)
+//   a.matrix * acceleration = the force the air puts on each cell, with the sign reversed: the
+//   equation of motion in air is (M + M_a) u'' + C u' + K u = f.
+//
+// Method. A thin screen moving along its normal with velocity w(x, y) in incompressible, irrotational
+// air has a potential phi that jumps across it by mu = phi(top) - phi(bottom); the screen is a doublet
+// sheet of strength mu. A cell of uniform mu is the same flow as a vortex ring of circulation -mu round
+// the cell's edge (Katz & Plotkin, Low-Speed Aerodynamics, 2nd ed., section 10.4: a constant-strength
+// doublet panel is a vortex ring). The normal velocity at collocation point i (the centroid of cell i)
+// is then w_i = sum_j G_ij Gamma_j, G_ij the Biot-Savart velocity of the unit counter-clockwise ring
+// round cell j at point i (Katz & Plotkin eq. 10.115, the straight segment). Linearised Bernoulli,
+// p = -rho0 d(phi)/dt, gives the pressure jump Delta p = p(top) - p(bottom) = -rho0 d(mu)/dt, and the
+// force up on cell i is -Delta p_i A_i. With Gamma = -mu and the cells moving with accelerations a,
+//   F_i = -rho0 A_i (G^-1 a)_i,   so   M_a = rho0 diag(A) G^-1   (then symmetrised: (M_a + M_a') / 2;
+// collocation leaves it symmetric only to the discretisation's order).
+// Why incompressible: the canopy's membrane waves are subsonic (129 m/s on nylon, slower still with
+// the air's mass) so the air near it moves as an evanescent, nearly incompressible layer whose mass per
+// area is rho0 / sqrt(kappa^2 - k^2) per face (acoustics.md section 1): for the lowest, most loaded
+// modes kappa / k is 6 or more, a correction under 1.5 % in mass; for the highest modes of a 50-mass
+// panel (kappa / k about 2.7, loaded by about a third of their mass) some 2 % in frequency. The
+// radiation that compressibility adds is computed separately (air_radiation.hpp).
+// Cells: every square of the sampling belongs to one cell; a cell's ring is the sum of its squares'
+// rings, so only edges between different owners (or the outside) are kept, merged along straight runs.
+// Accuracy (tests/engine/models/air_loading_test.cpp): a disc's added mass against Lamb's
+// (8/3) rho0 a^3 (Hydrodynamics, section 108), and the modes of Christian et al.'s timpani head in air.
+
+#include <functional>
+#include <vector>
+
+#include <Eigen/Dense>
+
+#include "engine/core/triangular_lattice.hpp"
+
+namespace ameoto {
+
+class Canopy;
+
+struct ScreenSampling {
+    Point2 origin;            // the lower-left corner of square (0, 0), m
+    double side = 0.0;        // m
+    int nx = 0, ny = 0;       // squares along x and y
+    int cells = 0;            // owners are 0..cells-1
+    std::vector<int> owner;   // [j * nx + i], -1: no screen there
+};
+
+struct AddedMass {
+    Eigen::MatrixXd matrix;     // kg, symmetric
+    Eigen::VectorXd area;       // m^2 per cell: its squares' area
+    std::vector<Point2> centroid;
+};
+
+// Throws std::invalid_argument if h <= 0, the box is empty, or a cell index is out of range, and
+// std::runtime_error if some cell owns no square (h too coarse for the cells).
+ScreenSampling sample_screen(Point2 lo, Point2 hi, double h, int cells, const std::function<int(Point2)>& owner);
+AddedMass screen_added_mass(const ScreenSampling& sampling, double air_density);
+
+// The umbrella's canopy seen from above (a flat canopy; a curved one is taken as its plan: the shallow
+// shell's approximation, canopy.hpp): each square belongs to the node Canopy::locate gives there.
+AddedMass canopy_added_mass(const Canopy& canopy, double square_side_m, double air_density);
+
+// The velocity along +z at p induced by a vortex segment a -> b of unit circulation, all in one plane
+// (Biot-Savart; 0 on the segment's line). Exposed for its test.
+double ring_segment_velocity(Point2 p, Point2 a, Point2 b);
+
+}  // namespace ameoto

@@ -1,0 +1,146 @@
+// The umbrella canopy in air by the reference solver: see canopy_in_air.hpp.
+#include "engine/reference/canopy_in_air.hpp"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include "engine/core/physical_constants.hpp"
+#include "engine/reference/air_solver.hpp"
+#include "engine/reference/spectrum.hpp"
+
+namespace ameoto::reference {
+
+namespace {
+
+struct CanopyStructure {
+    ScreenStructure structure;
+    int panels = 0, nodes = 0;
+};
+
+// The lattice of every panel as DOFs panel * nodes + node (Canopy's own numbering).
+CanopyStructure canopy_structure(const Canopy& canopy, const MembraneMaterial& material) {
+    CanopyStructure c;
+    c.panels = canopy.panel_count();
+    c.nodes = canopy.nodes_per_panel();
+    const TriangularLattice& lattice = canopy.panel(0).lattice;
+    const double node_mass = material.total_mass > 0.0 ? material.total_mass / static_cast<double>(c.nodes)
+                                                       : material.areal_density * lattice.node_area;
+    const double k = material.link_stiffness > 0.0 ? material.link_stiffness : material.tension / std::sqrt(3.0);
+    // Rayleigh damping as in engine/models/membrane.hpp: alpha M + beta K (link_damping z given: beta = z / k).
+    c.structure.mass_damping = material.mass_damping;
+    c.structure.stiffness_damping = material.link_damping > 0.0 ? material.link_damping / k : material.stiffness_damping;
+    for (int p = 0; p < c.panels; ++p) {
+        const int base = p * c.nodes;
+        for (int i = 0; i < c.nodes; ++i) {
+            c.structure.add_dof(node_mass);
+            const int anchors = lattice.anchor_links[static_cast<std::size_t>(i)];
+            if (anchors > 0) c.structure.add_spring(base + i, -1, k * anchors);
+        }
+        for (const LatticeLink& l : lattice.links) c.structure.add_spring(base + l.a, base + l.b, k);
+    }
+    return c;
+}
+
+}  // namespace
+
+CanopyInAirResult run_canopy_in_air(const CanopyInAirSetup& setup) {
+    if (setup.geometry.curvature_radius_m < std::numeric_limits<double>::infinity())
+        throw std::invalid_argument("run_canopy_in_air: only a flat canopy (the screen is one plane)");
+    if (!(setup.duration_s > 0.0) || !(setup.pulse_s > 0.0) || setup.record_every < 1)
+        throw std::invalid_argument("run_canopy_in_air: duration, pulse length and record_every must be positive");
+    const double half = setup.geometry.radius_m + setup.margin_m;
+    const GridSpec g = GridSpec::box(setup.dx, half, half, setup.margin_m, setup.margin_m, setup.pml_cells);
+    const double dt = g.time_step();
+    const Canopy canopy(setup.geometry, setup.material, dt);
+    CanopyStructure c = canopy_structure(canopy, setup.material);
+    CanopyInAirResult r;
+    r.panels = c.panels;
+    r.nodes_per_panel = c.nodes;
+    if (setup.panel < 0 || setup.panel >= c.panels || setup.node < -1 || setup.node >= c.nodes)
+        throw std::invalid_argument("run_canopy_in_air: the struck panel or node does not exist");
+    const Point2 centre = canopy.panel_centroid(setup.panel);
+    r.struck_node = setup.node >= 0 ? setup.node : canopy.locate(centre.x, centre.y).node;
+    const int struck = setup.panel * c.nodes + r.struck_node;
+
+    AirSolver air(g, c.structure);
+    std::vector<int> faces(static_cast<std::size_t>(c.structure.size()), 0);
+    for (int j = 0; j < g.ny; ++j)
+        for (int i = 0; i < g.nx; ++i) {
+            const CanopyHit hit = canopy.locate(air.face_x(i), air.face_y(j));
+            if (hit.panel < 0) continue;
+            const int dof = hit.panel * c.nodes + hit.node;
+            air.set_face(i, j, dof);
+            ++faces[static_cast<std::size_t>(dof)];
+        }
+    r.nodes_without_faces = static_cast<int>(std::count(faces.begin(), faces.end(), 0));
+    air.set_air_loading(setup.air);
+    r.time_step_s = dt;
+    r.sample_interval_s = dt * setup.record_every;
+    r.sub_steps = air.structure().sub_steps();
+    r.cells = static_cast<long>(air.cells());
+    const long steps = static_cast<long>(std::ceil(setup.duration_s / dt));
+    const std::size_t samples = static_cast<std::size_t>(steps / setup.record_every);
+    r.pressure.assign(setup.listeners.size(), {});
+    for (auto& p : r.pressure) p.reserve(samples);
+    if (setup.record_nodes) {
+        r.node_velocity.assign(static_cast<std::size_t>(c.structure.size()), {});
+        for (auto& v : r.node_velocity) v.reserve(samples);
+    }
+    for (long n = 0; n < steps; ++n) {
+        const double t = air.time();
+        const double f = t < setup.pulse_s ? setup.force_n * 0.5 * (1.0 - std::cos(2.0 * constants::pi * t / setup.pulse_s)) : 0.0;
+        air.set_external_force(struck, f);
+        air.step();
+        if ((n + 1) % setup.record_every) continue;
+        for (std::size_t l = 0; l < setup.listeners.size(); ++l)
+            r.pressure[l].push_back(air.pressure_at(setup.listeners[l].x, setup.listeners[l].y, setup.listeners[l].z));
+        if (setup.record_nodes)
+            for (int d = 0; d < c.structure.size(); ++d) r.node_velocity[static_cast<std::size_t>(d)].push_back(air.dof_velocity(d));
+    }
+    r.steps = air.steps();
+    return r;
+}
+
+std::vector<PanelMode> panel_modes_in_air(const CanopyInAirSetup& setup, int modes) {
+    CanopyInAirSetup s = setup;
+    s.record_every = 1;
+    s.record_nodes = true;
+    const GridSpec g = GridSpec::box(s.dx, 1.0, 1.0, 1.0, 1.0, s.pml_cells);
+    const Canopy canopy(s.geometry, s.material, g.time_step());
+    const CanopyStructure c = canopy_structure(canopy, s.material);
+    // One panel's stiffness and mass (the panels are identical and, without air, independent).
+    const int n = c.nodes;
+    Eigen::MatrixXd K = Eigen::MatrixXd::Zero(n, n);
+    for (const Spring& sp : c.structure.springs) {
+        if (sp.a >= n) continue;
+        K(sp.a, sp.a) += sp.stiffness;
+        if (sp.b >= 0) {
+            K(sp.b, sp.b) += sp.stiffness;
+            K(sp.a, sp.b) -= sp.stiffness;
+            K(sp.b, sp.a) -= sp.stiffness;
+        }
+    }
+    const double m = c.structure.mass[0];
+    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(K / m);
+    modes = std::clamp(modes, 1, n);
+    const CanopyInAirResult r = run_canopy_in_air(s);
+    std::vector<PanelMode> out;
+    for (int q = 0; q < modes; ++q) {
+        PanelMode mode;
+        mode.vacuum_hz = std::sqrt(std::max(0.0, eig.eigenvalues()(q))) / (2.0 * constants::pi);
+        std::vector<double> projection(r.node_velocity.front().size(), 0.0);
+        for (int i = 0; i < n; ++i) {
+            const double w = eig.eigenvectors()(i, q);
+            const auto& v = r.node_velocity[static_cast<std::size_t>(s.panel * n + i)];
+            for (std::size_t t = 0; t < v.size(); ++t) projection[t] += w * v[t];
+        }
+        mode.air_hz = peak_frequency(projection, r.sample_interval_s, 0.2 * mode.vacuum_hz, 1.05 * mode.vacuum_hz);
+        out.push_back(mode);
+    }
+    return out;
+}
+
+}  // namespace ameoto::reference

@@ -1,0 +1,272 @@
+#include "server/scene_manager.hpp"
+
+#include <algorithm>
+#include <cstdio>
+#include <stdexcept>
+
+#include "server/log_lines.hpp"
+#include "server/scene_store.hpp"
+
+namespace ameoto {
+namespace {
+
+// A live surface may take at most this many sub-steps per sample: each multiplies the canopy's cost, and
+// the audio thread must keep its deadline (seed-nylon needs 27 at 48 kHz: about 3 cores). Stiffer
+// materials are refused with their bound; offline renders may still use them.
+constexpr int max_live_sub_steps = 4;
+
+void check_live_cost(const Canopy& canopy, const MembraneMaterial& material, double sample_rate) {
+    const StabilityReport& s = canopy.panel(0).network.stability();
+    if (s.sub_steps <= max_live_sub_steps) return;
+    char text[320];
+    std::snprintf(text, sizeof text,
+                  "material '%s' needs %d sub-steps per sample at %.0f Hz (omega_max T = %.1f for the explicit scheme): more than "
+                  "the %d a live surface may take; render it offline or choose a softer material",
+                  material.name.c_str(), s.sub_steps, sample_rate, s.omega_max_bound / sample_rate, max_live_sub_steps);
+    throw std::invalid_argument(text);
+}
+
+// Custom umbrella materials by name, for scenes that name one (defined over OSC earlier).
+std::optional<MembraneMaterial> find_custom_material(const std::string& name, const void* context) {
+    const auto& materials = *static_cast<const std::map<std::string, MembraneMaterial>*>(context);
+    const auto found = materials.find(name);
+    return found == materials.end() ? std::nullopt : std::optional<MembraneMaterial>(found->second);
+}
+
+bool has_umbrella(const SceneDescription& scene) {
+    return std::any_of(scene.surfaces.begin(), scene.surfaces.end(), [](const SurfaceDescription& s) { return s.kind == SurfaceKind::umbrella; });
+}
+
+}  // namespace
+
+std::optional<FirstScene> read_first_scene(const DaemonOptions& options, double sample_rate, bool live) {
+    FirstScene first;
+    first.base.sample_rate = sample_rate;
+    first.base.channels = options.channels;
+    first.base.seed = options.seed;
+    // Shedding detail by measured load makes the output depend on the machine: live playback only. An
+    // offline render (null backend, not paced) stays reproducible to the sample.
+    first.base.adaptive_lod = !options.fixed_detail && live;
+    first.folder = options.scene_folder ? std::filesystem::path(*options.scene_folder) : SceneStore::default_folder();
+    // A name is a name (built in, or the folder's); anything else parse_options let through is a file's path.
+    const bool by_name = is_scene_name(options.scene);
+    const std::map<std::string, MembraneMaterial> no_custom_materials;   // none is defined before the first scene
+    if (!by_name) {
+        try {
+            first.scene = SceneStore::read_file(options.scene);
+        } catch (const std::exception& e) {
+            warn(std::string("--scene: ") + e.what());   // it names the file (and the line and the key)
+            return std::nullopt;
+        }
+    }
+    try {
+        if (by_name) first.scene = SceneStore(first.folder).load(options.scene);
+        if (options.rain_mm_per_h) first.scene.rain.rate_mm_per_h = *options.rain_mm_per_h;
+        first.config = configure_for_scene(first.base, first.scene, find_custom_material, &no_custom_materials);
+    } catch (const std::exception& e) {
+        warn("--scene " + options.scene + ": " + e.what());
+        return std::nullopt;
+    }
+    return first;
+}
+
+SceneManager::SceneManager(boost::asio::io_context& io, const FirstScene& first, AudioBridge& bridge, SceneRecord& record,
+                           Replies& replies, TrafficCounters& traffic)
+    : bridge_(bridge),
+      record_(record),
+      replies_(replies),
+      traffic_(traffic),
+      base_config_(first.base),
+      folder_(first.folder),
+      worker_settings_(std::make_shared<WorkerSettings>(WorkerSettings{first.config.material, first.config.liquid})),
+      worker_(io) {
+    use_geometry(first.config, has_umbrella(first.scene));
+    context_.on_surface = [this](const std::string&, double x, double y) { return geometry_->locate(x, y).panel >= 0; };
+    context_.custom_liquid = [this](const std::string& name) -> std::optional<Liquid> {
+        const auto found = custom_liquids_.find(name);
+        return found == custom_liquids_.end() ? std::nullopt : std::optional<Liquid>(found->second);
+    };
+    context_.custom_material = [this](const std::string& name) -> std::optional<MembraneMaterial> {
+        const auto found = custom_materials_.find(name);
+        return found == custom_materials_.end() ? std::nullopt : std::optional<MembraneMaterial>(found->second);
+    };
+}
+
+// The control thread validates /drop points against its own copy of the umbrella's geometry (the audio
+// thread's scene can change at any time).
+void SceneManager::use_geometry(const RendererConfig& config, bool umbrella) {
+    geometry_ = std::make_unique<Canopy>(config.canopy, config.material, 1.0 / config.sample_rate);
+    context_.surfaces = umbrella ? std::vector<std::string>{"umbrella"} : std::vector<std::string>{};
+}
+
+void SceneManager::fail(std::uint16_t reply_to, const std::string& address, const std::string& reason) {
+    replies_.reply(replies_.peer(reply_to), "/fail", protocol::fail_arguments(address, reason));
+}
+
+// /scene/load: read (built in or from the folder) and build everything on the worker; the audio thread
+// takes it by pointer and rings the old scene out. A file that does not parse changes nothing.
+void SceneManager::load(const Peer& sender, const std::string& address, const std::string& name) {
+    build_and_load(sender, address, [name, folder = folder_] { return SceneStore(folder).load(name); });
+}
+
+// /rain/dsd and /surface/...: the current scene changed, validated here, rebuilt like a loaded one.
+void SceneManager::edit(const Peer& sender, const std::string& address, const protocol::SceneEdit& edit) {
+    using Op = protocol::SceneEdit::Op;
+    SceneDescription scene = record_.scene();
+    auto found = std::find_if(scene.surfaces.begin(), scene.surfaces.end(),
+                              [&](const SurfaceDescription& f) { return f.name == edit.surface.name; });
+    std::string refusal;
+    switch (edit.op) {
+        case Op::dsd:
+            scene.rain.dsd = edit.dsd;
+            scene.rain.gamma_mu = edit.mu;
+            scene.rain.gamma_lambda_per_mm = edit.lambda;
+            break;
+        case Op::surface_add:
+            if (found != scene.surfaces.end())
+                refusal = "a surface named '" + edit.surface.name + "' is already in the scene (/surface/set changes it)";
+            else
+                scene.surfaces.push_back(edit.surface);
+            break;
+        case Op::surface_set:
+            if (found == scene.surfaces.end())
+                refusal = "no surface named '" + edit.surface.name + "' (/surface/add adds one)";
+            else if (found->kind == SurfaceKind::umbrella)
+                refusal = "the umbrella changes with /material/surface";
+            else
+                *found = edit.surface;
+            break;
+        case Op::surface_remove:
+            if (found == scene.surfaces.end())
+                refusal = "no surface named '" + edit.surface.name + "'";
+            else
+                scene.surfaces.erase(found);
+            break;
+        case Op::accuracy: scene.accuracy = edit.accuracy; break;   // configure_for_scene applies it
+    }
+    if (refusal.empty()) refusal = validate_scene(scene);
+    if (!refusal.empty()) {
+        replies_.reply(sender, "/fail", protocol::fail_arguments(address, refusal));
+        return;
+    }
+    build_and_load(sender, address, [scene] { return scene; });
+}
+
+void SceneManager::build_and_load(const Peer& sender, const std::string& address, std::function<SceneDescription()> source) {
+    const std::uint16_t reply_to = replies_.know(sender);
+    struct Built {
+        std::unique_ptr<LoadedScene> loaded;
+        SceneDescription scene;
+        RendererConfig config;
+    };
+    worker_.submit<std::shared_ptr<Built>>(
+        [source = std::move(source), base = base_config_, materials = custom_materials_, settings = worker_settings_] {
+            auto built = std::make_shared<Built>();
+            built->scene = source();
+            RendererConfig c = configure_for_scene(base, built->scene, find_custom_material, &materials);
+            c.liquid = settings->liquid;   // the liquid chosen over OSC stays
+            if (has_umbrella(built->scene)) {
+                const Canopy probe(c.canopy, c.material, 1.0 / c.sample_rate);
+                check_live_cost(probe, c.material, c.sample_rate);
+            }
+            built->loaded = Renderer::make_loaded_scene(c);
+            built->config = c;
+            settings->material = c.material;
+            return built;
+        },
+        [this, reply_to, address](std::shared_ptr<Built> built) {
+            Command c;
+            c.kind = CommandKind::load_scene;
+            c.object = built->loaded.get();
+            c.reply_to = reply_to;
+            if (!bridge_.send(c)) {
+                ++traffic_.busy;
+                fail(reply_to, address, "busy: command queue full");
+                return;
+            }
+            built->loaded.release();   // the audio thread owns it now
+            // Timed changes still waiting stay: the renderer keeps its scheduled commands across a load.
+            record_.loaded(built->scene, built->config.material);
+            use_geometry(built->config, has_umbrella(record_.scene()));
+            pending_done_[reply_to].push_back(address);
+            say("scene " + record_.scene().name);
+        },
+        [this, reply_to, address](const std::string& error) { fail(reply_to, address, error); });
+}
+
+std::string SceneManager::done_address(std::uint16_t reply_to) {
+    auto& waiting = pending_done_[reply_to];
+    const std::string what = waiting.empty() ? std::string("/scene/load") : waiting.front();
+    if (!waiting.empty()) waiting.pop_front();
+    return what;
+}
+
+// /scene/save: the scene as it plays, written atomically on the worker (disk time stays off the loop).
+void SceneManager::save(const Peer& sender, const std::string& address, const std::string& name) {
+    const std::uint16_t reply_to = replies_.know(sender);
+    SceneDescription scene = record_.scene();
+    scene.name = name;
+    worker_.submit<std::string>(
+        [name, scene, folder = folder_] {
+            const SceneStore store(folder);
+            store.save(name, scene);
+            return store.path_of(name).string();
+        },
+        [this, reply_to, address](const std::string& path) {
+            say("saved the scene to " + path);
+            replies_.reply(replies_.peer(reply_to), "/done", {protocol::OscArgument::from_string(address)});
+        },
+        [this, reply_to, address](const std::string& error) { fail(reply_to, address, error); });
+}
+
+void SceneManager::change_material(const Peer& sender, const std::string& address, const MembraneMaterial& material) {
+    if (!membrane_material(material.name)) custom_materials_[material.name] = material;
+    rebuild(sender, address, material, std::nullopt);
+}
+
+void SceneManager::change_liquid(const Peer& sender, const std::string& address, const Liquid& liquid) {
+    if (!find_liquid(liquid.name)) custom_liquids_[liquid.name] = liquid;
+    rebuild(sender, address, std::nullopt, liquid);
+}
+
+// A material or liquid change: the whole scene (canopy, drop pool, collider, far field) is built on the
+// worker (a stiff material's stability check and a liquid's calibration take time, and a refusal must not
+// disturb the sound), then handed to the audio thread by pointer; the old scene rings out and comes back
+// in a `retired` event to be freed on the control thread (audio_events.hpp).
+void SceneManager::rebuild(const Peer& sender, const std::string& address, std::optional<MembraneMaterial> material,
+                           std::optional<Liquid> liquid) {
+    const std::uint16_t reply_to = replies_.know(sender);
+    const CommandKind kind = material ? CommandKind::swap_surface : CommandKind::swap_liquid;
+    worker_.submit<std::unique_ptr<UmbrellaScene>>(
+        [config = bridge_.config(), settings = worker_settings_, material, liquid] {
+            RendererConfig c = config;
+            c.material = material ? *material : settings->material;
+            c.liquid = liquid ? *liquid : settings->liquid;
+            if (material) {   // refused before anything costly is built (a stiff canopy's templates take long)
+                const Canopy probe(c.canopy, *material, 1.0 / c.sample_rate);
+                check_live_cost(probe, *material, c.sample_rate);
+            }
+            auto scene = Renderer::make_scene(c);
+            settings->material = c.material;   // only once the scene is built: a refusal changes nothing
+            settings->liquid = c.liquid;
+            return scene;
+        },
+        [this, reply_to, address, kind, material, liquid](std::unique_ptr<UmbrellaScene> scene) {
+            Command c;
+            c.kind = kind;
+            c.object = scene.get();
+            c.reply_to = reply_to;
+            if (bridge_.send(c)) {
+                scene.release();   // the audio thread owns it now
+                // Only now is it in effect (a refused material changed nothing).
+                if (material) record_.material_changed(*material);
+                if (liquid) record_.liquid_changed(*liquid);
+            } else {
+                ++traffic_.busy;
+                fail(reply_to, address, "busy: command queue full");
+            }
+        },
+        [this, reply_to, address](const std::string& error) { fail(reply_to, address, error); });
+}
+
+}  // namespace ameoto
