@@ -47,8 +47,8 @@ std::vector<std::string> liquid_names() {
 std::string render_usage() {
     return "usage: ameoto render drop --diameter MM -o FILE.wav [--speed M/S] [--material NAME]\n"
            "           [--liquid NAME] [--seconds S] [--rate HZ] [--seed N] [--x M --y M]\n"
-           "           [--output-kind far-field|mass] [--channels 1|2] [--coarse-steps N] [--quiet]\n"
-           "           [--plot FILE.svg]\n"
+           "           [--output-kind far-field|mass] [--channels 1|2] [--coarse-steps N]\n"
+           "           [--impact wet|seed] [--quiet] [--plot FILE.svg]\n"
            "\n"
            "Renders one drop falling on the umbrella, offline (no server needed): a lattice drop of\n"
            "the chosen liquid strikes the canopy's membrane, may break up, and the canopy's sound is\n"
@@ -82,6 +82,9 @@ std::string render_usage() {
            "                      take as one step (default 4; 1: every piece every sample). The\n"
            "                      sound is the same to the bit until a piece lands again, then\n"
            "                      differs by about 1 % (docs/drop.md, \"Coarse steps for a splash in flight\")\n"
+           "  --impact MODEL      how the drop's masses meet the membrane: wet (default: stopped\n"
+           "                      as a liquid is, impulse m V, spreading; docs/impacts.md) or seed\n"
+           "                      (the seed's elastic exchange: they bounce, impulse about 2 m V)\n"
            "  --quiet             no progress on stderr\n"
            "  --plot FILE.svg     also write a plot: pieces over time, a side view of the drop's\n"
            "                      masses at a few times, the waveform and the spectrogram\n"
@@ -92,7 +95,8 @@ std::string render_usage() {
            "Examples:\n"
            "  ameoto render drop --diameter 5 -o drop.wav\n"
            "  ameoto render drop --diameter 3 --speed 4 --material vinyl --channels 2 -o d.wav --plot d.svg\n"
-           "  ameoto render drop --diameter 2 --liquid milk --x 0.2 --y 0 --output-kind mass -o m.wav\n";
+           "  ameoto render drop --diameter 2 --liquid milk --x 0.2 --y 0 --output-kind mass -o m.wav\n"
+           "  ameoto render drop --diameter 4 --impact seed -o seed.wav\n";
 }
 
 RenderParse parse_render_drop_options(const CommandWords& words, RenderDropOptions& o, std::string& error) {
@@ -123,6 +127,14 @@ RenderParse parse_render_drop_options(const CommandWords& words, RenderDropOptio
                 return RenderParse::error;
             }
             o.speed_m_per_s = *v;
+        } else if (name == "--impact") {
+            if (!take_value()) return RenderParse::error;
+            const std::optional<ImpactModel> model = find_impact_model(value);
+            if (!model) {
+                error = "--impact: unknown impact model '" + value + "' (known: wet, seed)";
+                return RenderParse::error;
+            }
+            o.impact = *model;
         } else if (name == "--material") {
             if (!take_value()) return RenderParse::error;
             if (!membrane_material(value)) {
@@ -310,6 +322,7 @@ int run_render(const CommandWords& words, const CommandIo& io) {
     config.output = o.output;
     config.channels = o.channels;
     config.coarse_steps = o.coarse_steps;
+    config.impact = o.impact;
     config.capacity = 1;
     config.max_diameter = o.diameter_mm * 1e-3 * (1.0 + 1e-9);   // build only the lattices this drop needs
     config.retire_below_m = -1e9;                                 // offline: follow every piece to the end

@@ -19,6 +19,7 @@
 
 #include "clients/ameoto/command_io.hpp"
 #include "engine/models/drop_on_canopy.hpp"
+#include "engine/models/wet_impact.hpp"
 
 namespace ameoto::client {
 
@@ -34,6 +35,7 @@ struct RenderDropOptions {
     SceneOutput output = SceneOutput::far_field;
     int channels = 1;                   // 1 or 2
     int coarse_steps = 4;               // 1..64: samples a splash in the air may take as one (1: never)
+    ImpactModel impact = ImpactModel::wet;   // --impact wet|seed (engine/models/wet_impact.hpp)
     bool quiet = false;
     std::string wav_path;               // -o, required
     std::string plot_path;              // --plot, optional

@@ -226,9 +226,22 @@ double arrival_speed(double diameter, double density) {
     return terminal_speed(diameter) * std::sqrt(density / constants::water_density);
 }
 
+Vec3 drop_orientation(Vec3 p, bool tilted) {
+    if (!tilted) return p;
+    // An orthonormal frame (e1, e2, n), n = (1, g, g^2) / |.|: the point's coordinates in it.
+    constexpr double g = 1.6180339887498949;
+    const double inv = 1.0 / std::sqrt(1.0 + g * g + g * g * g * g);
+    const Vec3 n{inv, g * inv, g * g * inv};
+    const double inv1 = 1.0 / std::sqrt(n.x * n.x + n.y * n.y);
+    const Vec3 e1{n.y * inv1, -n.x * inv1, 0.0};
+    const Vec3 e2{n.y * e1.z - n.z * e1.y, n.z * e1.x - n.x * e1.z, n.x * e1.y - n.y * e1.x};
+    return Vec3{dot(e1, p), dot(e2, p), dot(n, p)};
+}
+
 DropCalibration calibrate_drop(const DropLattice& lattice, double diameter, const Liquid& liquid,
                                const DropOptions& options) {
     DropCalibration c;
+    c.tilted = options.tilted;
     c.diameter = diameter;
     c.density = liquid.density;
     c.surface_tension = liquid.surface_tension;
@@ -269,7 +282,7 @@ DropInfo add_drop(Body3D& body, const DropLattice& lattice, const DropCalibratio
     const double quadratic = drag == DragPreset::quadratic ? drag::drop_quadratic_drag(c.diameter) / info.mass_count : 0.0;
     const double linear = drag == DragPreset::seed_linear ? drag::seed_linear_drag : 0.0;
     for (const Vec3& p : lattice.shape.position) {
-        const int m = body.add_mass(c.node_mass, centre + c.diameter * p);
+        const int m = body.add_mass(c.node_mass, centre + c.diameter * drop_orientation(p, c.tilted));
         body.set_velocity(m, velocity);
         body.set_quadratic_drag(m, quadratic);
         body.set_linear_drag(m, linear);

@@ -13,6 +13,7 @@
 //   Drop drop = make_drop(D, liquid, centre);                // a Body3D of its own: gravity on,
 //                                                            // symplectic Euler, arrival speed, not finalized
 //   set_piece_drag(body, info, c, components, preset);       // after a breakup: each piece's own drag
+//   Vec3 q = drop_orientation(p, tilted);                    // a lattice point as add_drop places it
 //   rayleigh_frequency(D, liquid, n), lamb_decay_time(D, liquid, n), arrival_speed(D, density)
 //
 // Masses. One mass per 1 mm-diameter drop of volume (seed 5.1.1): target N = round((D / 1 mm)^3),
@@ -99,6 +100,7 @@ enum class DragPreset : std::uint8_t { quadratic, seed_linear, none };
 
 struct DropOptions {
     bool core = true;             // the incompressible core on every link
+    bool tilted = false;          // the lattice turned to a generic orientation (drop_orientation below)
     double core_length = 0.9;     // of the spacing h
     double core_speed = 15.0;     // m/s: k_c = m (core_speed / h)^2
 };
@@ -142,7 +144,16 @@ struct DropCalibration {
     double core_length = 0.0;       // m
     double core_stiffness = 0.0;    // N/m (0: no core)
     double arrival_speed = 0.0;     // m/s, terminal speed of a drop of this size and density
+    bool tilted = false;            // DropOptions::tilted: add_drop turns the lattice (drop_orientation)
 };
+
+// Where a lattice point p (drop_lattice's frame) is put in the drop: p itself, or tilted: the frame
+// turned so that its vertical is the generic direction (1, g, g^2) / |.|, g the golden ratio, which no
+// plane of the FCC lattice is perpendicular to. Upright, the lattice meets a flat surface a whole plane
+// of masses at once (a 2 mm drop's 7 masses arrive as 2, 4 and 1); tilted, every mass at its own
+// height, so a wet impact's force (wet_impact.hpp) is the sum of parcels arriving one after another,
+// as a liquid's does, rather than a few spikes. Audio-safe.
+Vec3 drop_orientation(Vec3 p, bool tilted);
 
 double rayleigh_frequency(double diameter, const Liquid& liquid, int n = 2);   // Hz
 double lamb_decay_time(double diameter, const Liquid& liquid, int n = 2);      // s

@@ -24,6 +24,9 @@ DropPoolConfig pool_config(const DropOnCanopyConfig& c) {
     p.retire_below = c.retire_below_m;
     p.max_lifetime = c.max_lifetime_s;
     p.coarse_max = c.coarse_steps;
+    // Wet: the lattice tilted (drop.hpp, drop_orientation), so that its masses reach the membrane one by
+    // one, not a plane at a time; the seed's lattice stands upright.
+    p.options.tilted = c.impact == ImpactModel::wet;
     return p;
 }
 
@@ -50,6 +53,10 @@ std::string number(double v) {
 
 }  // namespace
 
+CollisionOptions collision_options(const DropOnCanopyConfig& c) {
+    return c.impact == ImpactModel::seed ? CollisionOptions::seed(c.restitution) : CollisionOptions::wet(c.liquid.density);
+}
+
 const DropOnCanopyConfig& DropOnCanopy::checked(const DropOnCanopyConfig& c) {
     if (!(c.sample_rate >= 8000.0 && c.sample_rate <= 384000.0))
         throw std::invalid_argument("sample rate " + number(c.sample_rate) + " Hz is outside 8000..384000");
@@ -57,6 +64,7 @@ const DropOnCanopyConfig& DropOnCanopy::checked(const DropOnCanopyConfig& c) {
         throw std::invalid_argument("channels must be 1 to 16, not " + std::to_string(c.channels));
     if (!(c.restitution >= 0.0 && c.restitution <= 1.0))
         throw std::invalid_argument("restitution " + number(c.restitution) + " is outside 0..1");
+    if (c.impact != ImpactModel::wet && c.impact != ImpactModel::seed) throw std::invalid_argument("unknown impact model");
     if (c.guard_interval < 0) throw std::invalid_argument("guard interval must be 0 or more samples");
     if (c.coarse_steps < 1 || c.coarse_steps > 64)
         throw std::invalid_argument("coarse steps " + std::to_string(c.coarse_steps) + " is outside 1..64");
@@ -102,7 +110,7 @@ DropOnCanopy::DropOnCanopy(Built, const DropOnCanopyConfig& config, Canopy&& can
       dt_(1.0 / config_.sample_rate),
       canopy_(std::move(canopy)),
       pool_(pool_config(config_)),
-      collider_(canopy_, dt_, CollisionOptions{.restitution = config_.restitution}),
+      collider_(canopy_, dt_, collision_options(config_)),
       far_field_(canopy_, layout_for(config_), dt_),
       pickup_(MassPickup::at(canopy_, config_.pickup_x, config_.pickup_y)),
       panel_forces_(static_cast<std::size_t>(canopy_.panel_count()), 0.0),
@@ -118,6 +126,7 @@ DropOnCanopy::DropOnCanopy(Built, const DropOnCanopyConfig& config, Canopy&& can
     bottom_ = canopy_.rest_height(r, 0.0);
     rim_normal_z_ = canopy_.surface_normal(r, 0.0).z;
     reach_ = 0.05 / rim_normal_z_;
+    touch_ = config_.impact == ImpactModel::seed ? 0.0 : collider_.options().max_reach_m;
     pool_.set_coarse_floor(top_ + reach_);   // collide() sets it each sample (see there)
     double shortest = 1e300;
     const RayleighRadiator& radiator = far_field_.radiator();
@@ -133,7 +142,13 @@ bool DropOnCanopy::drop(double diameter_m, double speed_m_per_s, double x_m, dou
     if (!(speed_m_per_s >= 0.0 && std::isfinite(speed_m_per_s))) return false;
     if (canopy_.locate(x_m, y_m).panel < 0) return false;
     const double speed = speed_m_per_s > 0.0 ? speed_m_per_s : arrival_speed(diameter_m, config_.liquid.density);
-    const double z = canopy_.rest_height(x_m, y_m) + pool_.underside(diameter_m) + config_.gap_m;
+    // Wet: the lowest mass's parcel, not its centre, gap_m over the surface (it touches at its reach;
+    // 1 nm inside it, so that with gap_m = 0 the rounding of the sums below cannot leave it a hair out
+    // and the strike still comes at the first sample).
+    const double reach = collider_.reach(calibrate_drop(pool_.lattice(seed_mass_count(diameter_m)), diameter_m,
+                                                        config_.liquid, pool_.config().options).node_mass);
+    const double touch = reach > 0.0 ? reach - 1e-9 : 0.0;
+    const double z = canopy_.rest_height(x_m, y_m) + pool_.underside(diameter_m) + touch + config_.gap_m;
     if (!pool_.spawn(diameter_m, liquid_, Vec3{x_m, y_m, z}, Vec3{0.0, 0.0, -speed})) return false;
     // The new drop has the highest serial.
     int slot = -1;
@@ -247,12 +262,16 @@ void DropOnCanopy::collide() {
     const double band_below = bottom_ - reach_;
     double below = band_below;
     const double per_normal = (1.0 + 1e-9) / rim_normal_z_;   // vertical per normal distance, rounded up
-    const double skin = collider_.options().skin_m, t = collider_.time_step();
+    // Wet: a mass is held up to 3/7 of its parcel (under its reach) below a node; skin plus the reach
+    // covers that (drop_on_canopy.hpp), so the band below is widened by the reach.
+    const double skin = collider_.options().skin_m + touch_, t = collider_.time_step();
     bool have_u = false;
     double u_max = 0.0, above = top_ + reach_;
     if ((near_masses_ >= 16 || displaced_ || unread_steps_ >= 255) && !pool_.active().empty()) {
         const DisplacementRange u = canopy_.displacement_range();
-        u_max = u.highest;
+        // Wet: a mass touches up to touch_ over a node (its parcel's reach, at most the collider's cap);
+        // 1e-12 m more keeps a - u_j <= reach from being lost to the rounding of u_max + touch_.
+        u_max = touch_ > 0.0 ? u.highest + touch_ + 1e-12 : u.highest;
         above = top_ + std::max(u_max, 0.0) * per_normal + 1e-12;
         below = band_below - std::max(-u.lowest, 0.0) * per_normal;
         displaced_ = !(std::max(u.highest, -u.lowest) <= 0.25 * 0.05);

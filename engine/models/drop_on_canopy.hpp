@@ -48,8 +48,14 @@
 // in the air above it steps up to coarse_steps samples at once. Nothing can touch it meanwhile: the
 // sound is what stepping every sample gives, bit for bit, until a piece comes down again (tested).
 //
+// Impact (config.impact): wet, the default, stops each drop mass as its parcel of liquid arrives and
+// holds it on the membrane (a real drop's impulse m V on a rigid target, Gordillo et al. 2018:
+// wet_impact.hpp, docs/impacts.md); seed, the seed's exchange with restitution e (1: elastic, returning
+// the momentum: twice a real drop's impulse). Wet masses touch up to their reach (their parcel's
+// radius, at most 1 mm) above the membrane, so the broad phase below adds that reach to its bounds.
+//
 // Placement: drop() puts the drop's lowest mass gap_m (0.5 mm) above the rest surface at (x, y)
-// (DropPool::underside), moving straight down at `speed`, so it reaches the membrane within a few
+// (DropPool::underside; wet: its parcel's underside, the mass's reach lower), moving straight down at `speed`, so it reaches the membrane within a few
 // samples (a 5 mm drop at 9.1 m/s covers 0.19 mm per sample at 48 kHz); with gap_m = 0 it strikes at
 // once. acoustic_delay_samples(x, y) is the delay from that point of the cap to the nearest listening
 // point: when the impact is first heard. Speed 0 means the drop's arrival speed
@@ -92,7 +98,10 @@ struct DropOnCanopyConfig {
     SceneOutput output = SceneOutput::far_field;
     int channels = 1;                              // 1..16 (the pickup is the same on every channel)
     ListenerStyle listener = ListenerStyle::ears;  // two channels: ears or panned (3+: always panned)
-    double restitution = 1.0;                      // 0..1, the collision's (1: elastic, the seed)
+    ImpactModel impact = ImpactModel::wet;         // how a drop mass meets the membrane (wet_impact.hpp):
+                                                   // wet (a real drop's impulse m V, spreading) or seed
+                                                   // (the seed's exchange, restitution below)
+    double restitution = 1.0;                      // 0..1, the seed exchange's e (1: elastic, the seed's)
     int capacity = 8;                              // drops at once
     double max_diameter = 8e-3;                    // m, the largest drop drop() accepts
     double gap_m = 0.5e-3;                         // m, between the drop and the surface at spawn
@@ -135,6 +144,10 @@ struct SceneMass {
     std::uint64_t serial = 0;       // spawn number of its drop (1, 2, ...)
     int piece = 0;                  // its piece within the drop
 };
+
+// The collider's options for a configuration: CollisionOptions::seed(restitution) for ImpactModel::seed,
+// CollisionOptions::wet(liquid density) for wet.
+CollisionOptions collision_options(const DropOnCanopyConfig& config);
 
 class DropOnCanopy {
 public:
@@ -179,6 +192,7 @@ private:
     std::vector<int> spawn_masses_;       // per slot
     std::vector<double> spawn_mass_kg_;   // per slot
     double top_ = 0.0, bottom_ = 0.0, reach_ = 0.05;   // m: the band where masses can collide
+    double touch_ = 0.0;          // m: how far above a node a mass may be touched (wet: the reach cap)
     long canopy_resets_ = 0;
     std::uint64_t frames_ = 0;
     int latency_samples_ = 0;

@@ -203,7 +203,8 @@ double DropPool::underside(double diameter) const {
     const int target = seed_mass_count(diameter);
     if (target > max_target_) return 0.0;
     double lowest = 0.0;
-    for (const Vec3& p : lattices_[static_cast<std::size_t>(target)]->shape.position) lowest = std::min(lowest, p.z);
+    for (const Vec3& p : lattices_[static_cast<std::size_t>(target)]->shape.position)
+        lowest = std::min(lowest, drop_orientation(p, config_.options.tilted).z);
     return -lowest * diameter;
 }
 

@@ -6,11 +6,15 @@
 namespace ameoto {
 
 MembraneCollider::MembraneCollider(const Canopy& canopy, double time_step_s, const CollisionOptions& options)
-    : options_(options), time_step_(time_step_s), nodes_per_panel_(canopy.nodes_per_panel()) {
+    : options_(options), law_(options.law()), time_step_(time_step_s), nodes_per_panel_(canopy.nodes_per_panel()) {
     if (!(time_step_s > 0.0) || !std::isfinite(time_step_s)) throw std::invalid_argument("time step must be positive");
     if (!(options.restitution >= 0.0 && options.restitution <= 1.0))
         throw std::invalid_argument("restitution must be 0 to 1 (1: elastic; above 1 a collision would create energy)");
     if (!(options.skin_m >= 0.0) || !std::isfinite(options.skin_m)) throw std::invalid_argument("skin must be >= 0 m");
+    if (!(options.liquid_density > 0.0) || !std::isfinite(options.liquid_density))
+        throw std::invalid_argument("liquid density must be positive");
+    if (!(options.max_reach_m >= 0.0 && options.max_reach_m <= 0.01))
+        throw std::invalid_argument("reach cap must be 0 to 10 mm");
     const std::size_t n = static_cast<std::size_t>(canopy.panel_count()) * static_cast<std::size_t>(nodes_per_panel_);
     pending_.assign(n, 0.0);
     stamp_.assign(n, 0);
@@ -25,7 +29,7 @@ bool MembraneCollider::collide_one(Canopy& canopy, Vec3 p, Vec3 v, double m1, Ve
     // Height above the membrane: the rest cap's normal distance under (x, y), less the node's u.
     const double h =
         (p.z - canopy.rest_height(p.x, p.y)) * canopy.surface_normal(p.x, p.y).z - canopy.displacement(hit.panel, hit.node);
-    if (!(h <= 0.0)) return false;
+    if (!(h <= law_.reach(m1))) return false;
     const auto slot = static_cast<std::size_t>(hit.panel * nodes_per_panel_ + hit.node);
     if (stamp_[slot] != step_) {
         stamp_[slot] = step_;
@@ -34,12 +38,10 @@ bool MembraneCollider::collide_one(Canopy& canopy, Vec3 p, Vec3 v, double m1, Ve
     const Vec3 n = canopy.normal(hit.panel, hit.node);
     const double v1 = dot(v, n);
     const double v2 = canopy.normal_velocity(hit.panel, hit.node) + pending_[slot];
-    const double closing = v1 - v2;
-    if (!(closing < 0.0)) return false;                                     // separating or resting
-    if (-h >= time_step_ * -closing + options_.skin_m) return false;        // under the canopy (swept test)
     const double m2 = canopy.panel(hit.panel).network.mass(hit.node);
-    const double mu = m1 * m2 / (m1 + m2);
-    const double impulse = -(1.0 + options_.restitution) * mu * closing;   // on the drop mass, along n
+    const ContactImpulse c = contact_impulse(law_, m1, m2, h, v1, v2, time_step_);   // wet_impact.hpp
+    if (!c.contact) return false;
+    const double impulse = c.impulse;   // on the drop mass, along n
     const double v1_after = v1 + impulse / m1, v2_after = v2 - impulse / m2;
     drop_force = (impulse / time_step_) * n;
     canopy.apply_force(hit, -impulse / time_step_);

@@ -1,8 +1,11 @@
 #pragma once
-// Drop masses against the canopy's membrane masses: the seed's two-body collision (section 4.3).
+// Drop masses against the canopy's membrane masses: a two-body contact along the membrane's normal, wet
+// (the default: each mass stopped as its parcel of liquid arrives, wet_impact.hpp) or the seed's
+// exchange with restitution e (section 4.3; CollisionOptions::seed()).
 //
-// Interface:
-//   MembraneCollider collider(canopy, time_step_s, CollisionOptions{.restitution = 1.0});  // allocates
+// Interface (the audio thread may call what is marked so; construction and the rest from any one thread):
+//   MembraneCollider collider(canopy, time_step_s, CollisionOptions::wet(rho));   // allocates
+//   MembraneCollider collider(canopy, time_step_s, CollisionOptions::seed());     // the seed: e = 1
 //   ---- every step, before stepping the canopy and the drops: never allocates ----
 //   int n = collider.collide(canopy, masses);          // masses: any CollisionMasses (below)
 //   int n = collider.collide(canopy, masses, [](const MembraneCollision& c) { ... });   // each collision
@@ -35,8 +38,12 @@
 // as long as collide() runs every step. `skin` (1 mm, one drop-lattice spacing) keeps a mass that is
 // still in contact (e.g. pushed by a rising membrane) from being let through; a mass deeper than that
 // is under the canopy (the membrane is one-sided: drops come from above, along +n) and is ignored.
-// Exchange (1-D two-body collision along n_j, frictionless: tangential components unchanged), with
-// restitution e (1: elastic, the seed; < 1: wet impacts that lose energy):
+// Wet (model wet, the default): the same test with the mass's reach r (its parcel's radius,
+// wet_impact.hpp) added to h, and the impulse of wet_impact.hpp's stopping law instead of the exchange
+// below (e = 0 once the parcel's pulse is over). Everything else here (the node's pending velocity, the
+// force held over one step, momentum exact) holds for both models.
+// Seed exchange (model seed: 1-D two-body collision along n_j, frictionless: tangential components
+// unchanged), with restitution e (1: elastic, the seed; < 1: loses energy):
 //   v1' = ((m1 - e m2) v1 + (1 + e) m2 v2) / (m1 + m2),   v2' = ((m2 - e m1) v2 + (1 + e) m1 v1) / (m1 + m2)
 // computed as the impulse J = -(1 + e) mu (v1 - v2), mu = m1 m2 / (m1 + m2): v1' = v1 + J / m1,
 // v2' = v2 - J / m2, so the momenta m1 v1 + m2 v2 are equal to rounding, the kinetic energy is kept
@@ -55,6 +62,7 @@
 
 #include "engine/core/body3d_vec3.hpp"
 #include "engine/models/canopy.hpp"
+#include "engine/models/wet_impact.hpp"
 
 namespace ameoto {
 
@@ -91,8 +99,17 @@ struct MassArrays {
 };
 
 struct CollisionOptions {
-    double restitution = 1.0;   // e, 0..1: 1 elastic (seed 4.3)
+    double restitution = 1.0;   // e, 0..1: 1 elastic (seed 4.3); the seed model's only
     double skin_m = 1e-3;       // contact depth kept beyond the swept depth
+    ImpactModel model = ImpactModel::wet;               // wet_impact.hpp: wet (default) or the seed's exchange
+    double liquid_density = constants::water_density;   // kg/m^3 (wet: each mass's parcel size)
+    double max_reach_m = 1e-3;                           // m (wet: the reach's cap)
+
+    static CollisionOptions seed(double e = 1.0) { return CollisionOptions{e, 1e-3, ImpactModel::seed}; }
+    static CollisionOptions wet(double density = constants::water_density) {
+        return CollisionOptions{1.0, 1e-3, ImpactModel::wet, density};
+    }
+    ContactLaw law() const { return ContactLaw{model, restitution, skin_m, liquid_density, max_reach_m}; }
 };
 
 struct MembraneCollision {
@@ -164,11 +181,15 @@ public:
     }
 
     const CollisionOptions& options() const { return options_; }
+    // m: how far above the membrane a mass of m kg is touched (0 for the seed; wet: its parcel's
+    // radius, at most options().max_reach_m: what a broad phase must add to its bounds).
+    double reach(double mass_kg) const { return law_.reach(mass_kg); }
     double time_step() const { return time_step_; }
     std::uint64_t collisions() const { return collisions_; }
 
 private:
     CollisionOptions options_;
+    ContactLaw law_;
     double time_step_ = 0.0;
     int nodes_per_panel_ = 0;
     // Per panel and node: the velocity this step's collisions gave it, valid where stamp_ == step_

@@ -108,6 +108,20 @@ TextureGrains::TextureGrains(const TextureCalibration& calibration, double sampl
             b.a2 = (1.0 - alpha) / a0;
         }
         unit_[static_cast<std::size_t>(k)] = 1.0 / std::sqrt(alpha / a0 / 3.0);   // uniform noise has variance 1/3
+        // The power centroid of white noise through it: sum of f |H(f)|^2 over sum of |H(f)|^2, on a grid
+        // of 8192 frequencies 0..fs/2 (the response is smooth on it: its narrowest band is 1/Q of an
+        // octave wide, over 100 grid points at 150 Hz and 48 kHz).
+        const Band& b = bed_[0][static_cast<std::size_t>(k)];
+        double weighted = 0.0, total = 0.0;
+        constexpr int grid = 8192;
+        for (int i = 1; i < grid; ++i) {
+            const double w = constants::pi * i / grid;
+            const std::complex<double> z1 = std::polar(1.0, -w), z2 = z1 * z1;
+            const double h2 = std::norm((b.b0 + b.b2 * z2) / (1.0 + b.a1 * z1 + b.a2 * z2));
+            weighted += h2 * (0.5 * sample_rate * i / grid);
+            total += h2;
+        }
+        power_centre_[static_cast<std::size_t>(k)] = weighted / total;
     }
     set_calibration(calibration);
 }
@@ -142,11 +156,13 @@ bool TextureGrains::add(double diameter_m, double speed_m_per_s, double density,
     // template's gain squared for another liquid or speed (force ~ rho V^2 D^2).
     const double vr = speed / arrival_speed(diameter_m, cal.density), rr = density / cal.density;
     const double energy = cal.energy(diameter_m) * rr * rr * vr * vr * vr * vr;
-    const double fc = std::clamp(cal.centre(diameter_m), centre_.front(), centre_.back());
-    // The two bands around f_c, split linearly in log f.
-    const double position = std::log(fc / centre_.front()) / std::log(centre_[1] / centre_.front());
-    const int lo = std::min(bands - 2, static_cast<int>(position));
-    const double t = std::clamp(position - lo, 0.0, 1.0);
+    // The two bands whose outputs' power centroids lie around f_c, split linearly in f: the bed's
+    // expected power centroid is then f_c (the header).
+    const double fc = std::clamp(cal.centre(diameter_m), power_centre_.front(), power_centre_.back());
+    int lo = 0;
+    while (lo < bands - 2 && power_centre_[static_cast<std::size_t>(lo + 1)] < fc) ++lo;
+    const double c0 = power_centre_[static_cast<std::size_t>(lo)], c1 = power_centre_[static_cast<std::size_t>(lo + 1)];
+    const double t = std::clamp((fc - c0) / (c1 - c0), 0.0, 1.0);
     const auto pan = pan_gains(azimuth_rad, channels);
     for (int c = 0; c < channels; ++c) {
         const double g2 = pan[static_cast<std::size_t>(c)] * pan[static_cast<std::size_t>(c)];

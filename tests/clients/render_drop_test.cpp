@@ -34,7 +34,7 @@ TEST_CASE("render drop: options are parsed and checked") {
     std::string error;
     REQUIRE(parse_render_drop_options({"--diameter", "5", "--speed=4.5", "--material", "vinyl", "--liquid", "milk", "--seconds",
                                        "0.5", "--rate", "44100", "--seed", "7", "--x", "0.2", "--y", "-0.1", "--output-kind",
-                                       "mass", "--channels", "2", "--coarse-steps", "1", "--quiet", "-o", "a.wav", "--plot", "a.svg"},
+                                       "mass", "--channels", "2", "--coarse-steps", "1", "--impact", "seed", "--quiet", "-o", "a.wav", "--plot", "a.svg"},
                                       o, error) == RenderParse::run);
     CHECK(o.diameter_mm == 5.0);
     CHECK(o.speed_m_per_s == 4.5);
@@ -48,6 +48,7 @@ TEST_CASE("render drop: options are parsed and checked") {
     CHECK(o.output == ameoto::SceneOutput::mass_pickup);
     CHECK(o.channels == 2);
     CHECK(o.coarse_steps == 1);
+    CHECK(o.impact == ameoto::ImpactModel::seed);
     CHECK(o.quiet);
     CHECK(o.wav_path == "a.wav");
     CHECK(o.plot_path == "a.svg");
@@ -61,6 +62,7 @@ TEST_CASE("render drop: options are parsed and checked") {
     CHECK(d.rate == 48000);
     CHECK(d.channels == 1);
     CHECK(d.coarse_steps == 4);
+    CHECK(d.impact == ameoto::ImpactModel::wet);   // wet by default (docs/impacts.md)
     CHECK(d.output == ameoto::SceneOutput::far_field);
     CHECK_FALSE(d.x.has_value());
     CHECK(parse_render_drop_options({"--help"}, d, error) == RenderParse::help);
@@ -86,6 +88,7 @@ TEST_CASE("render drop: usage errors say what is wrong, with units") {
     for (const char* bad : {"0", "65", "2.5", "-1"})
         CHECK(has(parse_error({"--diameter", "3", "--coarse-steps", bad, "-o", "a.wav"}),
                   "--coarse-steps: '" + std::string(bad) + "' is not a whole number of samples in 1..64"));
+    CHECK(has(parse_error({"--diameter", "3", "--impact", "dry", "-o", "a.wav"}), "unknown impact model 'dry' (known: wet, seed)"));
     CHECK(has(parse_error({"--diameter", "3", "--quiet=1", "-o", "a.wav"}), "takes no value"));
     CHECK(has(parse_error({"--diameter", "3", "--loud", "-o", "a.wav"}), "unknown option '--loud'"));
     CHECK(has(parse_error({"--diameter", "3", "extra", "-o", "a.wav"}), "unexpected argument 'extra'"));

@@ -1,4 +1,5 @@
-// Tests for engine/models/membrane_collision: drop masses against the canopy (seed section 4.3).
+// Tests for engine/models/membrane_collision: drop masses against the canopy (seed section 4.3). These
+// are the seed's exchange (CollisionOptions::seed()); the wet law's tests are wet_impact_test.cpp.
 #include <doctest/doctest.h>
 
 #include <algorithm>
@@ -79,7 +80,7 @@ ameoto::Canopy make_canopy(double curvature = std::numeric_limits<double>::infin
 
 TEST_CASE("membrane_collision: one elastic collision exchanges momentum exactly and keeps the energy") {
     auto canopy = make_canopy();
-    ameoto::MembraneCollider collider(canopy, kT);
+    ameoto::MembraneCollider collider(canopy, kT, ameoto::CollisionOptions::seed());
     std::vector<double> forces(8);
     // A drop mass just through the membrane over node 20 of panel 3, falling at 6.5 m/s (2 mm terminal speed).
     const auto at = canopy.rest_position(3, 20);
@@ -131,7 +132,7 @@ TEST_CASE("membrane_collision: restitution below 1 loses (1/2) mu (1 - e^2) v_re
         std::vector<double> forces(8);
         canopy.apply_force({2, 17}, 0.05);
         for (int n = 0; n < 30; ++n) canopy.step(forces.data());
-        ameoto::MembraneCollider collider(canopy, kT, ameoto::CollisionOptions{e, 1e-3});
+        ameoto::MembraneCollider collider(canopy, kT, ameoto::CollisionOptions{e, 1e-3, ameoto::ImpactModel::seed});
         const auto at = canopy.node_position(2, 17), n = canopy.normal(2, 17);
         TestMasses drops;
         const Vec3 v{1.5, -0.7, -5.0};   // oblique
@@ -164,7 +165,7 @@ TEST_CASE("membrane_collision: restitution below 1 loses (1/2) mu (1 - e^2) v_re
 
 TEST_CASE("membrane_collision: several masses on one node in one step are sequential pairwise collisions") {
     auto canopy = make_canopy();
-    ameoto::MembraneCollider collider(canopy, kT);
+    ameoto::MembraneCollider collider(canopy, kT, ameoto::CollisionOptions::seed());
     const auto at = canopy.rest_position(0, 25);
     TestMasses drops;
     for (int i = 0; i < 5; ++i) drops.add({at.x + 1e-4 * i, at.y, -1e-5}, {0.0, 0.0, -3.0 - i}, kDropMass);
@@ -201,7 +202,7 @@ TEST_CASE("membrane_collision: several masses on one node in one step are sequen
 
 TEST_CASE("membrane_collision: who does not collide") {
     auto canopy = make_canopy();
-    ameoto::MembraneCollider collider(canopy, kT);
+    ameoto::MembraneCollider collider(canopy, kT, ameoto::CollisionOptions::seed());
     const auto at = canopy.rest_position(5, 10);
     TestMasses drops;
     drops.add({at.x, at.y, 1e-4}, {0.0, 0.0, -5.0}, kDropMass);      // above the membrane
@@ -228,7 +229,7 @@ TEST_CASE("membrane_collision: no drop mass tunnels through, up to 20 m/s at 48 
             CAPTURE(rc);
             CAPTURE(speed);
             auto canopy = make_canopy(rc);
-            ameoto::MembraneCollider collider(canopy, kT);
+            ameoto::MembraneCollider collider(canopy, kT, ameoto::CollisionOptions::seed());
             ameoto::Random rng(static_cast<std::uint64_t>(speed * 10));
             TestMasses drops;
             for (int i = 0; i < 40; ++i) {
@@ -273,7 +274,7 @@ TEST_CASE("membrane_collision: no drop mass tunnels through, up to 20 m/s at 48 
 
 TEST_CASE("membrane_collision: collide never allocates") {
     auto canopy = make_canopy(1.5);
-    ameoto::MembraneCollider collider(canopy, kT, ameoto::CollisionOptions{0.5, 1e-3});
+    ameoto::MembraneCollider collider(canopy, kT, ameoto::CollisionOptions{0.5, 1e-3, ameoto::ImpactModel::seed});
     std::vector<Vec3> x, v, f(200);
     std::vector<double> m(200, kDropMass);
     ameoto::Random rng(3);
@@ -302,7 +303,7 @@ TEST_CASE("membrane_collision: collide never allocates") {
 
 TEST_CASE("membrane_collision: drops indexed by drop and mass (the pool's shape)") {
     auto canopy = make_canopy();
-    ameoto::MembraneCollider collider(canopy, kT);
+    ameoto::MembraneCollider collider(canopy, kT, ameoto::CollisionOptions::seed());
     const auto at = canopy.rest_position(6, 30);
     TestPool pool;
     pool.drops.resize(3);

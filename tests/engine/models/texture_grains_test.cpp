@@ -7,6 +7,10 @@
 #include <cstring>
 #include <vector>
 
+#include "engine/core/fft.hpp"
+#include "engine/core/physical_constants.hpp"
+#include "engine/core/random.hpp"
+#include "engine/models/drop.hpp"
 #include "tests/support/rt_probe_scope.hpp"
 
 using namespace ameoto;
@@ -128,4 +132,52 @@ TEST_CASE("texture: the calibration from one canopy copied per size is the one f
     CHECK(same_bits(shared.decay_s, fresh.decay_s));
     CHECK(std::memcmp(&shared.density, &fresh.density, sizeof(double)) == 0);
     for (double e : fresh.energy_fs2) CHECK(e > 0.0);   // each size was heard
+}
+
+// The bed puts a grain where its calibrated centroid is (texture_grains.hpp): split between the two bands
+// whose outputs' power centroids lie around it, linearly in f, so that the bed's long-term power centroid
+// (what bench accuracy compares with the full tier's) is the grains' f_c. Measured on 4 s of grains at
+// one f_c each, 20 a second: the centroid of the output's power spectrum within 10 % of f_c. Measured:
+// +8.5 % at 600 Hz, +4.3 % at 1 kHz, +1.1 % at 2.5 kHz, +0.2 % at 6 kHz; what remains at the low end is
+// not explained yet (the bands' unit normalisation is the suspect). The old split, by nominal centres,
+// put a grain 1.6-1.9 times too high there (band_power_centroid_hz over band_centre_hz).
+TEST_CASE("texture: the bed's power centroid is the grains' calibrated centroid") {
+    for (const double fc : {600.0, 1000.0, 2500.0, 6000.0}) {
+        CAPTURE(fc);
+        TextureCalibration cal;
+        cal.diameters_m = {1e-3, 5e-3};
+        cal.speeds_m_per_s = {arrival_speed(1e-3, 998.0), arrival_speed(5e-3, 998.0)};
+        cal.energy_fs2 = {1e-4, 1e-4};
+        cal.log_energy = {std::log(1e-4), std::log(1e-4)};
+        cal.centre_hz = {fc, fc};
+        cal.decay_s = {0.01, 0.01};
+        TextureGrains grains(cal, 48000.0);
+        CHECK(grains.band_power_centroid_hz(0) > grains.band_centre_hz(0));   // the skirts
+        Random rng(7);
+        const int n = 4 * 48000;
+        std::vector<double> out(static_cast<std::size_t>(n));
+        for (int i = 0; i < n; ++i) {
+            if (i % 2400 == 0) REQUIRE(grains.add(2e-3, 0.0, 998.0, 0.0, 1, rng));
+            float frame[1] = {0.0f};
+            grains.render(frame, 1, rng);
+            out[static_cast<std::size_t>(i)] = frame[0];
+        }
+        // Welch: 16 384-point segments, half overlap, Hann.
+        const std::size_t m = 16384;
+        std::vector<double> power(m / 2, 0.0);
+        for (std::size_t start = 0; start + m <= out.size(); start += m / 2) {
+            std::vector<std::complex<double>> a(m);
+            for (std::size_t j = 0; j < m; ++j)
+                a[j] = out[start + j] * (0.5 - 0.5 * std::cos(2.0 * constants::pi * static_cast<double>(j) / m));
+            fft_in_place(a);
+            for (std::size_t k = 1; k < m / 2; ++k) power[k] += std::norm(a[k]);
+        }
+        double weighted = 0.0, total = 0.0;
+        for (std::size_t k = 1; k < m / 2; ++k) {
+            weighted += power[k] * 48000.0 * static_cast<double>(k) / m;
+            total += power[k];
+        }
+        MESSAGE("grains at ", fc, " Hz: bed's power centroid ", weighted / total, " Hz");
+        CHECK(weighted / total == doctest::Approx(fc).epsilon(0.10));
+    }
 }
