@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // The OSC address space as a table: every address, its arguments with units and ranges, and what it
 // turns into. docs/PROTOCOL.md documents the same table; tests walk it so no address escapes

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // OSC packets <-> messages. liblo decodes and encodes each message (so its checks of type tags,
 // padding and sizes apply); bundles are walked here so that every message keeps its bundle's

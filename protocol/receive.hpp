@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // One received datagram -> what the server must do about each message in it, without sockets or
 // state: decode (osc_codec), then validate each message (address_table). The daemon acts on the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // What the audio thread's events become on the control thread: /done once a rebuilt scene, surface
 // or liquid plays (for a scene load, the address that asked, in order), /synced at a /sync's sample,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // The audio backend's life: which one runs (JACK when a server runs, else the null backend writing a
 // WAV), its start, its health while it plays (the first block, WAV write errors, a JACK server that

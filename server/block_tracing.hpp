@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // --block-trace FILE: every audio callback's record (wall and CPU time, faults, what it did) taken
 // from the bridge's ring and the slow or late ones written to FILE (realtime/block_trace.hpp says

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // The control thread's loop: one Boost.Asio io_context that every OSC reply, timer, signal and
 // worker result runs on, so the daemon's state needs no locks. The signals and the repeating timers

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // ameotod's process: choose the audio backend, bind the OSC ports, build the scene, play, serve OSC on
 // the control loop until told to stop, then stop in order. daemon.cpp tells it in that order; each

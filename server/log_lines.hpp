@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // ameotod's log: one line each, "ameotod: ..." on stdout for what happens, on stderr for what went
 // wrong. Flushed at once: scripts and the tests wait for these lines (daemon.hpp lists the ones they

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // ameotod: the ameoto rain server. Options: see --help (server/options.cpp).
 #include <cstdio>
 #include <iostream>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // How ameotod's heap gives memory back: one heap for every thread, and its free pages returned to the
 // kernel after a scene has been freed (both off the audio thread, which never allocates or frees).

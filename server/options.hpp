@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // ameotod's command line: every option validated, with units, in --help.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // Where packets come in, and in what order they are handled: the UDP port (batches read on the
 // control thread) and the TCP port (its own thread), --allow, and under a flood the cheap queries

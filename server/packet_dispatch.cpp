@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "server/packet_dispatch.hpp"
 
 #include "protocol/receive.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // What a packet becomes: decoded and validated (protocol/receive.hpp), then each message acted on in
 // order, a bundle's messages all timed against one reading of the audio clock. A change to the sound

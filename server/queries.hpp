@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // The answers to queries: ADDRESS with no value -> ADDRESS.reply with what is in effect (docs/PROTOCOL.md,
 // "Queries"), from the scene record (what the engine has applied, not what was last asked for), and

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "server/replies.hpp"
 
 #include "protocol/address_table.hpp"

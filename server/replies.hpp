@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // Whom the server answers, and how a reply gets there: the senders it knows (each by a small index
 // that a command carries to the audio thread and back), /reply/port's redirections, UDP or TCP, and

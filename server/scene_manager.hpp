@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // Scene management: the first scene (--scene), and every later change that needs a new scene built
 // (/scene/load, /scene/save, /rain/dsd, /surface/..., /accuracy, /material/surface, /material/liquid):

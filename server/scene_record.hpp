@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // The scene as it plays now, on the control thread's side: what the queries answer (/rain/rate,
 // /surface/set NAME, /material/liquid ...) and what /scene/save writes. It follows the engine: an

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // Where scenes come from and go: the built-in ones, and the user's scene folder.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // /status.reply: the load, the drops, the counters and the clock, as docs/PROTOCOL.md ("Status")
 // lists them, and the drops-per-second figure it carries.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // /notify subscribers (scsynth's convention): who they are, and what they get without asking, a
 // /status.reply each second and the newest /meter window (peak and RMS per channel) at each poll.

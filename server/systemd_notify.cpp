@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "server/systemd_notify.hpp"
 
 #include <systemd/sd-daemon.h>

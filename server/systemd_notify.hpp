@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // Talks to systemd when ameotod runs as a Type=notify service; does nothing elsewhere.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // systemd's watchdog (WatchdogSec=): WATCHDOG=1 only while the audio clock advances, so a stalled audio
 // thread, not just a stalled control loop, lets systemd restart ameotod (docs/systemd.md).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // Heavy work off the audio thread and off the control loop: building a scene, a canopy of a new
 // material, a liquid's drop calibration (eigen-solves). One background thread runs the jobs in order;

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // `ameoto bench accuracy`: speed against accuracy for every integration method on the umbrella panel,
 // the stability map, and the data the accuracy knob chooses from (engine/core/method_choice.hpp).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // The two charts of `ameoto bench accuracy`, as self-contained SVG (no scripts, fonts or images):
 // cost against error on log-log axes with the Pareto front, and the stability map.

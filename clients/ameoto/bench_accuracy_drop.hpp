@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // The free drop's rows of `ameoto bench accuracy`: a 3 mm water drop (engine/models/drop.hpp: a 3-D
 // lattice calibrated so that it oscillates at Rayleigh's n = 2 frequency, 66 Hz), no gravity, no drag,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // How `ameoto bench accuracy` measures a method's error on a body: against the exact solution (the
 // modal integrator with every audible mode, which samples the continuous modes exactly at any step,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // The "drop tiers" rows of `ameoto bench accuracy`: the scene's levels of detail (full: a lattice drop;
 // template: its recorded contact force replayed; texture: a noise grain of its template's energy and

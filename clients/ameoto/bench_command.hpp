@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // `ameoto bench engine [--json] [--seconds S] [--sizes N,N,...] [--runs R] [--no-faust]`: measures
 // the engine's methods (bench_engine.hpp); needs no server. docs/bench.md.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // What the benchmark does to a body each sample, as templates so that the loop around step() is
 // compiled for each body type (no virtual call per sample, as Faust's compute() has none either).

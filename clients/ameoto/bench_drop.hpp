@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // `ameoto bench drop`: what the seed's full model costs: one 5 mm water drop at terminal speed on the
 // 8-panel nylon canopy at 48 kHz (lattice drop, breakup, collisions, far-field sound), and how many

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // `ameoto bench engine`: every method of bench_methods.hpp on canopy panels of the sizes asked for,
 // then on the mi-faust triangle mesh beside Faust itself (bench_faust.hpp). docs/bench.md.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // The Faust peer of `ameoto bench engine`: Faust's own mass-interaction library (mi.lib) running the
 // mi-faust triangleMesh.dsp example, compiled here from the Debian faust packages, timed the same way.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // `ameoto bench lattices`: the drop lattices' n = 2 stretch-mode analysis (drop.hpp, stretch_mode), timed
 // per lattice, and the C++ source of its committed table (engine/models/stretch_mode_table.cpp).

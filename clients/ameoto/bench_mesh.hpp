@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // The bodies `ameoto bench engine` measures, described once so that every method builds the same body.
 //

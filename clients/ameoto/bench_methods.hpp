@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // The methods `ameoto bench engine` measures: one row each. Adding a method (a new integrator, a
 // new storage) is one row in bench_methods() (bench_methods.cpp) and, for a new body type, one

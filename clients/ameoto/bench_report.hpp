@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // One measurement of `ameoto bench engine`, and its two printed forms: a row of the text table and
 // one JSON object on one line (docs/bench.md lists every field).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // `ameoto bench scene`: what rain scenes cost: the drops per second one core can hold at each level of
 // detail, and the callback time of heavy rain on the umbrella and a pond in 64-frame blocks.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // The opening that every `ameoto bench SUITE` with options of its own shares (accuracy, lattices):
 // parse the words; a usage error is printed with a pointer to the suite's --help (exit 2) and --help

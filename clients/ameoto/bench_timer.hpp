@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // Timing for `ameoto bench`: CPU time of the calling thread, warm-up, several runs, the median.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // What a subcommand gets besides its words: where to print and the environment to read, passed in
 // so tests can run subcommands in-process and look at exactly what they printed.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // The exit statuses every ameoto subcommand uses, so scripts can tell the cases apart.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // The few JSON spellings the CLI prints (status --json, bench --json), in one place.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // ameoto: the command-line client of ameotod. This file only dispatches: `ameoto COMMAND ...`
 // runs the subcommand of that name with the words after it; each subcommand lives in its own
 // files (send_command, status_command, watch_command, bench_command, render_drop,

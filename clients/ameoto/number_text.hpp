@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // Numbers to and from the command line's text, shared by the subcommands' option parsers and reports.
 //

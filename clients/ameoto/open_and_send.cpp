@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "clients/ameoto/open_and_send.hpp"
 
 namespace ameoto::client {

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // The first step every talking subcommand shares (send, status, watch): open a client to the target
 // and send one message; on failure print why, after the command's prefix, to io.err.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // Reads a subcommand's options off the front of its words: "--name VALUE", "--name=VALUE" and
 // flags, up to the first word that is not an option (or "--"). Options end there so that what

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // A render's progress on a terminal: a bar that fits the terminal's width, rewritten in place on stderr
 // only when its text changes, and wiped at the end. Silent when disabled (--quiet, or stderr is not a

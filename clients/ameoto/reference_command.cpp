@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // `ameoto reference`: see reference_command.hpp.
 #include "clients/ameoto/reference_command.hpp"
 

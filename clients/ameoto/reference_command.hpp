@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // `ameoto reference [VALIDATION...] [--dx M] [--json]`: the offline air reference's validations (issue 19,
 // engine/reference/validations.hpp) at a chosen grid spacing, each figure printed against its target;

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // `ameoto render drop --diameter MM [...] -o FILE.wav [--plot FILE.svg]`: renders one lattice drop
 // falling on the umbrella offline (engine/models/drop_on_canopy.hpp) to a 32-bit float WAV, with an

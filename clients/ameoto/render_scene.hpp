@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // `ameoto render scene [--scene NAME|FILE.scene] [--rain MM/H] [--seconds S] [--rate HZ] [--seed N]
 // [--channels N] [--quiet] -o FILE.wav`: renders a rain scene offline with the renderer the server runs

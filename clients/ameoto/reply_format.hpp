@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // Server replies as one readable line each, the way oscdump prints them (without its type tags):
 //   /fail "/rain/rate" "argument 1 rate (mm/h): 900 is outside 0..500"

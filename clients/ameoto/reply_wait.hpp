@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // The receive loop both subcommands share: decode each datagram from the server, hand its
 // messages on, stop when the handler says so or the deadline passes.

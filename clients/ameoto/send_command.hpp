@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // `ameoto send [--host H] [--port P] [--types TAGS] [--wait SECONDS] ADDRESS [ARGS...]`:
 // one OSC message to the server, then its replies printed one per line (reply_format.hpp).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // `ameoto status [--host H] [--port P] [--json]`: sends /status and prints /status.reply, one
 // field per line with its name and unit, or as one JSON object (status_report.hpp has the fields).

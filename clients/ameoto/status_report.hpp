@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // /status.reply, field by field: names, units and the two ways `ameoto status` prints it.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // Plots for `ameoto render drop --plot FILE.svg`: a drop's breakup over time above the sound it made,
 // as one self-contained SVG file (no scripts, no external fonts or images).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // Where the server is: --host and --port, with AMEOTO_HOST and AMEOTO_PORT as defaults so a
 // shell session can point every command at another server once.

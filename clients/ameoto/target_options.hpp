@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // --host and --port, the options every subcommand shares, over an OptionReader loop.
 //

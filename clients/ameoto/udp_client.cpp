@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "clients/ameoto/udp_client.hpp"
 
 #include <netdb.h>

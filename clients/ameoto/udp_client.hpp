@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // One UDP socket connected to the server: send datagrams, receive its replies with a deadline.
 //

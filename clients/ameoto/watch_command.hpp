@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // `ameoto watch`: subscribe to the server's notifications (/notify 1) and show its level meters and
 // load live: redrawn in place on a terminal, one line per update otherwise; Ctrl-C (or --count

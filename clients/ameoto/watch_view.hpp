@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // What `ameoto watch` shows: the server's /meter levels as bars and its /status.reply load, either as
 // a screen redrawn in place (a terminal) or as one line per update (a pipe, a log).

@@ -1,4 +1,5 @@
 #!/usr/bin/python3
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Talk to ameotod from Python with pyliblo (Debian: python3-liblo).
 
 Sets the rain rate, sends drops now, sends drops in timed OSC bundles (each played at its

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Ameoto: control the ameotod rain server from SuperCollider over OSC (docs/PROTOCOL.md).
 //
 // Interface:

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Body3D between its steps and during one (body3d.hpp): the render-phase setters (integrator, external
 // forces, positions, velocities, reset), step() (the sub-steps, the external forces' clearing and the
 // runtime guard), the dispatch of each sub-step to the AVX2 or the scalar kernels, and the queries.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // A CORDIS-ANIMA mass-interaction body in 3-D: point masses joined by links that have a rest length,
 // some of them breakable, under gravity and air drag. Structure-of-arrays storage.

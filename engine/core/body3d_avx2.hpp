@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // Private to Body3D's AVX2 kernels (body3d_step_avx2.cpp, body3d_links_avx2.cpp, body3d_sparse_links.cpp;
 // included by nothing else): the 4-lane vector type and its helpers, the StepView every kernel reads

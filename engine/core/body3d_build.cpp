@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Body3D's build phase (body3d.hpp, "Interface"): masses, links and their checks, drag settings,
 // reserve() and clear() for reuse, and finalize(): the Gershgorin bounds and the sub-steps, the state
 // reset() returns to, the event list, the choice of kernels, and the uniform cohesive pass's lists and

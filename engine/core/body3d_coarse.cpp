@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Body3D's coarse steps: which multiple of the output step a body in flight can take as one
 // (body3d.hpp, "Coarse steps"). The step itself is Body3D::step(k) in body3d.cpp.
 #include <algorithm>

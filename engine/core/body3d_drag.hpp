@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // Air drag coefficients for Body3D masses that stand for water drops (engine/core/body3d.hpp).
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Body3D's AVX2 link pass for a body whose links are all cohesive with one set of parameters (a drop;
 // body3d.hpp, "Vectorisation", 2.): four links at a time, dense (every link) or sparse (the candidates
 // that body3d_sparse_links.cpp lists), each link's bond, core and break as lane masks; a link that breaks

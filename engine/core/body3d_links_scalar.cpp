@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Body3D's scalar link passes (body3d.hpp, "Links"): generic_links() for any links (each kind's force,
 // contacts' push-only rule, breakable and cohesive links breaking, recorded as LinkBreak events), used
 // by both steps when the links are not uniform; and uniform_cohesive_links(), the same cohesive branch

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Body3D's sparse link pass (body3d.hpp, "Vectorisation", 2.): once most of a drop's links are broken,
 // which links the AVX2 pass computes. The candidates (the bonded links and the broken ones near enough
 // to touch), full and partial listings, the approach bound that says when to list again, and

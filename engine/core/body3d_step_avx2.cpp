@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Body3D's AVX2 sub-step (body3d.hpp, "Vectorisation"): the per-mass kernels, 1. velocities and
 // mass-local forces (forces()) and 3. the update (update()), four masses at a time, and
 // sub_step_avx2(), which fills the StepView (body3d_avx2.hpp) and runs forces(), the links

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Body3D's scalar sub-step (body3d.hpp, "Vectorisation"): 1. velocities and mass-local forces, 2. the
 // link pass (body3d_links_scalar.cpp), 3. the update, one mass at a time. The reference: the AVX2
 // kernels (body3d_step_avx2.cpp) must give its bits, and it is the code on a CPU without AVX2, for a

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // A 3-D vector for the build-phase and query interfaces of Body3D (engine/core/body3d.hpp).
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // Connected components of a Body3D's masses over its bonds: the pieces a drop has broken into.
 //

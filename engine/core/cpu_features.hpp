@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // What the CPU the engine runs on can do, for the kernels that pick their code at run time (the build
 // itself stays baseline x86-64, so one binary runs everywhere).

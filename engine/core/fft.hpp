@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // The discrete Fourier transform, for analysis off the audio thread (the texture tier's calibration,
 // benchmarks and tests); nothing on the audio path uses it.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "engine/core/grid_membrane.hpp"
 
 #include <algorithm>

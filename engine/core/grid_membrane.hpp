@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // A membrane on a triangular lattice, stored as a regular 2-D grid and stepped with the explicit
 // CORDIS scheme as a stencil: the fast path for large membranes (thousands of masses).

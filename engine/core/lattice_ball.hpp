@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // A ball of point masses on a face-centred cubic (FCC) lattice, joined to their 12 nearest
 // neighbours: the 3-D mass-spring drop of the seed (section 4.2, Fig. 8).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // The accuracy knob: an accuracy budget (cents of frequency error, or dB of log-spectral distance) and
 // the cheapest integration method that meets it, chosen from the measured speed/accuracy table.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // Normal modes of a linear transverse network: K phi = omega^2 M phi.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // Physical constants used across the engine (SI). Sources in ../shared/reference/physics.md.
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // The refusal message for a value out of its range, shared by the models' validators.
 //

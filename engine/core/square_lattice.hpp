@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // A 2-D square lattice (4 neighbours) over a rectangle whose edges are each fixed or free.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // Where methods fail: a body's stability bound before it runs, the policy when the chosen integrator
 // cannot run at the caller's step, and the runtime guard that catches what slips through.

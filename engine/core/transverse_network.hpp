@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // A CORDIS-ANIMA mass-interaction network whose masses move along one axis (transverse displacement
 // u of a membrane), stored as structure-of-arrays, advanced by the integrator chosen for this body.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // A 2-D triangular lattice over a convex polygon whose edges are each fixed or free.
 //

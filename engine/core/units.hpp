@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // Unit conversions at the engine's boundary. Everything inside the engine is SI
 // (m, s, kg, N, Pa); these helpers name the conversions so call sites read as physics.

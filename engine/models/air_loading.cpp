@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The incompressible added mass of a thin screen by vortex rings (air_loading.hpp has the method).
 #include "engine/models/air_loading.hpp"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // The air's mass on a thin flat screen (a membrane) in unbounded air, loaded on both faces, with no
 // baffle: the incompressible added-mass matrix of its moving cells, by the vortex-ring (uniform doublet

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // One air bubble ringing under a water surface, as heard in the air above it: Minnaert's pitch, van den
 // Doel's damping and rising chirp, and the pressure its pulsation radiates through the surface.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // An umbrella canopy: N identical panels, each a membrane fixed on its two ribs and free at its hem,
 // on a spherical cap.

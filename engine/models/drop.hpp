@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // One drop: a 3-D lattice of masses calibrated from its liquid (seed sections 3.1, 4.4, 5.1.1).
 //

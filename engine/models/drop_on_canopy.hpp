@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // The seed's whole scene for one (or a few) drops: lattice drops (drop_pool.hpp) falling on the umbrella
 // canopy (canopy.hpp), colliding with its membrane masses (membrane_collision.hpp), heard through the

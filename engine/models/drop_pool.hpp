@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // A fixed-capacity pool of lattice drops (drop.hpp) for the audio thread: spawn, step, break up, retire,
 // all without allocating.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // The force a drop exerts on a surface while it spreads, as a fixed-capacity pool of pulses.
 //

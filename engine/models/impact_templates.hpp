@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // The template level of detail: the force a drop puts on the membrane, recorded once from the full model
 // (a lattice drop on the canopy, drop_on_canopy.hpp) for a grid of diameters, then replayed into the

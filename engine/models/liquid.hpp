@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // The liquid a drop is made of: density, surface tension, viscosity (seed section 6: water, milk,
 // heavy oil, or any custom values).

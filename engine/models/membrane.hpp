@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // A membrane under tension as a triangular mass-spring lattice (transverse displacement), and the
 // materials it can be made of.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // Drop masses against the canopy's membrane masses: a two-body contact along the membrane's normal, wet
 // (the default: each mass stopped as its parcel of liquid arrives, wet_impact.hpp) or the seed's

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // Hard surfaces under rain: a thin rectangular plate (tin roof, glass pane, car roof) as a bank of exact
 // two-pole modes, struck by drops, heard as the pressure it radiates at 1 m on its axis.

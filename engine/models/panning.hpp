@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // Amplitude panning of a source at an azimuth over a ring of loudspeakers, for the renderer's panned
 // output (a canopy's panels spread over the speakers by their azimuths).

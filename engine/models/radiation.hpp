@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // Sound from the canopy: the seed's single-mass pickup, and the far-field pressure at listening points
 // by the Rayleigh integral over the membrane, with each element's own distance and delay.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // Soft surfaces under rain: leaves (a tick per drop, 1-6 kHz) and soil (a dull thud with a little splash),
 // as phenomenological models whose radiated energy follows the drop's kinetic energy. Heard as the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // The n = 2 stretch mode of every drop lattice up to the protocol's largest drop, computed once and
 // committed (engine/models/stretch_mode_table.cpp), so that start-up does not run stretch_mode()

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // The texture level of detail: a drop too faint or too buried to model is a grain of noise with the
 // energy, colour and length its template would have had, so dense or distant rain keeps its statistics

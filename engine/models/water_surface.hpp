@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // A water surface (pond, puddle) struck by rain: the faint impact of each drop and the bubbles some drops
 // trap, summed into the pressure heard in the air 1 m from the impacts.

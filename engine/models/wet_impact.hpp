@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // How a drop mass meets what it strikes: the wet impact (default) or the seed's elastic exchange, and a
 // measurement of a whole lattice drop on a rigid plane (docs/impacts.md).

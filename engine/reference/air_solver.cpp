@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The FDTD reference solver of air around a thin screen: see air_solver.hpp and docs/air-reference.md.
 #include "engine/reference/air_solver.hpp"
 

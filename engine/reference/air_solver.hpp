@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // The offline reference of sound in air around a thin screen (issue 19, "The umbrella in air"): a 3-D
 // finite-difference time-domain solver of linear acoustics, independent of the server's models, with a

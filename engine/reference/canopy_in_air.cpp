@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The umbrella canopy in air by the reference solver: see canopy_in_air.hpp.
 #include "engine/reference/canopy_in_air.hpp"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // The umbrella canopy in air, by the reference solver (engine/reference/air_solver.hpp): for the fast
 // model's work on issue 19 to be held to. A flat Canopy's lattice (its node positions, links and

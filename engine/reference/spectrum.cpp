@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Spectral helpers of the air reference: see spectrum.hpp.
 #include "engine/reference/spectrum.hpp"
 

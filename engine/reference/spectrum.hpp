@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // Spectral helpers of the air reference (engine/reference): a direct Fourier transform at any frequency
 // (the validations' signals are short and compact, so no windowing is needed for ratios), and the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The air reference's validations: see validations.hpp and docs/air-reference.md.
 #include "engine/reference/validations.hpp"
 

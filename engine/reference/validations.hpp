@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // The air reference's validations (issue 19, part 1), each a function of its grid so that the tests run
 // coarse grids and `ameoto reference` fine ones. docs/air-reference.md has the figures.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // The small, trivially copyable messages that cross between the control thread and the audio thread.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // A whole scene built off the audio thread for /scene/load: its umbrella (always built, so the renderer's
 // /drop, templates and texture have a canopy; heard only when the scene has one) and its other surfaces,

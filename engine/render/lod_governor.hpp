@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // Chooses the level of detail of each drop, so the engine models no more than the scene needs and sheds
 // detail before it misses a deadline.

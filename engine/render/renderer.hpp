@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // The one place audio is made: every backend (JACK, null, offline render) calls Renderer::process.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // The scene's surfaces other than the umbrella, each under its own rain and heard from where it lies:
 // drops arrive on each surface as a Poisson process at its area's impact flux for the scene's drop size

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "engine/render/surface_source.hpp"
 
 #include <stdexcept>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // The surfaces of a scene other than the umbrella (water, plates, ground), behind one small interface, so
 // the scene runtime strikes and hears them alike.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // What the renderer swaps as one piece when a material or liquid changes: the umbrella scene with its
 // lattice drops (the full level of detail), the impact templates recorded from them (the template level

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // Sound from one source to the listener through open air: spherical spreading, the propagation delay and
 // air absorption, all following the source's and the listener's positions smoothly.

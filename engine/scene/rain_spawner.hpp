@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // Drops arriving on an area as real rain delivers them: Poisson arrivals at the impact flux of the
 // rain rate, diameters drawn from the flux-weighted size distribution, speeds from Gunn-Kinzer.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // What a rain scene is made of, as data: its surfaces, its rain, the listener and the level-of-detail
 // budget; the built-in scenes; and the scene file format (text, versioned) that users write and that

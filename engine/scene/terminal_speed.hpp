@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // Terminal fall speed of water drops in still air at sea level.
 //

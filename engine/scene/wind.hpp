@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // Wind over a rain scene: a ramped mean wind with gusts, and what it does to the drops.
 //

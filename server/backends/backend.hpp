@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // What the daemon needs of an audio backend. Both backends drive the same AudioBridge::process.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // The JACK backend: ports <name>:out_1..N, the process callback calls AudioBridge::process.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "server/backends/null_backend.hpp"
 
 #include <pthread.h>

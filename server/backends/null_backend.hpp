@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // The backend for machines without a JACK server: a thread that calls the same AudioBridge::process
 // as JACK would, and writes the stream to a WAV file or discards it.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // The null backend's real-time pace: when each block may start, on a fixed grid of periods counted
 // from the first block, as a sound card's period interrupts fall.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // Streams interleaved float audio to a WAV file from its own thread, so the render thread never
 // touches the disk.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // Which datagrams a flooded server answers ahead of the others: /status, /version, and any address
 // asked with no value (/rain/rate, /notify ...). Decided by peeking at the address and the type tags

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // Gives each OSC sender a small index, so a command crossing to the audio thread can say whom to
 // answer (/synced, /fail busy) without carrying an address.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // The datagrams a flooded control thread has read but not yet handled, oldest first: bytes copied
 // into a fixed ring, so that the kernel's receive queue stays short and a /status behind the flood

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // Whom a reply goes to: a UDP sender (its address and port) or a TCP connection (its number).
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // Where a UDP sender's replies go when it named another port with /reply/port (Max's [udpsend] sends
 // from a port it never listens on). Keyed by the sender's own address and port; the reply keeps the

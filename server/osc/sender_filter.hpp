@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // --allow: which senders may talk to ameotod, as a list of IPv4 and IPv6 networks in CIDR notation.
 //

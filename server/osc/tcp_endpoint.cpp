@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "server/osc/tcp_endpoint.hpp"
 
 #include <boost/asio/ip/address.hpp>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // OSC over TCP on a thread of its own, for rigs that cannot lose a message and for the monitor that
 // must get through a UDP flood: OSC 1.0 stream framing (each packet preceded by its size as a

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // What the control thread turned away, for the log: datagrams from senders outside --allow (dropped
 // without a reply) and commands answered /fail busy (a queue to the audio thread was full, or, for

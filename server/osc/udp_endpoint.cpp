@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "server/osc/udp_endpoint.hpp"
 
 #include <sys/socket.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // OSC over UDP on the control thread's io_context: receives datagrams in batches, hands each batch
 // on with its senders, sends replies (in batches while a batch is being handled).

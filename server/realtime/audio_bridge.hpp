@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // The boundary between the control thread and the audio thread. Both backends call process() from
 // their audio thread; the control thread talks to it only through two fixed-size lock-free queues

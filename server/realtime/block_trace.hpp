@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // A per-block record of the audio callback, for finding the rare slow blocks (issue 5's xruns).
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // Level meters for /meter: the audio thread measures each channel's peak and RMS over fixed windows
 // of samples and hands each finished window to the control thread through a fixed-size lock-free

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "server/realtime/rt_probe.hpp"
 
 #include <dlfcn.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // Marks the code the audio thread runs, so a test can prove it never allocates, frees, locks,
 // blocks or logs.

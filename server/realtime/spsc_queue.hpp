@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // A fixed-capacity, wait-free, single-producer single-consumer queue (after rigtorp's SPSCQueue).
 //

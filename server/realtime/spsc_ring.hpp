@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // A fixed-capacity single-producer single-consumer ring of samples with bulk write and read, for
 // audio leaving the render thread (to the WAV writer). Same memory-ordering scheme as SpscQueue.

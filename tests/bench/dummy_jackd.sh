@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 # Sourced by the JACK bench scripts (soak, soak-scene, heap-per-scene, xrun-floor; not part of CI).
 #
 # Interface:

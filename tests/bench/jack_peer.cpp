@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // jack_peer SECONDS MEGABYTES PERCENT: a JACK client that stands in for ameotod's audio callback with a
 // fixed amount of plain work, to tell the machine's share of slow callbacks and xruns from ours
 // (docs/bench.md, "Slow blocks"; run by tests/bench/xrun-floor, not part of CI).

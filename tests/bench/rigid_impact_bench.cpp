@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The lattice drop on a rigid plane (engine/models/wet_impact.hpp, measure_rigid_impact): the force
 // pulse against Gordillo et al. (2018) and where the impact's energy goes, for docs/impacts.md.
 //

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """The soak's OSC traffic (tests/bench/soak, tests/bench/heap-per-scene), in one place.
 
 Interface:

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // How many datagrams a second the control thread's UDP path takes under a flood, the batched
 // endpoint (server/osc/udp_endpoint.hpp: recvmmsg in, sendmmsg out) against its predecessor (one
 // receive and one send per datagram), in the same run. Not part of the pass/fail suite.

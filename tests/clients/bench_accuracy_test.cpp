@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // `ameoto bench accuracy`'s measures checked against known answers, and the accuracy knob's choice
 // measured against its budget on the umbrella panel (the "selected method meets the budget" test).
 #include <doctest/doctest.h>

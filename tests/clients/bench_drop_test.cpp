@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Tests for clients/ameoto/bench_drop: what `ameoto bench drop --json` prints (its fields present,
 // finite, positive and consistent with each other as docs/bench.md defines them), and that its bad
 // options are refused. It times two short rounds and one; no figure is held to a speed except that drops

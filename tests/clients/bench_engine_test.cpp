@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Tests for clients/ameoto/bench_engine: what `ameoto bench engine` prints (not how fast anything is).
 #include "clients/ameoto/bench_engine.hpp"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Tests for clients/ameoto/bench_faust: the Faust peer of `ameoto bench engine`, and, where faust is
 // installed, proof that ameoto's explicit scheme computes the same samples as Faust's own code.
 // CI does not install faust: those checks then skip with a message (scripts/install-bench-deps).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // `ameoto bench lattices`: its rows are stretch_mode()'s values for every shape, the table it writes
 // gives them back exactly, and its usage and refusals.
 #include <doctest/doctest.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Tests for clients/ameoto/bench_mesh and bench_drive: the bodies `ameoto bench engine` measures, and
 // the mi-faust triangle mesh rebuilt in ameoto with the .dsp's pluck.
 #include <doctest/doctest.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Tests for clients/ameoto/bench_options: `ameoto bench` command lines, parsed and checked.
 #include "clients/ameoto/bench_options.hpp"
 

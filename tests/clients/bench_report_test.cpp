@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Tests for clients/ameoto/bench_report: a measurement's derived figures, its JSON line and table row.
 #include "clients/ameoto/bench_report.hpp"
 

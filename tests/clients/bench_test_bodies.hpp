@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // Shared by the bench tests: render a benchmark method on Faust's triangle mesh, and find a method by name.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The real programs: ameotod on the null backend, driven by the ameoto binary as a user would.
 #include <doctest/doctest.h>
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "clients/ameoto/expected_reply.hpp"
 
 #include <doctest/doctest.h>

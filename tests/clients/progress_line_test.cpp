@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The render's progress bar (clients/ameoto/progress_line.hpp): fits the terminal, keeps its length,
 // narrows gracefully, is rewritten only when its text changes, is wiped at the end, and is silent when
 // disabled.

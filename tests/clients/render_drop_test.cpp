@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // `ameoto render drop`: option parsing, and the real binary rendering a drop to a WAV and an SVG.
 #include "clients/ameoto/render_drop.hpp"
 

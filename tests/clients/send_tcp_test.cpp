@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // `ameoto send --tcp` against a real ameotod started with --tcp-port: the same replies as over UDP.
 #include <doctest/doctest.h>
 

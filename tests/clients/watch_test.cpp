@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // `ameoto watch` against a real ameotod, as a user runs it: updates as lines on a pipe, --count,
 // Ctrl-C unsubscribes, and a server that is not there.
 #include <doctest/doctest.h>

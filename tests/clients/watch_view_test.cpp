@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // ameoto watch's formatting: /meter parsing, bars, the line format for pipes, the screen for terminals.
 #include "clients/ameoto/watch_view.hpp"
 

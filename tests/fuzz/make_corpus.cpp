@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // fuzz_make_corpus FOLDER: writes the fuzzer's seed corpus, made from the protocol table
 // (tests/protocol/table_cases.hpp), so every address has valid messages the fuzzer starts from:
 //   ADDRESS.required, ADDRESS.all       each address with its required / all arguments

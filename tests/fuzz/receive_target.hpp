@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // The fuzz entry: one datagram's bytes through the daemon's receive path (protocol/receive.hpp:
 // decode, validate), the replies it would send, and the scene changes it would make, with the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // fuzz_replay: feeds every file under the given folders (or the given files) to the fuzz entry, once
 // each, in the normal build; CI runs it over tests/fuzz/corpus and tests/fuzz/crashes so every input
 // that ever broke the receive path stays fixed. An input that breaks an invariant aborts, and ctest

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The accuracy knob end to end: the real daemon over loopback UDP. /accuracy sets the budget (the
 // scene is rebuilt off the audio thread with the chosen method, /done once it plays), /accuracy with
 // no arguments answers /accuracy.reply with the choice, bad input gets /fail and changes nothing,

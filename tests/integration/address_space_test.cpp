@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The whole address space against the real daemon over real UDP, generated from the protocol table
 // (tests/protocol/table_cases.hpp): every bad message gets `/fail ADDRESS REASON`, the state is as it
 // was (/status.reply and the scene saved before and after), and the server keeps serving. Bad scene

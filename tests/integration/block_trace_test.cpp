@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // ameotod --block-trace: a daemon playing in real time writes its slow callbacks to the file, and a
 // block forced to be slow (12 lattice drops spawned at one sample, several times the work a 64-frame period
 // holds) is there, marked as our own work with the drops it spawned.

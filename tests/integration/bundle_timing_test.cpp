@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Bundles are scheduled to the sample: drops in nested bundles at known times land in the null
 // backend's output exactly that many samples apart (+/- 1, the rounding of each timetag to a sample).
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // ameotod end to end: the real daemon, real OSC datagrams over loopback, real WAV files.
 
 #include <doctest/doctest.h>

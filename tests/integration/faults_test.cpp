@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Faults and who may talk (issue 8): --bind and --allow with real senders on loopback addresses, WAVs
 // after SIGKILL, a disk that fills (a real tmpfs of a few hundred KiB), an output file removed while
 // written, a scene save on a full disk, and a JACK server killed outright and started again.

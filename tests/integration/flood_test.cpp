@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Load (issue 8): several clients flood ameotod with /rain/rate over loopback, aiming at 100 000
 // messages per second in all for 10 s, while two monitors ask /status every 50 ms, one over UDP (the
 // flood's own port) and one over TCP (--tcp-port). The audio thread must never wait (no xrun, no

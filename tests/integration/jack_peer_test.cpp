@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // tests/bench/jack_peer.cpp (the fixed-load JACK client that tests/bench/xrun-floor runs beside
 // nothing else, to tell the machine's slow callbacks and xruns from ameotod's): it refuses bad
 // arguments, says when no JACK server runs, and on a real jackd (dummy driver) prints its figures.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // ameotod on a real JACK server (jackd2, dummy driver, no real-time): recorded with jack-record
 // from jack-tools, compared with the null backend, and put through a server crash and return.
 

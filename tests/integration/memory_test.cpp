@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // server/memory_return.hpp through the real daemon: scene loads leave ameotod's RSS where it
 // was (issue 8: "memory stays flat"; the one-hour soak, tests/bench/soak, is the long form).
 #include <doctest/doctest.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // /notify against the real daemon over UDP: periodic /status.reply, /meter levels that match the
 // samples written, unsubscribing, the bound on subscribers, and clients that vanish.
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Queries (ADDRESS with no value -> ADDRESS.reply) and /version against the real daemon over UDP:
 // each answer is what the engine has applied, so a patch can show it.
 

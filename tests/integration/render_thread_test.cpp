@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The null backend's render thread as the kernel sees it: its name, and the scheduling that
 // --realtime-priority asks for (server/backends/null_backend.hpp, "Scheduling"), read from
 // /proc/PID/task/TID/stat, the same fields `ps -L -o rtprio,policy` prints.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // /reply/port against the real daemon over real UDP: a client sends from one socket (as Max's [udpsend]
 // does, from a port it never reads) and hears every reply on a second socket bound to the port it named
 // (as Max's [udpreceive] does); nothing comes back to the sending socket. Port 0 restores the sender's

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // ameotod --scene FILE.scene: the real daemon started on a scene file given by its path (the command
 // line is trusted; over OSC, /scene/load takes names only), and stopped at once, with the file, line
 // and key, when that file is missing or malformed.

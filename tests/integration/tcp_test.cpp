@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // OSC over TCP against the real daemon (--tcp-port): OSC 1.0 stream framing, replies on the same
 // connection, the same validation as UDP, and bounds that keep one bad connection from harming others.
 

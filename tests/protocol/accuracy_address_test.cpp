@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // /accuracy in the address table: a query with no arguments, a budget in cents or dB, off; every bad
 // form refused with a reason and no request.
 #include <doctest/doctest.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The whole address space, walked from the protocol table itself (tests/protocol/table_cases.hpp):
 // every address refuses every bad variant with a reason and builds nothing, as bytes through the
 // daemon's receive path (protocol/receive.hpp). A new address in the table is covered without a

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Every size the receive path accepts is bounded, and the bounds agree with what the engine can hold
 // (docs/reliability.md, "Bounds").
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The addresses of the full protocol (issue 7): queries, /scene, /notify, /version, /surfaces.
 #include <doctest/doctest.h>
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // The ProtocolContext the protocol tests validate against: every surface a disc of radius 0.5 m about
 // the origin, so that a /drop's (x, y) lands on it or not by a rule a test can see.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // Messages made from the protocol table itself (protocol::address_table()), for the tests that walk
 // the whole address space: a valid message for each address, and for each the bad variants every

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "tests/real_clients/drop_onsets.hpp"
 
 #include <algorithm>

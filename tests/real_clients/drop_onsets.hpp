@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // The frames at which separate drops start in a rendered stream, for timing tests.
 //

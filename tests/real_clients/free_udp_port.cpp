@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "tests/real_clients/free_udp_port.hpp"
 
 #include <arpa/inet.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // oscsend (liblo-tools), the documented way to poke the server from a shell, against the real
 // ameotod; the server's own /status says what changed. (oscdump, the other half of liblo-tools,
 // is the receiver in pd_client_test.cpp: a sender's replies go to its own port, which oscsend

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // clients/max/ameoto.maxpat. Max does not run on Linux, so this checks what can be checked here: the
 // file is a well-formed patcher (JSON read by Python's json; boxes and patch lines consistent), it
 // has [udpsend] to ameotod's default port and [udpreceive 7771], sends /reply/port 7771 on load, and every OSC address it sends is one

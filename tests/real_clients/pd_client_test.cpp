@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The shipped Pure Data abstraction clients/pd/ameoto.pd, run by the real pd (puredata-core)
 // against the real ameotod and, to see every message it sends, against oscdump.
 

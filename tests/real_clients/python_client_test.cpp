@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The shipped Python example clients/python/ameoto_example.py, run by Debian's /usr/bin/python3 with
 // python3-liblo against the real ameotod: its /status.reply, the rate it sets, and its timed bundles
 // landing in the null backend's WAV at their samples.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "tests/real_clients/real_programs.hpp"
 
 #include "protocol/address_table.hpp"

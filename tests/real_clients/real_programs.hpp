@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // What the tests of the shipped clients share: finding the real programs, the paths of the clients
 // in the source tree, and the server's settled state as its own /status reports it.

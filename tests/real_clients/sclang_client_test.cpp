@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The shipped SuperCollider class clients/supercollider/Ameoto.sc, installed by its own install
 // script into a temporary HOME's Extensions folder, run by the real sclang (supercollider-language,
 // headless: no scsynth, no display) against the real ameotod.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The control thread's loop (server/control_loop.hpp): repeating timers, SIGHUP, shutdown.
 #include "server/control_loop.hpp"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // server/memory_return: ameotod's heap policy, tested in fresh processes (tests/support/heap_probe.cpp),
 // since which arenas a process has depends on every thread that ever allocated in it.
 #include <doctest/doctest.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The control thread's record of the scene as the engine has applied it (server/scene_record.hpp):
 // what the queries answer and /scene/save writes.
 #include "server/scene_record.hpp"

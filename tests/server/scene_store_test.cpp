@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The scene folder (server/scene_store.hpp): built-ins first, files by name only, atomic saves.
 #include "server/scene_store.hpp"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // The running daemon's audio clock, read over OSC: how much audio it has rendered, and a wait for it to
 // render more. A test that needs "a second of audio" waits on this clock, not on the wall's: a loaded

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // The built ameotod as a test's server: on a free port, ready to be talked to, never left behind.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // heap_probe one|default: starts 4 threads that allocate at once, then prints how many heaps (arenas)
 // glibc's malloc keeps, read from malloc_info's XML. With "one" it first calls use_one_heap(), as
 // ameotod's main() does. Run by tests/server/memory_return_test.cpp in a process of its own: the

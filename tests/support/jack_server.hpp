@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // A private JACK server for a test: jackd2 with the dummy driver, no real-time, 48 kHz, 256 frames.
 //

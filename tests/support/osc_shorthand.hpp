@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // One-letter OSC arguments for tests that spell out many messages: f(0.5) for a float, i(3) for an
 // int32, s("pond") for a string, as OSC's own type tags name them. One definition for every suite, so

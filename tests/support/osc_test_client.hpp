@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // A UDP OSC client for tests: real datagrams over loopback, every wait bounded.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // A process's resident memory, as the kernel counts it, for the tests that hold memory flat.
 //

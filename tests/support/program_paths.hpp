@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // Where the built programs are, for tests that run them (AMEOTO_BIN_DIR comes from tests/CMakeLists.txt).
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The real-time probe: replaces the C library's allocation, locking, sleeping and writing functions,
 // and counts every call made while the calling thread is inside rt::Scope (server/realtime/rt_probe.hpp).
 //

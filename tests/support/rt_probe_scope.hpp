@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // For engine tests: audit a piece of code with the real-time probe (tests/support/rt_interposer.cpp),
 // without the server's rt::Scope (engine/ must not depend on server/).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // Checks whose bound is the normal build's speed or memory, not the program's correctness: the audio's
 // real time (no xrun, no late bundle, a drop sounding at its timetag's sample) and a process's RSS.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "tests/support/tcp_test_client.hpp"
 
 #include <arpa/inet.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // A TCP OSC client for tests (OSC 1.0 stream framing: each packet preceded by its size as a big-endian
 // int32), connected to ameotod's --tcp-port over loopback; every wait bounded, and timing_scale() times

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // The figures most test files share: the sample rate the engine tests run at and the physical constants
 // they compare with. One definition, so that files built together (CMake's unity build, which CI uses to

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // How much longer a test waits for the programs under test when they are built with AddressSanitizer
 // (scripts/build-sanitized): one switch for every bound that depends on the machine's speed (start-up,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // For Body3D tests: a 5 mm water drop as a bare Body3D (122 masses, 537 cohesive links, with the
 // calibration engine/models/drop.hpp gives water: bond k 0.09976 N/m, damping 6.327e-6 N s/m, break

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #include "tests/support/wav_file.hpp"
 
 #include <sndfile.h>

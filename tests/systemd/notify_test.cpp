@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // ameotod's sd_notify protocol, seen from systemd's side: the test plays the service manager.
 // It binds the datagram socket systemd would pass in $NOTIFY_SOCKET, starts the built ameotod with
 // the null backend, and checks READY=1 (only after the port is bound and audio runs), STATUS=,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // systemd/ameotod.service and systemd/ameotod-user.service: `systemd-analyze verify` accepts both, the
 // check is shown to catch broken copies, and the settings the issue asks for are there.
 //

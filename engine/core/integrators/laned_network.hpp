@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // N identical transverse networks (a canopy's panels) stepped together as SIMD lanes: explicit Verlet
 // or symplectic Euler, each lane bit-identical to its own TransverseNetwork.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // Modal integration: each normal mode advanced exactly as a two-pole resonator.
 //

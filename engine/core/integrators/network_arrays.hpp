@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // The linear mass-spring-damper network every integrator reads: masses, links to other masses,
 // anchors to fixed points, as structure-of-arrays. Transverse (1-D per node) displacement.

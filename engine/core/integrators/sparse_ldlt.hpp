@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // A symmetric positive definite sparse matrix factored once (build phase), solved many times without
 // allocating (render phase). Shared by the implicit integrators (trapezoidal, backward Euler).

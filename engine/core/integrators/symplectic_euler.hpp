@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // Symplectic (semi-implicit) Euler, velocity first, with sub-steps.
 //

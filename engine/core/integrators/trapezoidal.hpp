@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // The trapezoidal rule (Newmark average acceleration, beta = 1/4, gamma = 1/2), factored once.
 //

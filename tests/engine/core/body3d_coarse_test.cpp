@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Tests for Body3D's coarse steps (engine/core/body3d.hpp, "Coarse steps"; engine/core/body3d_coarse.cpp):
 // which multiple coarse_factor() allows, that step(k) gives the same bits on the AVX2 and the scalar
 // step, and what a coarse step changes in a trajectory.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Tests for engine/core/body3d_drag: drop drag (Beard 1976) against Gunn & Kinzer (1949), by falling a
 // Body3D mass for real; and the seed's linear-drag preset.
 #include <doctest/doctest.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Tests for engine/core/body3d: the 3-D mass-interaction body (links, drag, integrators, stability, guard).
 #include <doctest/doctest.h>
 

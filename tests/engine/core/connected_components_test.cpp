@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Tests for engine/core/connected_components: pieces of a body after links break.
 #include <doctest/doctest.h>
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Tests for engine/core/fft.hpp against the transform's definition.
 #include "engine/core/fft.hpp"
 

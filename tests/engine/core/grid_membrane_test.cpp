@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Tests for engine/core/grid_membrane: the triangular-lattice membrane stepped as a stencil over a grid.
 #include <doctest/doctest.h>
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Tests for engine/core/lattice_ball: the FCC lattice drop (seed Fig. 8, one mass per 1 mm drop volume).
 #include <doctest/doctest.h>
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Membrane modes of the square (core/square_lattice) and triangular (core/triangular_lattice) lattices
 // against the continuum and the discrete formula (physics.md s.4 and s.5 check 3), at three resolutions.
 // AMEOTO_PRINT_TABLES=1 ./build/tests/engine_tests -tc='table: membrane*' prints the table in

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The accuracy knob (method_choice.hpp): the cheapest method within the budget, never a less accurate
 // one for a tighter budget, the Pareto front, and the options each setting builds. The choice made from
 // the committed table is measured against its budget in tests/clients/bench_accuracy_test.cpp.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Tests for engine/core/modal_decomposition: normal modes, Rayleigh damping, lowest modes of large bodies.
 #include <doctest/doctest.h>
 

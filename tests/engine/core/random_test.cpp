@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Tests for engine/core/random.hpp: xoshiro256** seeded through SplitMix64.
 #include <doctest/doctest.h>
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Tests for engine/core/square_lattice: geometry, boundary placement, modes = the discrete formula.
 #include <doctest/doctest.h>
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The stability map's claims, tested: every method the engine offers stays bounded where it claims to
 // (integrators/integrator.hpp, stability.hpp), and the runtime guard catches the one run outside its
 // bound (explicit Verlet at omega_max T = 2.2): the body is reset and the output never explodes.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Tests for engine/core/stability: bounds before a body runs, the policies, the runtime guard.
 #include <doctest/doctest.h>
 

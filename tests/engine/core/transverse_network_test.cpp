@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Tests for engine/core/transverse_network: the mass-spring network, its integrators chosen per body, and
 // the runtime guard.
 #include "tests/engine/core/integrators/test_bodies.hpp"

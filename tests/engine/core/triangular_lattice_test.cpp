@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Tests for engine/core/triangular_lattice: the node lattice over a convex polygon with fixed/free edges.
 #include <doctest/doctest.h>
 

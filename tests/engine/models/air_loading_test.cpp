@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Tests for engine/models/air_loading: the incompressible added mass of a thin screen in free air.
 #include <doctest/doctest.h>
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Tests for engine/models/bubble.hpp: one bubble's pitch, damping, chirp and level, measured from the
 // rendered signal (physics.md section 5, check 8).
 #include "engine/models/bubble.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Tests for engine/models/canopy's laned step (core/integrators/laned_network.hpp): a canopy stepped as
 // lanes renders the bits of its panels stepped one TransverseNetwork at a time (how the canopy stepped
 // before), down to the far field's pressures; the other integrators keep per-panel networks.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Tests for engine/models/canopy: the umbrella's panels, where a point lands, and the runtime guard.
 #include <doctest/doctest.h>
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The collision scan (engine/models/collision_scan.hpp): the AVX2 and scalar passes list the same
 // masses and count the same band as collide()'s per-mass tests, written out here.
 #include "engine/models/collision_scan.hpp"

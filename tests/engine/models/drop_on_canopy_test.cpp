@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // DropOnCanopy: a lattice drop on the canopy, end to end (engine/models/drop_on_canopy.hpp).
 #include "engine/models/drop_on_canopy.hpp"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Tests for engine/models/drop_pool: a fixed-capacity pool of lattice drops for the audio thread.
 #include <doctest/doctest.h>
 

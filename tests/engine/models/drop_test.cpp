@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Tests for engine/models/drop: mass counts, the Rayleigh calibration (eigenvalue and simulated), Lamb
 // damping, the break threshold on a rigid floor, drag presets, determinism.
 #include <doctest/doctest.h>

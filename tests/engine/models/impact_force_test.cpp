@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Tests for engine/models/impact_force.hpp: the pool of drop impact force pulses.
 #include <doctest/doctest.h>
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The template level of detail against the full model (engine/models/impact_templates.hpp).
 #include "engine/models/impact_templates.hpp"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Tests for engine/models/liquid: presets, lookup by name, validation of custom liquids.
 #include <doctest/doctest.h>
 

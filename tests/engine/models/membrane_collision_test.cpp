@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Tests for engine/models/membrane_collision: drop masses against the canopy (seed section 4.3). These
 // are the seed's exchange (CollisionOptions::seed()); the wet law's tests are wet_impact_test.cpp.
 #include <doctest/doctest.h>

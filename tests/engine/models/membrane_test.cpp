@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Tests for engine/models/membrane: a tensioned membrane as a triangular mass-spring lattice.
 #include <doctest/doctest.h>
 

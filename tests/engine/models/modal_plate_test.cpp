@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Tests for engine/models/modal_plate.hpp: the struck Kirchhoff plate (modes, damping, radiation, impulse,
 // presets, determinism, real-time safety, cost).
 #include <doctest/doctest.h>

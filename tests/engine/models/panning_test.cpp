@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Tests for engine/models/panning: constant-power panning over stereo and rings of speakers.
 #include <doctest/doctest.h>
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Tests for engine/models/radiation: the seed's single-mass output and the Rayleigh far field.
 #include <doctest/doctest.h>
 

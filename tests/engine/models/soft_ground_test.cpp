@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Tests for engine/models/soft_ground.hpp: leaves and soil (energy per hit, spectra, the leaf distribution,
 // determinism, refusals, real-time safety).
 #include <doctest/doctest.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Tests for engine/models/stretch_mode_table (the committed stretch modes) and its lookup in drop.cpp:
 // every entry recomputed with stretch_mode() to the bit, every shape up to 8 mm covered, and the
 // fallback to computing for a shape the table lacks.

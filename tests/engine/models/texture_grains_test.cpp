@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The texture level of detail (engine/models/texture_grains.hpp): grains carry their template's energy.
 #include "engine/models/texture_grains.hpp"
 

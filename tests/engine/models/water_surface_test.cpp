@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Tests for engine/models/water_surface.hpp: entrainment by drop size, the impact's level, light rain's
 // spectrum (physics.md section 5, check 10), determinism, capacity and the real-time audit.
 #include "tests/support/sanitizer_bounds.hpp"

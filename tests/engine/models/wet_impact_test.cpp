@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Tests for engine/models/wet_impact: a drop strikes as a real one does (Gordillo, Sun & Cheng, J. Fluid
 // Mech. 840:190, 2018; shared/reference/acoustics.md section 3), the seed's exchange stays as a preset,
 // and the impact's energy is accounted for.

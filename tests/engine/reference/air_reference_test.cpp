@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Tests for engine/reference: the offline FDTD reference of the air around a thin screen (issue 19,
 // part 1), each validation on a coarse grid with its tolerance and source; the full-resolution runs are
 // `ameoto reference` (docs/air-reference.md).

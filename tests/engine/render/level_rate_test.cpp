@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Level against rain rate for each kind of surface (engine/render/surface_source.hpp), measured and
 // checked against the per-drop energy law the engine uses: independent drops add in power, so the mean
 // power over T seconds is the sum over the drops struck of each drop's own output energy e(D), over T.

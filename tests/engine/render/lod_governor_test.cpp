@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The level-of-detail governor (engine/render/lod_governor.hpp): audibility, masking, load shedding.
 #include "engine/render/lod_governor.hpp"
 

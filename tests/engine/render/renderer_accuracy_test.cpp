@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The accuracy knob applied where it has effect: a scene's budget sets the canopy panels' method when
 // the renderer builds the scene (configure_for_scene -> RendererConfig::canopy_network -> Canopy), and
 // the scene still sounds: a /drop on a canopy run by the chosen method is heard, finite.

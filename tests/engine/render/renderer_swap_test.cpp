@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Live material and liquid changes in the renderer: a scene built elsewhere (Renderer::make_scene) takes
 // over by pointer, the old one rings out for 0.5 s (no click) and is handed back, never freed on the
 // audio thread.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Tests for engine/render/renderer: determinism, sample-accurate commands, events, and panning.
 #include <doctest/doctest.h>
 

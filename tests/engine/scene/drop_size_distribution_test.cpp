@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Tests for engine/scene/drop_size_distribution: Marshall-Palmer, Joss et al., gamma (and Zhang's mu-Lambda),
 // the water each delivers, and the impact flux they imply.
 #include <doctest/doctest.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Tests for engine/scene/propagation: ISO 9613-1 air absorption (formula and realised filter), 1/r
 // spreading, the delay to the sample and its fractional accuracy, smooth position changes, real-time audit.
 #include <doctest/doctest.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Tests for engine/scene/rain_spawner: Poisson arrivals at the impact flux, flux-weighted diameters,
 // the rate ramp, and the same for every drop size distribution.
 #include <doctest/doctest.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The scene file's accuracy line (format version 2): parsed, validated, written back, and version 1
 // files still load (and are still written as version 1 when they need nothing new).
 #include <doctest/doctest.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Scene descriptions: built-in scenes, the versioned file format, and its errors (file, line, field).
 #include "engine/scene/scene_description.hpp"
 #include "tests/engine/scene/scene_test_support.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // Helpers the rain-scene tests share: terminal speed by diameter in mm, a named drop size distribution,
 // and the message a scene file's parse refuses with.

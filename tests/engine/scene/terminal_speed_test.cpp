@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Tests for engine/scene/terminal_speed: the Gunn & Kinzer (1949) table and its interpolation.
 #include <doctest/doctest.h>
 

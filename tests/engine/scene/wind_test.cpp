@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Tests for engine/scene/wind: the ramps, the gust process's statistics, the drops' lag, tilt and impact
 // velocity closed forms, the rate a surface sees, and the real-time audit.
 #include <doctest/doctest.h>

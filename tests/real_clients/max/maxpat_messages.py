@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Reads a .maxpat (Max cannot run here) and prints what the C++ test checks:
    'object TEXT' for every object box, 'sends ADDRESS' for every OSC address a message box or a
    [prepend /address] feeds towards [udpsend], 'on load TEXT' for every message box a [loadbang] feeds

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // server/backends/realtime_pace.hpp: the null backend's period boundaries. On time, every block
 // waits for start + k * period (no drift over a day of blocks); a late block counts one xrun and
 // the next waits for the first boundary after it, so the render thread sleeps after every block

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // WavWriter under faults, without the daemon: the file removed while it is written (reported, a new file
 // begun, the producer never refused), and a file that fails from the first write (/dev/full). A disk
 // that fills midway is tested with the daemon on a real tmpfs (tests/integration/faults_test.cpp).

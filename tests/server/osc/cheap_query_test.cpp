@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Which datagrams a flooded server answers first (server/osc/cheap_query.hpp): the peek must agree
 // with the full decode and validation, so that nothing is moved forward that the table would treat
 // as a command, and nothing malformed is taken for a query.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The UDP backlog (server/osc/datagram_backlog.hpp): oldest first, bytes and senders intact through any
 // number of wrap-arounds, bounded in count and in bytes (a full backlog refuses, never grows), and it
 // tells whether a sender has anything waiting (so that its later queries keep their place).

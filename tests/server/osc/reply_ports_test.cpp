@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // /reply/port's table (server/osc/reply_ports.hpp): a redirect keeps the sender's IP address and changes
 // only the port, is keyed by address and port, is undone by restore, and is bounded: when full a new
 // sender is refused and nobody already redirected loses their place.

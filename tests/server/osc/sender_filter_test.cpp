@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // --allow's CIDR matching: every boundary of a prefix, both families, and the refusals.
 
 #include "server/osc/sender_filter.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The batched UDP endpoint (server/osc/udp_endpoint.hpp) over real loopback sockets: datagrams
 // queued in the socket are read many per receive call, in order, each with its sender and its bytes
 // intact (up to the largest datagram); replies made while a batch is handled leave together, in order.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The real-time contract, proven: everything the audio thread runs (AudioBridge::process: queue
 // drain, Renderer::process with rain, drops, rate changes and syncs, event and stats publishing)
 // calls no allocator, lock, sleep or write. The probe (tests/support/rt_interposer.cpp) is linked

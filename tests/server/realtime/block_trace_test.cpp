@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The per-block trace (--block-trace): the thread readings measure this thread's CPU time, the file
 // holds exactly the slow blocks with their cause, and the bridge records every block without breaking
 // the real-time contract (the probe is linked into this binary).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The level meter behind /meter: windows of exactly 100 ms across any block size, peak and RMS as
 // defined, the dBFS conversion, a full queue that drops readings instead of blocking, and no
 // allocation, lock or system call on the audio side.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // The integrators' measured accuracy (physics.md s.3, s.5 check 4): frequency warping, undamped energy
 // drift over 10^6 steps, and the modal scheme against the explicit one. Each case checks its tolerance;
 // AMEOTO_PRINT_TABLES=1 ./build/tests/engine_tests -tc='table: *' prints the markdown tables kept in

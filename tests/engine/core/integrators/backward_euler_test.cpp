@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Tests for engine/core/integrators/backward_euler: unconditional stability and monotone energy loss.
 #include <doctest/doctest.h>
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Tests for engine/core/integrators/explicit_verlet: the CORDIS scheme's warping and sub-steps.
 #include <doctest/doctest.h>
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Tests for engine/core/integrators/laned_network: N identical networks stepped as lanes give, lane by
 // lane, the bits of N separate TransverseNetworks (laned_network.hpp, "Bit identity"), and the runtime
 // guard stays per lane.

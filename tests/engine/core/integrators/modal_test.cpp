@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Tests for engine/core/integrators/modal: exact two-pole resonators per mode.
 #include <doctest/doctest.h>
 

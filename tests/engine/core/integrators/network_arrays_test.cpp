@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Tests for engine/core/integrators/network_arrays: forces, energy and the assembled K, C agree.
 #include <doctest/doctest.h>
 

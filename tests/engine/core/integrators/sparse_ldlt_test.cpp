@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Tests for engine/core/integrators/sparse_ldlt: the factor-once, solve-without-allocating LDLT.
 #include <doctest/doctest.h>
 

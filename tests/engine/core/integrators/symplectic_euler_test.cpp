@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Tests for engine/core/integrators/symplectic_euler: warping, shadow energy, equivalence with CORDIS.
 #include <doctest/doctest.h>
 

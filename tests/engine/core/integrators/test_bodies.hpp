@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // Shared by the integrator tests: small bodies (one oscillator, a triangular-lattice membrane, a free
 // chain), a frequency meter, and the switch that prints the measured tables.

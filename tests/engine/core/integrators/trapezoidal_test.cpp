@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
 // Tests for engine/core/integrators/trapezoidal: atan warping, energy conservation, unconditional stability.
 #include <doctest/doctest.h>
 
