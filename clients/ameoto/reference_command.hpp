@@ -2,7 +2,7 @@
 #pragma once
 // `ameoto reference [VALIDATION...] [--dx M] [--json]`: the offline air reference's validations (issue 19,
 // engine/reference/validations.hpp) at a chosen grid spacing, each figure printed against its target;
-// needs no server. docs/cli.md, "reference"; docs/air-reference.md has the method and the figures.
+// needs no server. docs/cli-offline.md, "ameoto reference"; docs/air-reference.md has the method and the figures.
 //
 // Interface:
 //   int status = run_reference(words, io);   // words: everything after "ameoto reference"

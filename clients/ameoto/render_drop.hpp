@@ -2,7 +2,7 @@
 #pragma once
 // `ameoto render drop --diameter MM [...] -o FILE.wav [--plot FILE.svg]`: renders one lattice drop
 // falling on the umbrella offline (engine/models/drop_on_canopy.hpp) to a 32-bit float WAV, with an
-// optional SVG of its breakup and sound (svg_plot.hpp); needs no server. docs/cli.md, "render drop".
+// optional SVG of its breakup and sound (svg_plot.hpp); needs no server. docs/cli-offline.md, "ameoto render drop".
 //
 // Interface:
 //   int status = run_render(words, io);   // words: everything after "ameoto render"

@@ -3,7 +3,7 @@
 // `ameoto render scene [--scene NAME|FILE.scene] [--rain MM/H] [--seconds S] [--rate HZ] [--seed N]
 // [--channels N] [--quiet] -o FILE.wav`: renders a rain scene offline with the renderer the server runs
 // (engine/render/renderer.hpp), to a 32-bit float WAV; needs no server. The same scene, seed and rate
-// give the same samples as ameotod --offline (the governor ignores machine load offline). docs/cli.md.
+// give the same samples as ameotod --offline (the governor ignores machine load offline). docs/cli-offline.md.
 //
 // Interface:
 //   RenderSceneOptions o; std::string error;
