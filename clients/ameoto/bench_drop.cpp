@@ -79,7 +79,7 @@ int run_drop_bench(const BenchOptions& options, const CommandIo& io) {
     const double period = 1.0 / bench_sample_rate;
     const double at_once = drops_at_once(base, eight);
     const double at_once_median = drops_at_once(base_med, eight_med);
-    double round_low = 1e300, round_high = 0.0;   // each round's own figure
+    double round_low = 1e300, round_high = -1e300;   // each round's own figure
     for (int i = 0; i < runs; ++i) {
         const double a = drops_at_once(r.base[static_cast<std::size_t>(i)] / samples, r.eight[static_cast<std::size_t>(i)] / samples);
         round_low = std::min(round_low, a);
