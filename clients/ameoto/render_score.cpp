@@ -73,8 +73,9 @@ std::string render_score_usage() {
            "words are strings; # starts a comment). Every message is validated as over UDP; one invalid\n"
            "message refuses the score (its time, place and reason) and nothing is written. /status,\n"
            "/version, /notify, /reply/port, /sync, /quit and queries are ignored; messages that rebuild\n"
-           "the scene (/scene/*, /material/*, /rain/dsd, /surface/*, /accuracy) are refused. A /c_set\n"
-           "(Score's end marker) ends the render when --seconds is not given.\n"
+           "the scene (/scene/*, /material/*, /rain/dsd, /surface/*, /accuracy) are refused. Of what\n"
+           "Score adds, /g_new is ignored and /c_set (the end marker) ends the render when --seconds is\n"
+           "not given.\n"
            "\n"
            "Options:\n"
            "  --scene NAME        umbrella (default), pond, tin-roof, forest, street, or a scene file\n"
@@ -230,8 +231,14 @@ int run_render_score(const RenderScoreOptions& o, const CommandIo& io) {
                    << m.message.address << ": " << reason << "\nnothing was rendered\n";
             return exit_status::refused;
         };
+        // What SuperCollider's Score writes of its own: /g_new 1 0 0, the default group (Score.new adds it
+        // at time 0), and /c_set, the conventional end marker. scsynth's words, with no meaning here.
         if (m.message.address == "/c_set") {
             end_marker = std::max(end_marker.value_or(0.0), m.seconds);
+            continue;
+        }
+        if (m.message.address == "/g_new") {
+            ++ignored;
             continue;
         }
         const protocol::Validation v = protocol::validate(m.message, context);

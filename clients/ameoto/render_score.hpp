@@ -16,8 +16,9 @@
 // written. Server-only messages (/status, /version, /notify, /reply/port, /sync, /quit, queries) have
 // nothing to do offline and are ignored (counted in the summary). Messages that make the server build
 // a new scene (/scene/load, /scene/save, /material/*, /rain/dsd, /surface/*, /accuracy) are refused in
-// this version: give the render the scene (--scene FILE.scene) instead. scsynth's end marker, a
-// /c_set message (Score's usual last entry), sets the render's length when --seconds is not given.
+// this version: give the render the scene (--scene FILE.scene) instead. Of scsynth's own messages that
+// SuperCollider's Score writes, /g_new (the default group, added at time 0) is ignored and /c_set (the
+// conventional end marker) sets the render's length when --seconds is not given.
 // Reproducible to the sample: the same score, scene, seed and rate give the same samples whatever the
 // block size (--block), since the renderer applies each command at its sample within a block.
 
