@@ -26,7 +26,9 @@ std::vector<protocol::OscArgument> StatusReport::arguments() {
             // Seconds, as a float every OSC client reads (Pd 0.53 and sclang 3.13 cannot read int64).
             OscArgument::from_float(static_cast<float>(static_cast<double>(s.frames) / bridge_.sample_rate())),
             OscArgument::from_float(static_cast<float>(s.rain_rate_mm_per_h)),
-            OscArgument::from_string(backend_.name())};
+            OscArgument::from_string(backend_.name()),
+            // The audio clock against the wall clock (JACK: its loop's period; the null backend: 0).
+            OscArgument::from_float(static_cast<float>(s.clock_ppm))};
 }
 
 void StatusReport::measure_rate() {

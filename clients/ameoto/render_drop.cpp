@@ -2,6 +2,7 @@
 #include "clients/ameoto/render_drop.hpp"
 
 #include "clients/ameoto/render_scene.hpp"
+#include "clients/ameoto/render_score.hpp"
 
 #include "clients/ameoto/option_reader.hpp"
 #include "clients/ameoto/progress_line.hpp"
@@ -289,7 +290,7 @@ int run_render(const CommandWords& words, const CommandIo& io) {
         return exit_status::usage;
     }
     if (words[0] == "--help" || words[0] == "-h" || words[0] == "help") {
-        io.out << render_usage() << "\n" << render_scene_usage();
+        io.out << render_usage() << "\n" << render_scene_usage() << "\n" << render_score_usage();
         return exit_status::ok;
     }
     if (words[0] == "scene") {
@@ -303,8 +304,19 @@ int run_render(const CommandWords& words, const CommandIo& io) {
             case RenderParse::run: return run_render_scene(so, io);
         }
     }
+    if (words[0] == "score") {
+        RenderScoreOptions so;
+        std::string score_error;
+        switch (parse_render_score_options(CommandWords(words.begin() + 1, words.end()), so, score_error)) {
+            case RenderParse::help: io.out << render_score_usage(); return exit_status::ok;
+            case RenderParse::error:
+                io.err << "ameoto render score: " << score_error << "\n(see ameoto render score --help)\n";
+                return exit_status::usage;
+            case RenderParse::run: return run_render_score(so, io);
+        }
+    }
     if (words[0] != "drop") {
-        io.err << "ameoto render: unknown subject '" << words[0] << "': drop or scene (see ameoto render --help)\n";
+        io.err << "ameoto render: unknown subject '" << words[0] << "': drop, scene or score (see ameoto render --help)\n";
         return exit_status::usage;
     }
     RenderDropOptions o;

@@ -24,6 +24,7 @@ constexpr StatusField fields[] = {
     {"audio rendered", "seconds_rendered", "s", StatusKind::real, 2},
     {"rain rate", "rain_rate_mm_per_h", "mm/h", StatusKind::real, 2},
     {"backend", "backend", "", StatusKind::text, 0},
+    {"audio clock against the wall", "clock_ppm", "ppm", StatusKind::real, 1},
 };
 
 // 29.874 with 2 decimals -> "29.87"; 30 -> "30"; 3.10 -> "3.1".

@@ -25,12 +25,12 @@ Ameoto {
 	var <>onFail, <>onDone, <>onStatus, <>onMeter;
 
 	*initClass {
-		// /status.reply ,fffiiiiififfs: the names `ameoto status --json` uses.
+		// /status.reply ,fffiiiiififfsf: the names `ameoto status --json` uses.
 		statusFields = #[
 			\cpu_average_percent, \cpu_peak_percent, \drops_per_second,
 			\active_drops_full, \active_drops_template, \active_drops_texture,
 			\xruns, \late_bundles, \sample_rate_hz, \block_size_frames,
-			\seconds_rendered, \rain_rate_mm_per_h, \backend
+			\seconds_rendered, \rain_rate_mm_per_h, \backend, \clock_ppm
 		];
 	}
 

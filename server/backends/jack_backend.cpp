@@ -7,6 +7,7 @@
 #include <cstdio>
 
 #include "server/realtime/audio_bridge.hpp"
+#include "server/realtime/wall_offset.hpp"
 
 namespace ameoto {
 
@@ -49,6 +50,7 @@ bool JackBackend::open_client(std::string& error) {
         return false;
     }
     sample_rate_ = rate;
+    cycle_clock_ = CycleClock(rate);   // the callback is not registered yet: no audio thread reads it
     block_size_.store(static_cast<int>(jack_get_buffer_size(client_)));
     ports_.clear();
     for (int c = 0; c < options_.channels; ++c) {
@@ -125,7 +127,17 @@ int JackBackend::on_process(jack_nframes_t frames, void* self) {
     auto* me = static_cast<JackBackend*>(self);
     for (std::size_t c = 0; c < me->ports_.size(); ++c)
         me->buffers_[c] = static_cast<float*>(jack_port_get_buffer(me->ports_[c], frames));
-    me->bridge_->process(static_cast<int>(frames), me->buffers_.data());
+    // JACK's filtered time of this cycle's first frame and its filtered period (its DLL), turned into
+    // the wall time the bridge times bundles with. Both calls read JACK's shared memory: no syscall.
+    jack_nframes_t cycle_frames = 0;
+    jack_time_t cycle_usecs = 0, next_usecs = 0;
+    float period_usecs = 0.0f;
+    BlockTime time;
+    if (jack_get_cycle_times(me->client_, &cycle_frames, &cycle_usecs, &next_usecs, &period_usecs) == 0) {
+        const jack_time_t now_usecs = jack_get_time();
+        time = me->cycle_clock_.block(frames, cycle_usecs, period_usecs, now_usecs, clock_ns(CLOCK_REALTIME));
+    }
+    me->bridge_->process(static_cast<int>(frames), me->buffers_.data(), time);
     pthread_setcancelstate(previous, nullptr);
     return 0;
 }

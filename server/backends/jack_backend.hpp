@@ -15,6 +15,8 @@
 // closes the dead client and tries to open a new one until the server is back, and resumes with the
 // same bridge, so the scene, the rain and the sample clock carry on. A returning server at another
 // sample rate is refused with a message: the physics was built for the first rate.
+// Clock: each block is timed by JACK's own delay-locked loop (jack_get_cycle_times, cycle_clock.hpp), so
+// timetags of separate packets keep their distances to the sample; a new client starts a new loop.
 
 #include <jack/jack.h>
 
@@ -24,6 +26,7 @@
 #include <vector>
 
 #include "server/backends/backend.hpp"
+#include "server/backends/cycle_clock.hpp"
 
 namespace ameoto {
 
@@ -69,6 +72,7 @@ private:
     std::atomic<int> block_size_{0};
     std::atomic<std::uint64_t> xruns_{0};
     std::atomic<bool> lost_{false};
+    CycleClock cycle_clock_{48000.0};   // the audio thread's; set for the server's rate in open_client
 };
 
 }  // namespace ameoto

@@ -11,6 +11,7 @@
 
 #include "server/backends/realtime_pace.hpp"
 #include "server/realtime/audio_bridge.hpp"
+#include "server/realtime/wall_offset.hpp"
 
 namespace ameoto {
 namespace {
@@ -66,7 +67,9 @@ void NullBackend::run(AudioBridge& bridge) {
     const std::uint64_t total_frames = options_.duration_s
         ? static_cast<std::uint64_t>(std::llround(*options_.duration_s * options_.sample_rate))
         : UINT64_MAX;
-    RealtimePace pace(block / options_.sample_rate, monotonic_ns());
+    const std::int64_t start_ns = monotonic_ns();
+    RealtimePace pace(block / options_.sample_rate, start_ns);
+    std::int64_t deadline_ns = start_ns;   // paced: the grid boundary the block in hand starts at
     std::uint64_t done = 0;
 
     while (!stop_.load(std::memory_order_relaxed) && done < total_frames) {
@@ -78,7 +81,14 @@ void NullBackend::run(AudioBridge& bridge) {
                 nanosleep(&pause, nullptr);
             }
         }
-        bridge.process(frames, outputs.data());
+        // Paced, a block is timed by its place on the grid, not by when this thread woke (which jitters
+        // by the scheduler's latency): bundles of separate packets keep their distances to the sample.
+        BlockTime time;
+        if (options_.realtime) {
+            time.valid = true;
+            time.unix_ns = deadline_ns + realtime_minus_monotonic_ns();
+        }
+        bridge.process(frames, outputs.data(), time);
         if (wav_) {
             for (int n = 0; n < frames; ++n)
                 for (int c = 0; c < channels; ++c)
@@ -89,6 +99,7 @@ void NullBackend::run(AudioBridge& bridge) {
         if (options_.realtime) {
             const RealtimePace::Next next = pace.after_block(monotonic_ns());
             if (next.late) xruns_.fetch_add(1);
+            deadline_ns = next.wake_ns;
             const timespec wake{static_cast<time_t>(next.wake_ns / 1000000000), static_cast<long>(next.wake_ns % 1000000000)};
             clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &wake, nullptr);
         }

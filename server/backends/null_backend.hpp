@@ -15,6 +15,9 @@
 // following boundary, as a sound card's next period would (realtime_pace.hpp says why). Offline (not
 // realtime) renders as fast as the disk takes it: it waits for room in the WAV ring rather than
 // dropping, because an offline render must be complete and exact.
+// Clock: paced, each block is timed (BlockTime) by its boundary on the grid, converted to the wall clock
+// (wall_offset.hpp), so timetags map to samples without the wake-up jitter; offline, by the wall clock
+// when the block is rendered (timetags are then only approximate: use `ameoto render score`).
 //
 // Scheduling: the render thread is named "ameoto-render" (ps -L, top -H). Paced, it asks for SCHED_FIFO
 // at realtime_priority (70 by default), as a JACK client's process thread runs; 0 keeps normal

@@ -61,19 +61,22 @@ AudioSnapshot AudioBridge::snapshot() const {
     s.active_full_drops = active_full_drops_.load(std::memory_order_relaxed);
     s.active_grains = active_grains_.load(std::memory_order_relaxed);
     s.rain_rate_mm_per_h = rain_rate_.load(std::memory_order_relaxed);
+    s.clock_ppm = (clock_rate_ratio_.load(std::memory_order_relaxed) - 1.0) * 1e6;
     return s;
 }
 
 AudioClock AudioBridge::clock() const {
     std::uint64_t seq, frame;
     std::int64_t unix_ns;
+    double ratio;
     do {   // sequence lock: retry while the audio thread is mid-update (odd) or updated meanwhile
         seq = clock_sequence_.load(std::memory_order_acquire);
         frame = clock_frame_.load(std::memory_order_relaxed);
         unix_ns = clock_unix_ns_.load(std::memory_order_relaxed);
+        ratio = clock_rate_ratio_.load(std::memory_order_relaxed);
         std::atomic_thread_fence(std::memory_order_acquire);
     } while ((seq & 1) || seq != clock_sequence_.load(std::memory_order_relaxed));
-    return AudioClock{seq != 0, frame, unix_ns, sample_rate_};
+    return AudioClock{seq != 0, frame, unix_ns, sample_rate_ * ratio};
 }
 
 std::uint64_t frame_at(const AudioClock& clock, double unix_seconds) {
@@ -83,7 +86,7 @@ std::uint64_t frame_at(const AudioClock& clock, double unix_seconds) {
     return target <= 0.0 ? 0 : static_cast<std::uint64_t>(target);
 }
 
-void AudioBridge::process(int frames, float* const* outputs) {
+void AudioBridge::process(int frames, float* const* outputs, const BlockTime& time) {
     rt::Scope audited;
     BlockTrace::Reading thread_before;
     if (trace_) thread_before = BlockTrace::read_thread();
@@ -94,7 +97,8 @@ void AudioBridge::process(int frames, float* const* outputs) {
     clock_sequence_.store(seq + 1, std::memory_order_relaxed);
     std::atomic_thread_fence(std::memory_order_release);
     clock_frame_.store(renderer_->frame(), std::memory_order_relaxed);
-    clock_unix_ns_.store(now_ns(CLOCK_REALTIME), std::memory_order_relaxed);
+    clock_unix_ns_.store(time.valid ? time.unix_ns : now_ns(CLOCK_REALTIME), std::memory_order_relaxed);
+    clock_rate_ratio_.store(time.valid ? time.rate_ratio : 1.0, std::memory_order_relaxed);
     clock_sequence_.store(seq + 2, std::memory_order_release);
 
     Command command;

@@ -15,13 +15,20 @@
 //                    bridge.take_meter(w)  -> the next finished level-meter window (/meter)
 //                    bridge.enable_block_trace(n) -> before audio starts: record every block (block_trace.hpp)
 //                    bridge.block_trace()  -> that record's ring (null when off), read by one thread
-//   audio thread:    bridge.process(frames, outputs)   // never allocates, frees, locks, blocks or logs
+//   audio thread:    bridge.process(frames, outputs, time)   // never allocates, frees, locks, blocks or logs
+//                    time: the backend's filtered clock for this block (BlockTime), or {} for none
 //
 // Load: each process() measures its own duration with the monotonic clock (a vDSO read, no system
 // call) against the block's period; the average is an exponential mean over about one second, the
 // peak is the maximum since the last take_cpu_peak_percent().
-// Clock: each process() publishes (frame, wall time) through a sequence lock so the control thread
-// can turn a bundle's timetag into a sample time without stopping the audio thread.
+// Clock: each process() publishes (frame, wall time, rate) through a sequence lock so the control thread
+// can turn a bundle's timetag into a sample time without stopping the audio thread. The wall time is
+// the backend's filtered estimate of when the block's first frame plays (BlockTime), not a reading
+// taken when the callback happens to run: that reading jitters by the thread's wake-up latency (tens
+// to hundreds of microseconds, i.e. several samples), so bundles sent in separate packets landed a few
+// samples off their distance (issue 22: 48 006 and 48 008 samples for 1.000 s at 48 kHz). With JACK the
+// estimate is JACK's delay-locked loop (jack_get_cycle_times); on the paced null backend, its grid of
+// period deadlines. Without one (the offline null backend), the callback's own reading is used.
 
 #include <atomic>
 #include <cstdint>
@@ -48,6 +55,14 @@ struct AudioSnapshot {
     int active_full_drops = 0;    // lattice drops in the scene
     int active_grains = 0;        // texture grains sounding
     double rain_rate_mm_per_h = 0.0;
+    double clock_ppm = 0.0;       // the audio clock's rate against the wall clock's, minus one, in ppm
+};
+
+// When a block plays, as the backend's clock filter sees it (audio thread, given to process()).
+struct BlockTime {
+    bool valid = false;          // false: no filtered clock; the callback's own wall-clock reading is used
+    std::int64_t unix_ns = 0;    // CLOCK_REALTIME (ns since 1970) at which the block's first frame plays
+    double rate_ratio = 1.0;     // the card's real sample rate / the nominal one (1 + ppm * 1e-6)
 };
 
 // One published (frame, wall time) pair of the audio clock: every message of a packet is timed
@@ -56,7 +71,7 @@ struct AudioClock {
     bool valid = false;               // false before the first block
     std::uint64_t frame = 0;
     std::int64_t unix_ns = 0;
-    double sample_rate = 48000.0;
+    double sample_rate = 48000.0;     // frames per wall-clock second: nominal x the backend's rate ratio
 };
 std::uint64_t frame_at(const AudioClock& clock, double unix_seconds);
 
@@ -84,7 +99,7 @@ public:
     BlockTrace* block_trace() { return trace_.get(); }
 
     // audio thread
-    void process(int frames, float* const* outputs);
+    void process(int frames, float* const* outputs, const BlockTime& time = {});
 
 private:
     std::unique_ptr<Renderer> renderer_;
@@ -99,6 +114,7 @@ private:
     std::atomic<std::uint64_t> clock_sequence_{0};
     std::atomic<std::uint64_t> clock_frame_{0};
     std::atomic<std::int64_t> clock_unix_ns_{0};
+    std::atomic<double> clock_rate_ratio_{1.0};
     std::atomic<std::uint64_t> frames_{0}, drops_{0}, late_{0}, busy_{0}, resets_{0}, events_lost_{0}, callbacks_{0};
     std::atomic<int> active_impacts_{0}, active_full_drops_{0}, active_grains_{0};
     std::atomic<double> rain_rate_{0.0};

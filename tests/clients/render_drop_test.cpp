@@ -100,7 +100,7 @@ TEST_CASE("render drop: the subcommand refuses what it cannot render") {
     const CommandIo io{{}, out, err};
     CHECK(run_render({}, io) == exit_status::usage);
     CHECK(run_render({"rain"}, io) == exit_status::usage);
-    CHECK(has(err.str(), "drop or scene"));
+    CHECK(has(err.str(), "drop, scene or score"));
     CHECK(run_render({"drop", "--diameter", "3", "--x", "2", "--y", "0", "-o", "a.wav"}, io) == exit_status::usage);
     CHECK(has(err.str(), "is not on the canopy"));
     CHECK(run_render({"--help"}, io) == exit_status::ok);

@@ -83,7 +83,7 @@ TEST_CASE("a subscriber gets /status.reply every second and /meter ten times a s
     CHECK(static_cast<double>(count(got, "/meter")) >= 0.4 * expected - 1.0);
     CHECK(static_cast<double>(count(got, "/meter")) <= expected + 2.0);
     for (const auto& m : got)
-        if (m.address == "/status.reply") CHECK(m.types == "fffiiiiififfs");
+        if (m.address == "/status.reply") CHECK(m.types == "fffiiiiififfsf");
 
     // Each /meter is the peak and RMS of the 100 ms (4800 frames) of the stream that end at its frame:
     // recomputed here from the WAV (32-bit float, the same samples), they agree to 0.01 dB (float

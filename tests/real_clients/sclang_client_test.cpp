@@ -10,6 +10,7 @@
 
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <iterator>
 #include <sstream>
 #include <string>
@@ -21,6 +22,7 @@
 #include "tests/real_clients/real_programs.hpp"
 #include "tests/support/child_process.hpp"
 #include "tests/support/daemon_process.hpp"
+#include "tests/support/program_paths.hpp"
 #include "tests/support/sanitizer_bounds.hpp"
 #include "tests/support/temp_dir.hpp"
 #include "tests/support/wav_file.hpp"
@@ -32,7 +34,7 @@ namespace {
 
 // sclang headless: no display (offscreen Qt), no scsynth, HOME where the class was installed.
 ProgramRun run_sclang(const std::string& sclang, const TempDir& home, int port, const std::string& script,
-                      const ChildOptions& options) {
+                      const ChildOptions& options, const std::vector<std::string>& more_env = {}) {
     std::vector<std::string> env = {"HOME=" + home.path().string(), "QT_QPA_PLATFORM=offscreen",
                                     "AMEOTO_TEST_PORT=" + std::to_string(port),
                                     // how long a script waits for /synced or a reply: 3 s, stretched with every
@@ -40,6 +42,7 @@ ProgramRun run_sclang(const std::string& sclang, const TempDir& home, int port, 
                                     "AMEOTO_TEST_SYNC_WAIT=" + std::to_string(3 * timing_scale())};
     // QtWebEngine (linked into sclang) refuses to start its sandbox as root unless told.
     if (geteuid() == 0) env.push_back("QTWEBENGINE_DISABLE_SANDBOX=1");
+    env.insert(env.end(), more_env.begin(), more_env.end());
     return run_program({sclang, test_file(script)}, 20s, env, options);
 }
 
@@ -73,7 +76,7 @@ TEST_CASE("SuperCollider: the install script puts Ameoto in the Extensions folde
     // The refused rate reached the class's onFail with the server's reason.
     CHECK(run.out.find("fail /rain/rate argument 1 rate (mm/h): 900 is outside 0..500") != std::string::npos);
     const auto status = name_value_lines(run.out, "status ");
-    REQUIRE(status.size() == 13);
+    REQUIRE(status.size() == 14);
     CHECK(status.at("sample_rate_hz") == "48000.0");
     CHECK(status.at("block_size_frames") == "256");
     // The two drops the script sent are lattice drops, still sounding when it asked (right after
@@ -157,4 +160,40 @@ TEST_CASE("SuperCollider: every Ameoto method sends its documented address and a
         "/quit ",
     };
     check_oscdump_messages(seen, expected);   // and every address is in the server's table
+}
+
+TEST_CASE("SuperCollider: a Score written with Score.write renders with ameoto render score, its drops at time x rate + the acoustic delay") {
+    const auto sclang = find_program("sclang");
+    if (!sclang) return skip_because_absent("sclang", "supercollider-language");
+    TempDir home("ameoto-sclang-home");
+    const std::string score = temp_path("sclang-score.osc");
+    std::filesystem::remove(score);
+    const ProgramRun run = run_sclang(*sclang, home, 0, "supercollider/score_test.scd", without_xdg(), {"AMEOTO_TEST_SCORE=" + score});
+    INFO("sclang printed:\n" << run.out);
+    REQUIRE(run.exit_code == 0);
+    auto render = [](const std::string& path, const std::string& wav) {
+        const ProgramRun r = run_program({ameoto_bin, "render", "score", path, "-o", wav, "--rain", "0", "--channels", "1", "--quiet"}, 60s);
+        INFO("ameoto printed: " << r.out << r.err);
+        REQUIRE(r.exit_code == 0);
+        const WavData w = read_wav(wav);
+        REQUIRE_MESSAGE(w.ok, w.error);
+        return w;
+    };
+    // The acoustic delay (drop to the listener's ear, and the impact's rise to the threshold): one drop
+    // at time 0 of a text score, the same drop.
+    const std::string zero = temp_path("sclang-zero.txt");
+    std::ofstream(zero) << "0 /drop 3 0 0.2 0\n0.3 /c_set\n";
+    const std::vector<long long> at_zero = drop_onsets(render(zero, temp_path("sclang-zero.wav")), 0.02f, 2000);
+    REQUIRE(at_zero.size() == 1);
+    const WavData w = render(score, temp_path("sclang-score.wav"));
+    CHECK(w.frames == 96000);   // the /c_set end marker at 2 s
+    const std::vector<long long> onsets = drop_onsets(w, 0.02f, 2000);
+    REQUIRE(onsets.size() == 3);
+    // Score.write's timetags: 0.5, 0.75, 1.25 s as 32.32 fixed point, exact in binary; at 48 kHz the
+    // drops are due at 24000, 36000, 60000; each lands within 1 sample of that plus the delay.
+    const long long delay = at_zero[0];
+    INFO("delay " << delay << " samples; onsets " << onsets[0] << " " << onsets[1] << " " << onsets[2]);
+    CHECK(std::llabs(onsets[0] - 24000 - delay) <= 1);
+    CHECK(std::llabs(onsets[1] - 36000 - delay) <= 1);
+    CHECK(std::llabs(onsets[2] - 60000 - delay) <= 1);
 }

@@ -27,7 +27,10 @@ bool other_jackd_running() {
 
 }  // namespace
 
-JackServer::JackServer() : name_("ameoto-test-" + std::to_string(getpid()) + "-" + std::to_string(counter++)) { start(); }
+JackServer::JackServer(bool realtime)
+    : name_("ameoto-test-" + std::to_string(getpid()) + "-" + std::to_string(counter++)), realtime_(realtime) {
+    start();
+}
 
 JackServer::~JackServer() {
     stop();
@@ -48,8 +51,8 @@ JackServer::~JackServer() {
 void JackServer::start() {
     using namespace std::chrono_literals;
     // --no-realtime goes before -d: it is a server option, not a driver option.
-    process_ = std::make_unique<ChildProcess>(
-        std::vector<std::string>{"/usr/bin/jackd", "--no-realtime", "-n", name_, "-d", "dummy", "-r", "48000", "-p", "256"});
+    std::vector<std::string> argv{"/usr/bin/jackd", realtime_ ? "--realtime" : "--no-realtime", "-n", name_, "-d", "dummy", "-r", "48000", "-p", "256"};
+    process_ = std::make_unique<ChildProcess>(argv);
     ChildProcess wait({"/usr/bin/jack_wait", "-w", "-t", "10"}, env());
     if (wait.wait(15s) != 0) throw std::runtime_error("jackd did not come up:\n" + process_->output());
 }

@@ -5,6 +5,8 @@
 // Interface:
 //   JackServer jack;                  // starts jackd under a unique server name, waits with jack_wait;
 //                                     // throws std::runtime_error with jackd's output if it does not come up
+//   JackServer jack(true);            // --realtime: its clients' process threads at SCHED_FIFO where the
+//                                     // user may (root, an rtprio limit); jackd carries on without otherwise
 //   ChildProcess p(argv, jack.env()); // JACK_DEFAULT_SERVER=<its name>: clients find this server only
 //   jack.stop(); jack.start();        // a crash and a return, for reconnection tests
 //   jack.kill();                      // SIGKILL: a crash without jackd's own clean-up
@@ -22,7 +24,7 @@ namespace ameoto::test {
 
 class JackServer {
 public:
-    JackServer();
+    explicit JackServer(bool realtime = false);
     ~JackServer();
     JackServer(const JackServer&) = delete;
     JackServer& operator=(const JackServer&) = delete;
@@ -35,6 +37,7 @@ public:
 
 private:
     std::string name_;
+    bool realtime_ = false;
     std::unique_ptr<ChildProcess> process_;
 };
 
