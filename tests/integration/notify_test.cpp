@@ -96,7 +96,7 @@ TEST_CASE("a subscriber gets /status.reply every second and /meter ten times a s
     int checked = 0;
     for (const auto& m : got) {
         if (m.address != "/meter") continue;
-        REQUIRE(m.types == "fiffffff");
+        REQUIRE(m.types == "fifffffff");   // time, channels, peak and RMS of 2 channels, momentary, short-term, true peak
         const long long end = std::llround(m.args[0].number * 48000.0);   // seconds at the null backend's 48 kHz
         CHECK(m.args[1].integer == 2);
         if (end > w.frames || end < 4800) continue;
