@@ -216,6 +216,31 @@ std::vector<AddressSpec> make_table() {
                      return std::nullopt;
                  }});
     t.back().query = {true, {}, "/lod.reply f budget (%), i full (drops)"};
+    t.push_back({"/gain",
+                 {{"gain", ArgumentKind::number, "dB", -80.0, 80.0, false,
+                   "listening gain on top of the level (--level auto's or the physical one); ramps over 50 ms"}},
+                 "Set the listening gain (docs/loudness.md). 0 dBFS is then 133.98 dB SPL less the level gain and this gain.",
+                 "",
+                 [](const ValidatedArguments& a, const ProtocolContext&, Request& r) -> std::optional<std::string> {
+                     r.command.kind = CommandKind::gain;
+                     r.command.values[0] = a.numbers[0];
+                     return std::nullopt;
+                 }});
+    t.back().query = {true, {}, "/gain.reply f gain (dB): the listening gain last applied"};
+    t.push_back({"/loudness",
+                 {{"target", ArgumentKind::number, "LUFS", -60.0, -5.0, false,
+                   "integrated loudness each scene's default rain is played at (--level auto only)"}},
+                 "Set --level auto's target loudness: the scene playing moves to it at once (ramped over 50 ms), and "
+                 "every scene loaded later is measured and set to it.",
+                 "",
+                 [](const ValidatedArguments& a, const ProtocolContext&, Request& r) -> std::optional<std::string> {
+                     r.action = Action::set_loudness;
+                     r.loudness_lufs = a.numbers[0];
+                     return std::nullopt;
+                 }});
+    t.back().query = {true, {},
+                      "/loudness.reply s level (auto|physical), f target (LUFS), f measured (LUFS: the scene's default rain "
+                      "at the physical scale), f level gain (dB), f gain (dB), f full scale (dB SPL: what 0 dBFS is now)"};
     t.push_back({"/material/liquid",
                  {{"name", ArgumentKind::text, "", 0, 0, false, "water, milk, heavy_oil, or a custom liquid's name", "water"},
                   {"density", ArgumentKind::number, "kg/m^3", LiquidLimits::density_min, LiquidLimits::density_max, true,

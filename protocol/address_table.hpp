@@ -56,6 +56,7 @@ enum class Action {
     notify,                 // subscribe (`notify_on`) or unsubscribe the sender: periodic /status.reply and /meter
     version,                // reply /version.reply
     reply_port,             // send this sender's later replies to its IP address at `reply_port` (0: its own port)
+    set_loudness,           // --level auto's target for each scene's default rain (`loudness_lufs`)
 };
 
 // The protocol's own version, in /version.reply: raised when an address or a reply changes shape.
@@ -92,6 +93,7 @@ struct Request {
     std::string query_text;                    // query: its text argument when it takes one (a surface's name)
     bool notify_on = false;                    // notify
     int reply_port = 0;                        // reply_port: 1..65535, or 0 for the sender's own port
+    double loudness_lufs = -23.0;              // set_loudness
 };
 
 struct Validation {

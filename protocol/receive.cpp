@@ -11,7 +11,8 @@ std::string packet_address(const unsigned char* data, std::size_t size) {
 }
 
 bool changes_scene(CommandKind kind) {
-    return kind == CommandKind::rain_rate || kind == CommandKind::wind || kind == CommandKind::listener || kind == CommandKind::lod;
+    return kind == CommandKind::rain_rate || kind == CommandKind::wind || kind == CommandKind::listener || kind == CommandKind::lod ||
+           kind == CommandKind::gain;
 }
 
 SceneDescription scene_after(SceneDescription scene, const Command& c) {
@@ -30,6 +31,7 @@ SceneDescription scene_after(SceneDescription scene, const Command& c) {
             }
         scene.listener = ListenerDescription{c.values[0], c.values[1], c.values[2], c.values[3]};
     }
+    if (c.kind == CommandKind::gain) scene.gain_db = c.values[0];
     if (c.kind == CommandKind::lod) {
         scene.lod.budget_percent = 100.0 * c.values[0];
         scene.lod.max_full = static_cast<int>(c.values[1]);

@@ -47,6 +47,9 @@ public:
     void hangup();
     void stop() { backend_->stop(); }
     void report_written() const;
+    void set_wav_comment(const std::string& text) {   // the null backend's WAV: the calibration (before start)
+        if (null_ && null_->wav()) null_->wav()->set_comment(text);
+    }
 
 private:
     explicit BackendLife(SystemdNotifier& systemd) : systemd_(systemd) {}

@@ -57,11 +57,16 @@ int Daemon::run() {
     SceneRecord record(first->scene, first->config.liquid, first->config.material);
     SceneManager scenes(loop.io(), *first, bridge, record, replies, traffic);
     say("scene " + record.scene().name);
+    const std::string level = describe_level(first->level, first->scene.name, first->default_rain_mm_per_h, first->scene.gain_db);
+    say(level);
+    life->set_wav_comment("ameotod " AMEOTO_VERSION ": " + level +
+                          ". Samples are sound pressure at the listener: pressure in Pa = sample x 10^((0 dBFS in dB SPL - 93.98) / 20)"
+                          " (gain changes over OSC after the start are in ameotod's log)");
 
     // What the control thread answers with, and what a packet becomes.
     StatusReport status(bridge, life->backend());
     Subscriptions subscriptions(replies, status, bridge, life->backend());
-    Queries queries(record, replies, subscriptions, intake.udp_port(), intake.tcp_port());
+    Queries queries(record, replies, subscriptions, scenes.level(), intake.udp_port(), intake.tcp_port());
     PacketDispatch dispatch(bridge, scenes, record, replies, queries, subscriptions, status, traffic, [&loop] { loop.shutdown_soon(); });
     AudioEvents events(bridge, replies, scenes, traffic);
     Watchdog watchdog(systemd);

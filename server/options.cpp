@@ -87,6 +87,19 @@ Options:
                       four system calls a callback (about 9 us here) while on
   --block-trace-threshold PERCENT
                       slow means over this % of the period, 1..10000 (default 50)
+  --level auto|physical
+                      auto (default): when a scene is loaded, its level gain is chosen
+                      (by rendering 3 s of its default rain off the audio thread and
+                      measuring it, EBU R 128) so that rain plays at --loudness; once per
+                      load, not an automatic gain control: heavier rain stays louder.
+                      physical: 1.0 = 100 Pa at the listener, no level gain
+  --loudness LUFS     auto's target for each scene's default rain, -60..-5 LUFS
+                      integrated (default -23, EBU R 128); over OSC /loudness
+  --gain DB           listening gain on top of the level, -80..80 dB (default: the
+                      scene's 'output gain=', else 0); over OSC /gain, ramped over 50 ms
+  --limiter on|off    look-ahead limiter before the output: ceiling -1 dBFS (sample
+                      peak), look-ahead and attack 2 ms, release 100 ms, all channels
+                      linked (default: on with --level auto, off with --level physical)
   --help              this text
   --version           the version
 
@@ -97,7 +110,11 @@ glibc's per-thread cache (ameotod starts itself again at once with
 GLIBC_TUNABLES=glibc.malloc.tcache_count=0 added), so RSS follows what the server
 holds across scene loads; MALLOC_ARENA_MAX, or GLIBC_TUNABLES naming arena_max or
 tcache_count, in the environment overrides either.
-Units: rain rate mm/h, drop diameter mm, speeds m/s, positions m.
+Calibration: the engine's samples are physical: 1.0 = 100 Pa at the listener, so with
+no gain 0 dBFS = 133.98 dB SPL (20 log10(100 Pa / 20 uPa)); a level gain and a gain of
+G dB in all make 0 dBFS = 133.98 - G dB SPL. /status.reply field 15 and the log say the
+figure in effect; the WAV's comment (LIST/INFO ICMT) says it for the file.
+Units: rain rate mm/h, drop diameter mm, speeds m/s, positions m, gain dB, loudness LUFS.
 )";
 }
 
@@ -198,6 +215,18 @@ ParsedOptions parse_options(int argc, const char* const* argv) {
         } else if (arg == "--block-trace-threshold") {
             if (!value(v) || !parse_double(v, 1, 10000, d)) return fail("--block-trace-threshold needs 1..10000 (% of the period)");
             o.block_trace_threshold = d / 100.0;
+        } else if (arg == "--level") {
+            if (!value(v) || (v != "auto" && v != "physical")) return fail("--level needs auto or physical");
+            o.level_auto = v == "auto";
+        } else if (arg == "--loudness") {
+            if (!value(v) || !parse_double(v, -60, -5, d)) return fail("--loudness needs a target of -60..-5 LUFS");
+            o.target_lufs = d;
+        } else if (arg == "--gain") {
+            if (!value(v) || !parse_double(v, -80, 80, d)) return fail("--gain needs a gain of -80..80 dB");
+            o.gain_db = d;
+        } else if (arg == "--limiter") {
+            if (!value(v) || (v != "on" && v != "off")) return fail("--limiter needs on or off");
+            o.limiter = v == "on";
         } else if (arg == "--scene-dir") {
             if (!value(v) || v.empty()) return fail("--scene-dir needs a folder");
             o.scene_folder = v;

@@ -40,6 +40,13 @@ struct DaemonOptions {
     bool fixed_detail = false;            // never shed detail by measured load (output as offline)
     std::optional<std::string> block_trace;   // write the slow audio callbacks here (block_trace.hpp)
     double block_trace_threshold = 0.5;   // a callback is slow past this fraction of its period
+    // Level (docs/loudness.md): auto chooses each scene's level gain so its default rain plays at
+    // target_lufs; physical keeps 1.0 = 100 Pa. The listening gain goes on top; the limiter before the output.
+    bool level_auto = true;
+    double target_lufs = -23.0;           // EBU R 128
+    std::optional<double> gain_db;        // default: the scene's (`output gain=`, else 0 dB)
+    std::optional<bool> limiter;          // default: on with level auto, off with level physical
+    bool limiter_on() const { return limiter.value_or(level_auto); }
 };
 
 struct ParsedOptions {

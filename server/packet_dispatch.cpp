@@ -46,6 +46,7 @@ void PacketDispatch::handle(const unsigned char* data, std::size_t size, const P
             case protocol::Action::notify: subscriptions_.set(sender, v.request.notify_on); break;
             case protocol::Action::version: queries_.version(sender); break;
             case protocol::Action::reply_port: replies_.set_reply_port(sender, v.request.reply_port); break;
+            case protocol::Action::set_loudness: scenes_.set_loudness(sender, message.address, v.request.loudness_lufs); break;
         }
     }
 }

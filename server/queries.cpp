@@ -2,6 +2,7 @@
 #include "server/queries.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 #include "engine/core/method_choice.hpp"
 #include "protocol/address_table.hpp"
@@ -43,6 +44,12 @@ void Queries::answer(const Peer& to, const std::string& address, const std::stri
     } else if (address == "/listener") {
         const ListenerDescription& l = scene.listener;
         reply(reply_address, {f(l.x_m), f(l.y_m), f(l.z_m), f(degrees(l.facing_rad))});
+    } else if (address == "/gain") {
+        reply(reply_address, {f(scene.gain_db)});
+    } else if (address == "/loudness") {
+        reply(reply_address, {text(level_.automatic ? "auto" : "physical"), f(level_.target_lufs),
+                              f(std::isfinite(level_.measured_lufs) ? level_.measured_lufs : -200.0), f(level_.level_gain_db),
+                              f(scene.gain_db), f(full_scale_spl_db(level_.full_scale_pa, level_.level_gain_db + scene.gain_db))});
     } else if (address == "/lod") {
         reply(reply_address, {f(scene.lod.budget_percent), OscArgument::from_int(scene.lod.max_full)});
     } else if (address == "/material/liquid") {

@@ -5,7 +5,7 @@
 // /version.
 //
 // Interface:
-//   Queries queries(record, replies, subscriptions, udp_port, tcp_port);
+//   Queries queries(record, replies, subscriptions, scenes.level(), udp_port, tcp_port);
 //   queries.answer(peer, "/rain/rate", "");          // /rain/rate.reply f, or /fail with the reason
 //   queries.answer(peer, "/surface/set", "roof");    // a named surface's settings
 //   queries.version(peer);                           // /version.reply ameotod VERSION protocol udp tcp
@@ -14,6 +14,7 @@
 
 #include <string>
 
+#include "server/level_state.hpp"
 #include "server/osc/peer.hpp"
 #include "server/replies.hpp"
 #include "server/scene_record.hpp"
@@ -23,8 +24,9 @@ namespace ameoto {
 
 class Queries {
 public:
-    Queries(const SceneRecord& record, Replies& replies, const Subscriptions& subscriptions, int udp_port, int tcp_port)
-        : record_(record), replies_(replies), subscriptions_(subscriptions), udp_port_(udp_port), tcp_port_(tcp_port) {}
+    Queries(const SceneRecord& record, Replies& replies, const Subscriptions& subscriptions, const LevelState& level, int udp_port,
+            int tcp_port)
+        : record_(record), replies_(replies), subscriptions_(subscriptions), level_(level), udp_port_(udp_port), tcp_port_(tcp_port) {}
     void answer(const Peer& to, const std::string& address, const std::string& name);
     void version(const Peer& to);
 
@@ -32,6 +34,7 @@ private:
     const SceneRecord& record_;
     Replies& replies_;
     const Subscriptions& subscriptions_;
+    const LevelState& level_;   // the scene manager's
     int udp_port_;
     int tcp_port_;   // 0 without --tcp-port
 };

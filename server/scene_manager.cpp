@@ -2,6 +2,7 @@
 #include "server/scene_manager.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <stdexcept>
 
@@ -48,6 +49,11 @@ std::optional<FirstScene> read_first_scene(const DaemonOptions& options, double 
     // Shedding detail by measured load makes the output depend on the machine: live playback only. An
     // offline render (null backend, not paced) stays reproducible to the sample.
     first.base.adaptive_lod = !options.fixed_detail && live;
+    first.base.limiter = options.limiter_on();
+    first.level.automatic = options.level_auto;
+    first.level.target_lufs = options.target_lufs;
+    first.level.limiter = options.limiter_on();
+    first.level.full_scale_pa = first.base.full_scale_pa;
     first.folder = options.scene_folder ? std::filesystem::path(*options.scene_folder) : SceneStore::default_folder();
     // A name is a name (built in, or the folder's); anything else parse_options let through is a file's path.
     const bool by_name = is_scene_name(options.scene);
@@ -62,8 +68,17 @@ std::optional<FirstScene> read_first_scene(const DaemonOptions& options, double 
     }
     try {
         if (by_name) first.scene = SceneStore(first.folder).load(options.scene);
+        if (options.gain_db) first.scene.gain_db = *options.gain_db;
+        first.default_rain_mm_per_h = first.scene.rain.rate_mm_per_h;
+        if (options.level_auto) {   // measured at the scene's own rain, whatever --rain starts it at
+            const RendererConfig at_default = configure_for_scene(first.base, first.scene, find_custom_material, &no_custom_materials);
+            const LevelChoice choice = choose_level(at_default, options.target_lufs);
+            first.level.measured_lufs = choice.measured_lufs;
+            first.level.level_gain_db = choice.gain_db;
+        }
         if (options.rain_mm_per_h) first.scene.rain.rate_mm_per_h = *options.rain_mm_per_h;
         first.config = configure_for_scene(first.base, first.scene, find_custom_material, &no_custom_materials);
+        first.config.level_gain_db = first.level.level_gain_db;
     } catch (const std::exception& e) {
         warn("--scene " + options.scene + ": " + e.what());
         return std::nullopt;
@@ -80,6 +95,7 @@ SceneManager::SceneManager(boost::asio::io_context& io, const FirstScene& first,
       base_config_(first.base),
       folder_(first.folder),
       worker_settings_(std::make_shared<WorkerSettings>(WorkerSettings{first.config.material, first.config.liquid})),
+      level_(first.level),
       worker_(io) {
     use_geometry(first.config, has_umbrella(first.scene));
     context_.on_surface = [this](const std::string&, double x, double y) { return geometry_->locate(x, y).panel >= 0; };
@@ -107,7 +123,7 @@ void SceneManager::fail(std::uint16_t reply_to, const std::string& address, cons
 // /scene/load: read (built in or from the folder) and build everything on the worker; the audio thread
 // takes it by pointer and rings the old scene out. A file that does not parse changes nothing.
 void SceneManager::load(const Peer& sender, const std::string& address, const std::string& name) {
-    build_and_load(sender, address, [name, folder = folder_] { return SceneStore(folder).load(name); });
+    build_and_load(sender, address, [name, folder = folder_] { return SceneStore(folder).load(name); }, true);
 }
 
 // /rain/dsd and /surface/...: the current scene changed, validated here, rebuilt like a loaded one.
@@ -150,22 +166,33 @@ void SceneManager::edit(const Peer& sender, const std::string& address, const pr
         replies_.reply(sender, "/fail", protocol::fail_arguments(address, refusal));
         return;
     }
-    build_and_load(sender, address, [scene] { return scene; });
+    build_and_load(sender, address, [scene] { return scene; }, false);
 }
 
-void SceneManager::build_and_load(const Peer& sender, const std::string& address, std::function<SceneDescription()> source) {
+void SceneManager::build_and_load(const Peer& sender, const std::string& address, std::function<SceneDescription()> source,
+                                  bool choose) {
     const std::uint16_t reply_to = replies_.know(sender);
     struct Built {
         std::unique_ptr<LoadedScene> loaded;
         SceneDescription scene;
         RendererConfig config;
+        std::optional<LevelChoice> level;
     };
+    const bool measure = choose && level_.automatic;
     worker_.submit<std::shared_ptr<Built>>(
-        [source = std::move(source), base = base_config_, materials = custom_materials_, settings = worker_settings_] {
+        [source = std::move(source), base = base_config_, materials = custom_materials_, settings = worker_settings_, measure,
+         target = level_.target_lufs, kept = level_.level_gain_db] {
             auto built = std::make_shared<Built>();
             built->scene = source();
             RendererConfig c = configure_for_scene(base, built->scene, find_custom_material, &materials);
             c.liquid = settings->liquid;   // the liquid chosen over OSC stays
+            c.level_gain_db = kept;
+            // --level auto: the new scene's own default rain, rendered and measured here on the worker (a
+            // second or so of CPU), never on the audio thread.
+            if (measure) {
+                built->level = choose_level(c, target);
+                c.level_gain_db = built->level->gain_db;
+            }
             if (has_umbrella(built->scene)) {
                 const Canopy probe(c.canopy, c.material, 1.0 / c.sample_rate);
                 check_live_cost(probe, c.material, c.sample_rate);
@@ -188,6 +215,11 @@ void SceneManager::build_and_load(const Peer& sender, const std::string& address
             built->loaded.release();   // the audio thread owns it now
             // Timed changes still waiting stay: the renderer keeps its scheduled commands across a load.
             record_.loaded(built->scene, built->config.material);
+            if (built->level) {
+                level_.measured_lufs = built->level->measured_lufs;
+                level_.level_gain_db = built->level->gain_db;
+                say(describe_level(level_, built->scene.name, built->scene.rain.rate_mm_per_h, built->scene.gain_db));
+            }
             use_geometry(built->config, has_umbrella(record_.scene()));
             pending_done_[reply_to].push_back(address);
             say("scene " + record_.scene().name);
@@ -218,6 +250,28 @@ void SceneManager::save(const Peer& sender, const std::string& address, const st
             replies_.reply(replies_.peer(reply_to), "/done", {protocol::OscArgument::from_string(address)});
         },
         [this, reply_to, address](const std::string& error) { fail(reply_to, address, error); });
+}
+
+void SceneManager::set_loudness(const Peer& sender, const std::string& address, double target_lufs) {
+    if (!level_.automatic) {
+        replies_.reply(sender, "/fail", protocol::fail_arguments(address, "the level is physical (ameotod --level physical): "
+                                                                           "no loudness target; /gain sets a gain"));
+        return;
+    }
+    const double gain = std::isfinite(level_.measured_lufs)
+                            ? std::clamp(target_lufs - level_.measured_lufs, min_level_gain_db, max_level_gain_db)
+                            : level_.level_gain_db;
+    Command c;
+    c.kind = CommandKind::level;
+    c.values[0] = gain;
+    c.reply_to = replies_.know(sender);
+    if (!bridge_.send(c)) {
+        ++traffic_.busy;
+        replies_.reply(sender, "/fail", protocol::fail_arguments(address, "busy: command queue full"));
+        return;
+    }
+    level_.target_lufs = target_lufs;
+    level_.level_gain_db = gain;
 }
 
 void SceneManager::change_material(const Peer& sender, const std::string& address, const MembraneMaterial& material) {

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "server/status.hpp"
 
+#include "engine/render/output_stage.hpp"
+
 namespace ameoto {
 namespace {
 
@@ -28,7 +30,10 @@ std::vector<protocol::OscArgument> StatusReport::arguments() {
             OscArgument::from_float(static_cast<float>(s.rain_rate_mm_per_h)),
             OscArgument::from_string(backend_.name()),
             // The audio clock against the wall clock (JACK: its loop's period; the null backend: 0).
-            OscArgument::from_float(static_cast<float>(s.clock_ppm))};
+            OscArgument::from_float(static_cast<float>(s.clock_ppm)),
+            OscArgument::from_int(saturate_int32(s.clipped_samples)),
+            // What 0 dBFS is at the listener now, dB SPL (1.0 = full_scale_pa, less the level gain and the gain).
+            OscArgument::from_float(static_cast<float>(full_scale_spl_db(bridge_.config().full_scale_pa, s.output_gain_db)))};
 }
 
 void StatusReport::measure_rate() {

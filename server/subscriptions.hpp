@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // /notify subscribers (scsynth's convention): who they are, and what they get without asking, a
-// /status.reply each second and the newest /meter window (peak and RMS per channel) at each poll.
+// /status.reply each second and the newest /meter window (peak and RMS per channel, then the loudness:
+// momentary and short-term LUFS and true peak, measured here from the samples the audio thread hands over).
 //
 // Interface:
 //   Subscriptions subs(replies, status, bridge, backend);
@@ -15,6 +16,7 @@
 // make the server send without end.
 
 #include <cstddef>
+#include <memory>
 #include <vector>
 
 #include "server/backends/backend.hpp"
@@ -43,6 +45,7 @@ private:
     AudioBridge& bridge_;
     const Backend& backend_;
     std::vector<Peer> subscribers_;
+    std::unique_ptr<LoudnessMeter> loudness_;   // while anyone listens: momentary, short-term, true peak
 };
 
 }  // namespace ameoto

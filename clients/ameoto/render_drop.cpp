@@ -6,6 +6,7 @@
 
 #include "clients/ameoto/option_reader.hpp"
 #include "clients/ameoto/progress_line.hpp"
+#include "engine/render/loudness.hpp"
 #include <sndfile.h>
 #include <unistd.h>
 
@@ -458,6 +459,12 @@ int run_render(const CommandWords& words, const CommandIo& io) {
            << (stats.pieces == 1 ? "" : "s") << " at the end, peak " << level << " (" << fixed(peak, 4) << "), "
            << stats.collisions << " collisions, " << fixed(elapsed, 2) << " s to render" << (finite ? "" : ", NON-FINITE samples")
            << "\n";
+    LoudnessMeter loudness(channels, o.rate, LoudnessMeter::integrated | LoudnessMeter::peaks);
+    loudness.add(interleaved.data(), static_cast<std::size_t>(total));
+    const double integrated = loudness.integrated_lufs();
+    io.out << "loudness " << (std::isfinite(integrated) ? fixed(integrated, 2) + " LUFS integrated" : std::string("below the -70 LUFS gate"))
+           << ", true peak " << (std::isfinite(loudness.true_peak_dbfs()) ? fixed(loudness.true_peak_dbfs(), 2) + " dBTP" : std::string("none"))
+           << " (physical scale: 1.0 = 100 Pa, 0 dBFS = 133.98 dB SPL)\n";
     return finite ? exit_status::ok : exit_status::refused;
 }
 

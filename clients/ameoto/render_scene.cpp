@@ -16,13 +16,16 @@
 #include "clients/ameoto/number_text.hpp"
 #include "clients/ameoto/option_reader.hpp"
 #include "clients/ameoto/progress_line.hpp"
+#include "engine/render/level_choice.hpp"
+#include "engine/render/loudness.hpp"
 #include "engine/render/renderer.hpp"
 
 namespace ameoto::client {
 
 std::string render_scene_usage() {
     return "usage: ameoto render scene -o FILE.wav [--scene NAME|FILE.scene] [--rain MM/H] [--seconds S]\n"
-           "           [--rate HZ] [--seed N] [--channels N] [--quiet]\n"
+           "           [--rate HZ] [--seed N] [--channels N] [--level auto|physical] [--loudness LUFS]\n"
+           "           [--gain DB] [--limiter on|off] [--quiet]\n"
            "\n"
            "Renders a rain scene offline (no server needed) with the engine ameotod runs: its surfaces,\n"
            "rain and listener, every drop at its level of detail. Same scene, seed and rate: the same\n"
@@ -36,15 +39,46 @@ std::string render_scene_usage() {
            "  --rate HZ           sample rate, 8000..192000 Hz (default 48000)\n"
            "  --seed N            random seed, 0..2^64-1 (default 1)\n"
            "  --channels N        1..16 (default 2)\n"
+           "  --level auto|physical\n"
+           "                      auto (default): a level gain chosen so the scene's default rain\n"
+           "                      plays at --loudness (3 s of it rendered and measured first, as\n"
+           "                      ameotod does); --rain changes the rain, not the gain. physical:\n"
+           "                      1.0 = 100 Pa at the listener (0 dBFS = 133.98 dB SPL)\n"
+           "  --loudness LUFS     auto's target, -60..-5 LUFS integrated (default -23, EBU R 128)\n"
+           "  --gain DB           listening gain on top, -80..80 dB (default: the scene's, else 0)\n"
+           "  --limiter on|off    look-ahead limiter, ceiling -1 dBFS, 2 ms look-ahead and attack,\n"
+           "                      100 ms release (default: on with --level auto, off with physical)\n"
            "  --quiet             no progress on stderr\n"
            "  -o FILE.wav         the output (32-bit float WAV)\n"
            "\n"
+           "Prints the integrated loudness (EBU R 128) and the peak; the WAV's comment (LIST/INFO ICMT)\n"
+           "says what 0 dBFS is in dB SPL at the listener.\n"
            "Exit status: 0 rendered; 1 the render failed (file, scene refused); 2 usage error.\n"
            "\n"
            "Examples:\n"
            "  ameoto render scene --scene pond --rain 1.5 --seconds 20 --rate 96000 -o pond.wav\n"
            "  ameoto render scene --scene street --channels 4 -o street.wav\n";
 }
+
+namespace {
+
+// "level auto: default rain 1.5 mm/h measures -104.12 LUFS at the physical scale, level gain +81.12 dB, gain +0 dB:
+// 0 dBFS = 52.86 dB SPL, limiter on": the WAV's comment and the last line printed.
+std::string level_text(const RenderSceneOptions& o, const LevelChoice& level, double default_rain, double gain_db, double spl,
+                       bool limiter) {
+    std::string text;
+    if (!o.level_auto) text = "level physical (1.0 = 100 Pa at the listener)";
+    else if (!std::isfinite(level.measured_lufs)) text = "level auto: the default rain (" + short_number(default_rain) + " mm/h) is silent, level gain 0 dB";
+    else
+        text = "level auto: default rain " + short_number(default_rain) + " mm/h measures " + fixed(level.measured_lufs, 2) +
+               " LUFS at the physical scale, target " + fixed(o.target_lufs, 1) + " LUFS, level gain " + (level.gain_db >= 0 ? "+" : "") +
+               fixed(level.gain_db, 2) + " dB";
+    text += ", gain " + std::string(gain_db >= 0 ? "+" : "") + fixed(gain_db, 2) + " dB: 0 dBFS = " + fixed(spl, 2) +
+            " dB SPL, limiter " + (limiter ? "on" : "off");
+    return text;
+}
+
+}  // namespace
 
 RenderParse parse_render_scene_options(const CommandWords& words, RenderSceneOptions& o, std::string& error) {
     OptionReader reader(words);
@@ -73,6 +107,26 @@ RenderParse parse_render_scene_options(const CommandWords& words, RenderSceneOpt
             const auto v = number_in(0.01, 3600.0, "s");
             if (!v) return RenderParse::error;
             o.seconds = *v;
+        } else if (name == "--level" || name == "--limiter") {
+            if (!take_value()) return RenderParse::error;
+            if (name == "--level" && value != "auto" && value != "physical") {
+                error = "--level: '" + value + "' is not auto or physical";
+                return RenderParse::error;
+            }
+            if (name == "--limiter" && value != "on" && value != "off") {
+                error = "--limiter: '" + value + "' is not on or off";
+                return RenderParse::error;
+            }
+            if (name == "--level") o.level_auto = value == "auto";
+            else o.limiter = value == "on";
+        } else if (name == "--loudness") {
+            const auto v = number_in(-60.0, -5.0, "LUFS");
+            if (!v) return RenderParse::error;
+            o.target_lufs = *v;
+        } else if (name == "--gain") {
+            const auto v = number_in(-80.0, 80.0, "dB");
+            if (!v) return RenderParse::error;
+            o.gain_db = *v;
         } else if (name == "--rate" || name == "--seed" || name == "--channels") {
             if (!take_value()) return RenderParse::error;
             const auto v = parse_unsigned(value);
@@ -133,19 +187,27 @@ int run_render_scene(const RenderSceneOptions& o, const CommandIo& io) {
             text << in.rdbuf();
             scene = parse_scene(text.str(), o.scene);
         }
-        if (o.rain_mm_per_h) scene.rain.rate_mm_per_h = *o.rain_mm_per_h;
+        if (o.gain_db) scene.gain_db = *o.gain_db;
     } catch (const std::exception& e) {
         io.err << "ameoto render scene: " << e.what() << "\n";
         return exit_status::refused;
     }
     std::optional<Renderer> renderer;
+    const double default_rain = scene.rain.rate_mm_per_h;
+    LevelChoice level;
     try {
         RendererConfig base;
         base.sample_rate = o.rate;
         base.channels = o.channels;
         base.seed = o.seed;
         base.adaptive_lod = false;   // offline: reproducible, whatever the machine's load
-        renderer.emplace(configure_for_scene(base, scene));
+        base.limiter = o.limiter.value_or(o.level_auto);
+        // --level auto: measured at the scene's own rain, as ameotod does (level_choice.hpp).
+        if (o.level_auto) level = choose_level(configure_for_scene(base, scene), o.target_lufs);
+        if (o.rain_mm_per_h) scene.rain.rate_mm_per_h = *o.rain_mm_per_h;
+        RendererConfig config = configure_for_scene(base, scene);
+        config.level_gain_db = level.gain_db;
+        renderer.emplace(config);
     } catch (const std::exception& e) {
         io.err << "ameoto render scene: " << e.what() << "\n";
         return exit_status::refused;
@@ -159,6 +221,13 @@ int run_render_scene(const RenderSceneOptions& o, const CommandIo& io) {
         io.err << "ameoto render scene: cannot open " << o.wav_path << " for writing: " << sf_strerror(nullptr) << "\n";
         return exit_status::refused;
     }
+    const double spl = full_scale_spl_db(renderer->config().full_scale_pa, level.gain_db + scene.gain_db);
+    const std::string calibration = level_text(o, level, default_rain, scene.gain_db, spl, renderer->config().limiter);
+    sf_set_string(wav, SF_STR_SOFTWARE, "ameoto render scene");
+    sf_set_string(wav, SF_STR_COMMENT, ("ameoto render scene: " + calibration +
+                                        ". Samples are sound pressure at the listener: pressure in Pa = sample x 10^((0 dBFS in "
+                                        "dB SPL - 93.98) / 20)").c_str());
+    LoudnessMeter loudness(o.channels, o.rate, LoudnessMeter::integrated | LoudnessMeter::peaks);
     const long total = std::max(1L, std::lround(o.seconds * o.rate));
     constexpr int block = 512;
     const int channels = o.channels;
@@ -179,6 +248,7 @@ int run_render_scene(const RenderSceneOptions& o, const CommandIo& io) {
                 peak = std::max(peak, static_cast<double>(std::fabs(s)));
                 interleaved[static_cast<std::size_t>(i * channels + c)] = s;
             }
+        loudness.add(interleaved.data(), static_cast<std::size_t>(n));
         if (sf_writef_float(wav, interleaved.data(), n) != n) {
             io.err << "ameoto render scene: cannot write " << o.wav_path << ": " << sf_strerror(wav) << "\n";
             sf_close(wav);
@@ -194,12 +264,16 @@ int run_render_scene(const RenderSceneOptions& o, const CommandIo& io) {
     }
     const RendererStats& s = renderer->stats();
     const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    const std::string level = peak > 0.0 ? fixed(20.0 * std::log10(peak), 1) + " dBFS" : "silent";
+    const std::string peak_text = peak > 0.0 ? fixed(20.0 * std::log10(peak), 1) + " dBFS" : "silent";
     io.out << "rendered " << fixed(static_cast<double>(total) / o.rate, 3) << " s of scene '" << scene.name << "' at "
            << short_number(scene.rain.rate_mm_per_h) << " mm/h to " << o.wav_path << ": " << s.drops + s.surface_drops
            << " drops (umbrella: " << s.rain_tiers.full << " full, " << s.rain_tiers.template_ << " template, "
-           << s.rain_tiers.texture << " texture; other surfaces: " << s.surface_drops << "), peak " << level << ", "
+           << s.rain_tiers.texture << " texture; other surfaces: " << s.surface_drops << "), peak " << peak_text << ", "
            << fixed(elapsed, 2) << " s to render" << (finite ? "" : ", NON-FINITE samples") << "\n";
+    const double integrated = loudness.integrated_lufs();
+    io.out << "loudness " << (std::isfinite(integrated) ? fixed(integrated, 2) + " LUFS integrated" : std::string("below the -70 LUFS gate"))
+           << ", true peak " << (std::isfinite(loudness.true_peak_dbfs()) ? fixed(loudness.true_peak_dbfs(), 2) + " dBTP" : std::string("none"))
+           << ", " << s.clipped_samples << " samples past full scale; " << calibration << "\n";
     return finite ? exit_status::ok : exit_status::refused;
 }
 

@@ -1,9 +1,10 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // `ameoto render scene [--scene NAME|FILE.scene] [--rain MM/H] [--seconds S] [--rate HZ] [--seed N]
-// [--channels N] [--quiet] -o FILE.wav`: renders a rain scene offline with the renderer the server runs
+// [--channels N] [--level auto|physical] [--loudness LUFS] [--gain DB] [--limiter on|off] [--quiet] -o FILE.wav`: renders a rain scene offline with the renderer the server runs
 // (engine/render/renderer.hpp), to a 32-bit float WAV; needs no server. The same scene, seed and rate
-// give the same samples as ameotod --offline (the governor ignores machine load offline). docs/cli-offline.md.
+// give the same samples as ameotod --offline (the governor ignores machine load offline), through the same
+// output stage (engine/render/output_stage.hpp) and level choice (level_choice.hpp). docs/cli-offline.md.
 //
 // Interface:
 //   RenderSceneOptions o; std::string error;
@@ -28,6 +29,10 @@ struct RenderSceneOptions {
     int channels = 2;                   // 1..16
     bool quiet = false;
     std::string wav_path;               // -o, required
+    bool level_auto = true;             // --level auto|physical (docs/loudness.md)
+    double target_lufs = -23.0;         // --loudness, -60..-5 LUFS
+    std::optional<double> gain_db;      // --gain, -80..80 dB; default: the scene's `output gain=`
+    std::optional<bool> limiter;        // --limiter on|off; default: on with level auto
 };
 
 RenderParse parse_render_scene_options(const CommandWords& words, RenderSceneOptions& options, std::string& error);

@@ -25,6 +25,8 @@ constexpr StatusField fields[] = {
     {"rain rate", "rain_rate_mm_per_h", "mm/h", StatusKind::real, 2},
     {"backend", "backend", "", StatusKind::text, 0},
     {"audio clock against the wall", "clock_ppm", "ppm", StatusKind::real, 1},
+    {"clipped samples", "clipped_samples", "", StatusKind::integer, 0},
+    {"full scale", "full_scale_db_spl", "dB SPL", StatusKind::real, 2},
 };
 
 // 29.874 with 2 decimals -> "29.87"; 30 -> "30"; 3.10 -> "3.1".

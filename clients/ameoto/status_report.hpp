@@ -9,7 +9,7 @@
 //   for (const StatusField& f : status_fields()) ...   // the table, for docs and tests
 //
 // The fields, in the order the server sends them (server/daemon.cpp, reply_status; type tags
-// "fffiiiiififfsf"), are the ones in status_fields(). Numbers are accepted with any numeric tag
+// "fffiiiiififfsfif"), are the ones in status_fields(). Numbers are accepted with any numeric tag
 // (a server that sends 48000 as 'i' still reads), but a reply with too few arguments, or text
 // where a number belongs, is refused: the fields would be misnamed otherwise. Arguments beyond
 // the table (a newer server) are ignored.

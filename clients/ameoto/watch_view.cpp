@@ -10,7 +10,7 @@ namespace ameoto::client {
 namespace {
 
 // Indices into StatusReport::values (status_fields(), the order the server sends them).
-enum StatusIndex { cpu_average = 0, cpu_peak, drops_per_second, full, templ, texture, xruns, late, sample_rate, block, seconds, rain, backend };
+enum StatusIndex { cpu_average = 0, cpu_peak, drops_per_second, full, templ, texture, xruns, late, sample_rate, block, seconds, rain, backend, clipped, full_scale };
 
 double level(double dbfs) { return std::isfinite(dbfs) ? dbfs : -120.0; }
 
@@ -23,7 +23,8 @@ MeterReading parse_meter(const protocol::DecodedMessage& m) {
         return r;
     }
     const long long channels = m.args[1].integer;
-    if (channels < 0 || channels > 64 || m.args.size() != 2 + 2 * static_cast<std::size_t>(channels)) {
+    const std::size_t levels = 2 + 2 * static_cast<std::size_t>(channels < 0 ? 0 : channels);
+    if (channels < 0 || channels > 64 || (m.args.size() != levels && m.args.size() != levels + 3)) {
         r.error = "the server's /meter (," + m.types + ") does not carry a peak and an RMS for each of its " + std::to_string(channels) +
                   " channels";
         return r;
@@ -38,6 +39,16 @@ MeterReading parse_meter(const protocol::DecodedMessage& m) {
         }
         r.peak_dbfs.push_back(level(peak.number));
         r.rms_dbfs.push_back(level(rms.number));
+    }
+    if (m.args.size() == levels + 3) {
+        for (std::size_t k = levels; k < levels + 3; ++k)
+            if (!m.args[k].is_number()) {
+                r.error = "the server's /meter (," + m.types + ") has text where a loudness belongs";
+                return r;
+            }
+        r.momentary_lufs = level(m.args[levels].number);
+        r.short_term_lufs = level(m.args[levels + 1].number);
+        r.true_peak_dbtp = level(m.args[levels + 2].number);
     }
     return r;
 }
@@ -63,7 +74,11 @@ std::string format_meter_line(const MeterReading& meter) {
         line += '/';
         line += fixed(meter.rms_dbfs[c], 1);
     }
-    line += " dBFS peak/rms\n";
+    line += " dBFS peak/rms";
+    if (meter.momentary_lufs)
+        line += " M=" + fixed(*meter.momentary_lufs, 1) + " S=" + fixed(*meter.short_term_lufs, 1) + " LUFS TP=" +
+                fixed(*meter.true_peak_dbtp, 1) + " dBTP";
+    line += "\n";
     return line;
 }
 
@@ -87,7 +102,8 @@ std::string format_watch_screen(const WatchState& state) {
                std::to_string(v[texture].integer) + " texture\n";
         out += "audio " + v[backend].text + ", " + fixed(v[sample_rate].number, 0) + " Hz, " + std::to_string(v[block].integer) +
                " frames a block, " + fixed(v[seconds].number, 1) +
-               " s played\n";
+               " s played, 0 dBFS = " + fixed(v[full_scale].number, 2) + " dB SPL, " + std::to_string(v[clipped].integer) +
+               " samples past full scale\n";
     } else {
         out += "load  (waiting for the first /status.reply)\n\n\n";
     }
@@ -97,6 +113,10 @@ std::string format_watch_screen(const WatchState& state) {
             out += "ch " + std::to_string(c + 1) + (c + 1 < 10 ? " " : "") + " " + meter_bar(rms, 40) + " rms " + fixed(rms, 1) +
                    "  peak " + fixed(peak, 1) + " dBFS\n";
         }
+        if (state.meter->momentary_lufs)
+            out += "loud  " + meter_bar(*state.meter->momentary_lufs, 40) + " momentary " + fixed(*state.meter->momentary_lufs, 1) +
+                   "  short-term " + fixed(*state.meter->short_term_lufs, 1) + " LUFS  true peak " +
+                   fixed(*state.meter->true_peak_dbtp, 1) + " dBTP\n";
     } else {
         out += "(waiting for the first /meter)\n";
     }

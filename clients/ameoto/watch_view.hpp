@@ -11,7 +11,8 @@
 //   out << format_status_line(report);                // "status cpu=3.1% peak=4.0% drops/s=..." + '\n'
 //   meter_bar(-12.0, 30);                             // "[########################......]"
 //
-// /meter (docs/PROTOCOL.md): f seconds, i channels, then f peak and f RMS in dBFS per channel.
+// /meter (docs/PROTOCOL.md): f seconds, i channels, then f peak and f RMS in dBFS per channel, then (from
+// servers that measure it) f momentary and f short-term loudness (LUFS) and f true peak (dBTP).
 // Bars span -60..0 dBFS (below -60 is empty: rain at a distance sits near -40, silence at -120).
 
 #include <optional>
@@ -26,6 +27,7 @@ namespace ameoto::client {
 struct MeterReading {
     double seconds = 0.0;   // audio time at the window's end
     std::vector<double> peak_dbfs, rms_dbfs;   // one per channel
+    std::optional<double> momentary_lufs, short_term_lufs, true_peak_dbtp;   // all or none
     std::string error;
 };
 

@@ -842,6 +842,74 @@
      ],
      "text": "ask where replies go: /reply/port.reply 7771 prints as ameoto-other"
     }
+   },
+   {
+    "box": {
+     "id": "obj-48",
+     "maxclass": "message",
+     "numinlets": 2,
+     "numoutlets": 1,
+     "patching_rect": [
+      740,
+      348,
+      220,
+      22.0
+     ],
+     "outlettype": [
+      ""
+     ],
+     "text": "/gain -6."
+    }
+   },
+   {
+    "box": {
+     "id": "obj-49",
+     "maxclass": "comment",
+     "numinlets": 1,
+     "numoutlets": 0,
+     "patching_rect": [
+      740,
+      380,
+      440,
+      22.0
+     ],
+     "text": "listening gain dB -80..80, ramps over 50 ms; /gain alone asks",
+     "linecount": 1
+    }
+   },
+   {
+    "box": {
+     "id": "obj-50",
+     "maxclass": "message",
+     "numinlets": 2,
+     "numoutlets": 1,
+     "patching_rect": [
+      740,
+      412,
+      220,
+      22.0
+     ],
+     "outlettype": [
+      ""
+     ],
+     "text": "/loudness -18."
+    }
+   },
+   {
+    "box": {
+     "id": "obj-51",
+     "maxclass": "comment",
+     "numinlets": 1,
+     "numoutlets": 0,
+     "patching_rect": [
+      740,
+      444,
+      440,
+      22.0
+     ],
+     "text": "level auto's target LUFS; /loudness alone asks (level, target, measured, gains, 0 dBFS dB SPL)",
+     "linecount": 1
+    }
    }
   ],
   "lines": [
@@ -1161,6 +1229,30 @@
     "patchline": {
      "source": [
       "obj-46",
+      0
+     ],
+     "destination": [
+      "obj-2",
+      0
+     ]
+    }
+   },
+   {
+    "patchline": {
+     "source": [
+      "obj-48",
+      0
+     ],
+     "destination": [
+      "obj-2",
+      0
+     ]
+    }
+   },
+   {
+    "patchline": {
+     "source": [
+      "obj-50",
       0
      ],
      "destination": [

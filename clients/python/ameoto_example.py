@@ -20,14 +20,15 @@ import time
 
 import liblo
 
-# /status.reply ,fffiiiiififfsf: the field names ameoto status --json uses (docs/PROTOCOL.md).
+# /status.reply ,fffiiiiififfsfif: the field names ameoto status --json uses (docs/PROTOCOL.md).
 STATUS_FIELDS = (
     "cpu_average_percent", "cpu_peak_percent", "drops_per_second",
     "active_drops_full", "active_drops_template", "active_drops_texture",
     "xruns", "late_bundles", "sample_rate_hz", "block_size_frames",
-    "seconds_rendered", "rain_rate_mm_per_h", "backend", "clock_ppm",
+    "seconds_rendered", "rain_rate_mm_per_h", "backend", "clock_ppm", "clipped_samples",
+    "full_scale_db_spl",
 )
-STATUS_TYPES = "fffiiiiififfsf"
+STATUS_TYPES = "fffiiiiififfsfif"
 
 
 class AmeotoClient:

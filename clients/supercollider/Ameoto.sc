@@ -9,6 +9,7 @@
 //   a.dropAt(0.5, 4, 0, 0.2, 0.1);      // the same drop in a bundle, 0.5 s from now, to the sample
 //   a.liquid_(\milk); a.material_(\umbrella, \vinyl); a.scene_(\street); a.listener_(1, 0.5, 1.6, 30);
 //   a.lod(50, 16); a.dsd_(\gamma, 2, 3); a.surfaceAdd(\roof, \plate, \tin, 1, 0.6, 0, 1, 3);
+//   a.gain_(-6); a.loudness_(-18); a.level({ |l| l.fullScaleSPL.postln });   // level: docs/loudness.md
 //   a.sync({ "applied".postln });        // /sync -> /synced; a.syncWait inside a Routine
 //   a.status({ |s| s.active_drops_full.postln });    // an Event of the named /status.reply fields
 //   a.notify_(true); a.onStatus = { |s| ... }; a.onMeter = { |msg| ... };   // subscriptions
@@ -25,12 +26,12 @@ Ameoto {
 	var <>onFail, <>onDone, <>onStatus, <>onMeter;
 
 	*initClass {
-		// /status.reply ,fffiiiiififfsf: the names `ameoto status --json` uses.
+		// /status.reply ,fffiiiiififfsfif: the names `ameoto status --json` uses.
 		statusFields = #[
 			\cpu_average_percent, \cpu_peak_percent, \drops_per_second,
 			\active_drops_full, \active_drops_template, \active_drops_texture,
 			\xruns, \late_bundles, \sample_rate_hz, \block_size_frames,
-			\seconds_rendered, \rain_rate_mm_per_h, \backend, \clock_ppm
+			\seconds_rendered, \rain_rate_mm_per_h, \backend, \clock_ppm, \clipped_samples, \full_scale_db_spl
 		];
 	}
 
@@ -110,6 +111,21 @@ Ameoto {
 		addr.sendMsg('/listener', x.asFloat, y.asFloat, z.asFloat, facingDeg.asFloat)
 	}
 	lod { |budgetPercent = 50, full = 4| addr.sendMsg('/lod', budgetPercent.asFloat, full.asInteger) }
+
+	// ---- level (docs/loudness.md) ----
+	// The listening gain, dB -80..80, on top of the level (ramps over 50 ms).
+	gain_ { |dB = 0| addr.sendMsg('/gain', dB.asFloat) }
+	// --level auto's target for each scene's default rain, LUFS -60..-5 (refused under --level physical).
+	loudness_ { |lufs = -23| addr.sendMsg('/loudness', lufs.asFloat) }
+	// action.value(event): level (\auto or \physical), target and measured (LUFS), levelGain and gain (dB),
+	// fullScaleSPL (what 0 dBFS is now, dB SPL); nil after timeout seconds.
+	level { |action, timeout = 2|
+		this.query('/loudness', { |msg|
+			action.value(msg !? {
+				(level: msg[1], target: msg[2], measured: msg[3], levelGain: msg[4], gain: msg[5], fullScaleSPL: msg[6])
+			})
+		}, timeout)
+	}
 	surfaceAdd { |name, kind, material, sizeX, sizeY, x, y, z|
 		addr.sendMsg('/surface/add', name.asString, kind.asString, material.asString,
 			*[sizeX, sizeY, x, y, z].collect(_.asFloat))

@@ -22,6 +22,8 @@ enum class CommandKind : std::uint8_t {
     load_scene,    // object: a LoadedScene (render/loaded_scene.hpp) built off the audio thread
     wind,          // values: speed m/s, direction rad (toward, counter-clockwise from +x), gustiness 0..1
     listener,      // values: x, y, z m, facing rad (the umbrella, if any, is held: it moves along)
+    gain,          // values[0]: the listening gain, dB (output_stage.hpp); ramps over 50 ms
+    level,         // values[0]: the scene's level gain, dB (--level auto's choice, moved by /loudness); ramps
 };
 
 struct Command {

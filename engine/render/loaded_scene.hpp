@@ -27,6 +27,8 @@ struct LoadedScene {
     double lod_budget = 0.4;
     int max_full = 4;
     double wind_m_per_s = 0.0, wind_direction_rad = 0.0, gustiness = 0.0;
+    double level_gain_db = 0.0;   // the scene's level gain (chosen off the audio thread: level_choice.hpp)
+    double gain_db = 0.0;         // the listening gain the scene asks for (its `output gain=`)
 };
 
 }  // namespace ameoto

@@ -12,6 +12,9 @@ namespace ameoto {
 
 namespace {
 
+// x times a gain, exact when the gain is 1 (the physical samples stay bit for bit).
+inline float scaled(float x, double gain) { return gain == 1.0 ? x : static_cast<float>(x * gain); }
+
 RainSpawner::Config rain_config_for(const Canopy& canopy, const RainDescription& rain) {
     RainSpawner::Config rc;
     rc.area_m2 = canopy.area();
@@ -30,6 +33,15 @@ const RendererConfig& checked(const RendererConfig& config) {
     return config;
 }
 
+OutputStageConfig output_config(const RendererConfig& config) {
+    OutputStageConfig o;
+    o.channels = config.channels;
+    o.sample_rate = config.sample_rate;
+    o.gain_db = config.gain_db;
+    o.limiter = config.limiter;
+    return o;
+}
+
 }  // namespace
 
 RendererConfig configure_for_scene(RendererConfig config, const SceneDescription& scene, MaterialResolver material,
@@ -37,6 +49,7 @@ RendererConfig configure_for_scene(RendererConfig config, const SceneDescription
     if (const std::string why = validate_scene(scene); !why.empty()) throw std::invalid_argument(why);
     config.scene = scene;
     config.rain_rate_mm_per_h = scene.rain.rate_mm_per_h;
+    config.gain_db = scene.gain_db;
     config.lod_budget = scene.lod.budget_percent / 100.0;
     config.full_drops = std::min(scene.lod.max_full, Renderer::max_full_drops);
     // The accuracy knob: the cheapest measured method within the budget; none: the default method.
@@ -74,6 +87,8 @@ std::unique_ptr<LoadedScene> Renderer::make_loaded_scene(const RendererConfig& c
     loaded->gustiness = config.scene.rain.gustiness;
     loaded->lod_budget = config.lod_budget;
     loaded->max_full = config.full_drops;
+    loaded->level_gain_db = config.level_gain_db;
+    loaded->gain_db = config.gain_db;
     return loaded;
 }
 
@@ -113,7 +128,9 @@ Renderer::Renderer(const RendererConfig& config)
                             .full_level_db = config_.lod_full_level_db,
                             .texture_margin_db = config_.lod_texture_margin_db}),
       grains_(std::make_unique<TextureGrains>(scene_->texture, config_.sample_rate)),
-      grain_noise_(config.seed ^ 0x9E3779B97F4A7C15ull) {
+      grain_noise_(config.seed ^ 0x9E3779B97F4A7C15ull),
+      output_(output_config(config_)) {
+    set_level_db(config_.level_gain_db, false);
     surface_rng_ = Random(config.seed ^ 0xD1B54A32D192ED03ull);
     surfaces_ = new SceneSurfaces(config_.scene, config_.sample_rate, config_.channels, config_.seed, config_.full_scale_pa);
     has_umbrella_ = std::any_of(config_.scene.surfaces.begin(), config_.scene.surfaces.end(),
@@ -178,6 +195,7 @@ void Renderer::swap_scene(const Command& c) {
     fading_surfaces_ = nullptr;
     fading_ = scene_;
     fading_has_umbrella_ = has_umbrella_;
+    fading_level_ = level_;   // a material or liquid change keeps the scene's level gain
     fade_left_ = static_cast<int>(0.5 / dt_);
     scene_ = incoming;
     grains_->set_calibration(scene_->texture);
@@ -194,6 +212,20 @@ void Renderer::set_wind(double speed, double direction, double gustiness) {
     wind_.set_direction(direction);
 }
 
+// The scene's level gain: at once (construction) or over 50 ms, in equal dB steps (no click).
+void Renderer::set_level_db(double db, bool ramp) {
+    level_db_ = db;
+    level_target_ = std::pow(10.0, db / 20.0);
+    const int frames = std::max(1, static_cast<int>(std::lround(0.05 / dt_)));
+    if (!ramp || level_target_ == level_) {
+        level_ = level_target_;
+        level_ramp_left_ = 0;
+        return;
+    }
+    level_step_ = std::pow(level_target_ / level_, 1.0 / frames);
+    level_ramp_left_ = frames;
+}
+
 void Renderer::load_scene(const Command& c) {
     auto* loaded = static_cast<LoadedScene*>(c.object);
     if (!loaded || !loaded->umbrella || !loaded->surfaces || loaded->umbrella->drops.channels() != config_.channels ||
@@ -207,7 +239,12 @@ void Renderer::load_scene(const Command& c) {
     fading_ = scene_;
     fading_surfaces_ = surfaces_;
     fading_has_umbrella_ = has_umbrella_;
+    fading_level_ = level_;
     fade_left_ = static_cast<int>(0.5 / dt_);
+    // The new scene starts silent: its level gain can start at once. The texture grains still sounding
+    // (a few ms) are the old scene's; the ramp keeps a much larger new gain from lifting them abruptly.
+    set_level_db(loaded->level_gain_db, true);
+    output_.set_gain_db(loaded->gain_db);
     scene_ = loaded->umbrella.release();
     surfaces_ = loaded->surfaces.release();
     has_umbrella_ = loaded->has_umbrella;
@@ -328,6 +365,8 @@ void Renderer::apply(const Command& c) {
         case CommandKind::sync: push_event({RendererEventKind::synced, c.kind, c.reply_to, c.id}); break;
         case CommandKind::swap_surface:
         case CommandKind::swap_liquid: swap_scene(c); break;
+        case CommandKind::gain: output_.set_gain_db(c.values[0]); break;
+        case CommandKind::level: set_level_db(c.values[0], true); break;
         case CommandKind::lod: {
             LodSettings s = governor_.settings();
             s.budget = c.values[0];
@@ -352,18 +391,31 @@ void Renderer::render_sample(float* const* outputs, int offset) {
     const int channels = config_.channels;
     if (has_umbrella_) scene_->drops.process_frame(frame);
     surfaces_->render(frame, surface_rng_, wind_);
+    if (level_ramp_left_ > 0) {
+        level_ *= level_step_;
+        if (--level_ramp_left_ == 0) level_ = level_target_;
+    }
+    if (!fading_)
+        for (int ch = 0; ch < channels; ++ch) frame[ch] = scaled(frame[ch], level_);
     if (fading_) {
         float old[max_channels] = {};
         if (fading_has_umbrella_) fading_->drops.process_frame(old);
         if (fading_surfaces_) fading_surfaces_->render(old, surface_rng_, wind_);
-        for (int ch = 0; ch < channels; ++ch) frame[ch] += old[ch];
+        for (int ch = 0; ch < channels; ++ch) frame[ch] = scaled(frame[ch], level_) + scaled(old[ch], fading_level_);
         if (--fade_left_ <= 0) {
             // If the event list is full they ring on and are handed back at a later sample.
             if (fading_surfaces_ && retire(fading_surfaces_, RetiredObject::scene_surfaces)) fading_surfaces_ = nullptr;
             if (!fading_surfaces_ && retire(fading_, RetiredObject::umbrella_scene)) fading_ = nullptr;
         }
     }
-    grains_->render(frame, channels, grain_noise_);
+    if (level_ == 1.0) {
+        grains_->render(frame, channels, grain_noise_);   // the physical sum, in the order it always had
+    } else {
+        float grains[max_channels] = {};
+        grains_->render(grains, channels, grain_noise_);
+        for (int ch = 0; ch < channels; ++ch) frame[ch] += scaled(grains[ch], level_);
+    }
+    output_.process_frame(frame);
     for (int ch = 0; ch < channels; ++ch) outputs[ch][offset] = frame[ch];
     // The governor is told the drop rate every governor_period samples, counted on the sample clock, so
     // its choices do not depend on the caller's block size (and, live only, the load last measured).
@@ -418,6 +470,7 @@ void Renderer::process(int frames, float* const* outputs) {
     stats_.rain_tiers.priced_out = governor_.counts().priced_out;
     stats_.rain_rate_mm_per_h = has_umbrella_ ? rain_->rate() : rain_rate_;
     stats_.surface_drops = surfaces_->drops();
+    stats_.clipped_samples = output_.clipped();
     // The block's record (last_block): counters' differences, so the steady path pays a few subtractions.
     const bool same_pool = pool_before == &scene_->drops.pool();
     BlockActivity& b = last_block_;

@@ -46,7 +46,8 @@
 // then goes back to the control thread in a `retired` event to be freed there. Nothing is allocated
 // or freed here.
 //
-// Output: full scale (1.0) is `full_scale_pa` pascals. Mono: one listening point; stereo and more:
+// Output: full scale (1.0) is `full_scale_pa` pascals at level gain and gain 0 dB (output_stage.hpp
+// states the calibration); the output stage (gain, limiter) is the last thing a sample passes. Mono: one listening point; stereo and more:
 // one point, each panel panned by its azimuth over the speakers (ListenerStyle::panned), or for two
 // channels optionally two ears (ListenerStyle::ears).
 
@@ -62,6 +63,7 @@
 #include "engine/render/command.hpp"
 #include "engine/render/loaded_scene.hpp"
 #include "engine/render/lod_governor.hpp"
+#include "engine/render/output_stage.hpp"
 #include "engine/render/scene_surfaces.hpp"
 #include "engine/render/umbrella_scene.hpp"
 #include "engine/scene/rain_spawner.hpp"
@@ -89,6 +91,12 @@ struct RendererConfig {
     double lod_full_level_db = 6.0;       // the governor's thresholds (lod_governor.hpp); benchmarks move
     double lod_texture_margin_db = 20.0;  // them to put every drop in one tier
     bool adaptive_lod = false;            // shed detail by measured load (live only: not reproducible)
+    // Output (output_stage.hpp): the scene's level gain (what --level auto chose for it: level_choice.hpp;
+    // 0 for --level physical), the listening gain on top (--gain, /gain, the scene's `output gain=`), the
+    // look-ahead limiter. All three at their defaults: the samples are the physical ones, bit for bit.
+    double level_gain_db = 0.0;
+    double gain_db = 0.0;
+    bool limiter = false;
     NetworkOptions canopy_network{};      // the canopy panels' method; configure_for_scene sets it from the
                                           // scene's accuracy budget (core/method_choice.hpp)
 };
@@ -109,6 +117,7 @@ struct RendererStats {
     double detail = 1.0;                  // the governor's detail now (1: nothing shed)
     std::uint64_t surface_drops = 0;      // drops struck on the scene's other surfaces
     double rain_rate_mm_per_h = 0.0;      // current (ramping) rate
+    std::uint64_t clipped_samples = 0;    // samples that left the output stage past full scale (|x| > 1)
 };
 
 // What one process() did, for the per-block trace of slow callbacks (server/realtime/block_trace.hpp):
@@ -168,7 +177,10 @@ public:
     const DropOnCanopy& scene() const { return scene_->drops; }
     const LodGovernor& governor() const { return governor_; }
     const Canopy& canopy() const { return scene_->drops.canopy(); }
-    int latency_samples() const { return scene_->drops.latency_samples(); }
+    // The first sound of an impact: the nearest node's distance over c, plus the limiter's look-ahead.
+    int latency_samples() const { return scene_->drops.latency_samples() + output_.latency_frames(); }
+    const OutputStage& output() const { return output_; }
+    double level_gain_db() const { return level_db_; }   // the current scene's level gain (the target of a ramp)
 
 private:
     void apply(const Command& command);
@@ -178,6 +190,7 @@ private:
     void swap_scene(const Command& command);
     void load_scene(const Command& command);
     void set_wind(double speed, double direction, double gustiness);
+    void set_level_db(double db, bool ramp);
     bool retire(void* object, RetiredObject type);
     void render_sample(float* const* outputs, int offset);
     void push_event(const RendererEvent& event) { (void)push_event_checked(event); }
@@ -212,6 +225,13 @@ private:
     std::uint64_t frame_ = 0;
     RendererStats stats_;
     BlockActivity last_block_;
+    // The scene's level gain (linear): the current scene's ramps over 50 ms to level_target_ (a load, or
+    // /loudness); the fading scene keeps the gain it had, so a quiet scene's gain never lifts a loud one's tail.
+    double level_db_ = 0.0;
+    double level_ = 1.0, level_target_ = 1.0, level_step_ = 1.0;
+    int level_ramp_left_ = 0;
+    double fading_level_ = 1.0;
+    OutputStage output_;
 
     // Commands waiting for their sample, sorted by frame (stable for equal frames).
     std::array<Command, pending_capacity> pending_{};

@@ -33,6 +33,7 @@ constexpr Range size_range{0.05, 100.0};         // m
 constexpr Range budget_range{1.0, 95.0};         // % of the block period
 constexpr Range full_range{0.0, 64.0};
 constexpr Range panels_range{3.0, 16.0};
+constexpr Range gain_range{-80.0, 80.0};         // dB: the listening gain (engine/render/output_stage.hpp)
 
 // The shortest text that reads back as the same double (so a saved scene reloads exactly).
 std::string number(double v) {
@@ -117,7 +118,8 @@ std::string validate_scene(const SceneDescription& s) {
                                    check_number("listener y", s.listener.y_m, position_range, "m"),
                                    check_number("listener z", s.listener.z_m, position_range, "m"),
                                    check_number("lod budget", s.lod.budget_percent, budget_range, "%"),
-                                   check_number("lod full", s.lod.max_full, full_range, "drops")})
+                                   check_number("lod full", s.lod.max_full, full_range, "drops"),
+                                   check_number("output gain", s.gain_db, gain_range, "dB")})
         if (!why.empty()) return why;
     if (std::find(dsd_names().begin(), dsd_names().end(), r.dsd) == dsd_names().end())
         return "dsd '" + r.dsd + "' is not one of marshall-palmer, joss-drizzle, joss-thunderstorm, gamma";
@@ -347,9 +349,11 @@ SceneDescription parse_scene(std::string_view text, const std::string& file) {
         Line line;
         line.number = number;
         line.word = words[0];
-        static const std::set<std::string> known{"name", "rain", "listener", "lod", "surface", "accuracy"};
+        static const std::set<std::string> known{"name", "rain", "listener", "lod", "surface", "accuracy", "output"};
         if (!known.count(line.word))
-            throw SceneFileError(file, number, line.word, "unknown line (expected name, rain, listener, lod, surface or accuracy)");
+            throw SceneFileError(file, number, line.word, "unknown line (expected name, rain, listener, lod, surface, accuracy or output)");
+        if (line.word == "output" && file_version < 2)
+            throw SceneFileError(file, number, line.word, "the output line needs version 2 (start the file with 'ameoto-scene 2')");
         if (line.word == "accuracy" && file_version < 2)
             throw SceneFileError(file, number, line.word, "the accuracy line needs version 2 (start the file with 'ameoto-scene 2')");
         std::size_t first_pair = 1;
@@ -397,6 +401,9 @@ SceneDescription parse_scene(std::string_view text, const std::string& file) {
                 if (full != std::floor(full)) r.fail("full", "is not a whole number of drops");
                 s.lod.max_full = static_cast<int>(full);
             }
+        } else if (line.word == "output") {
+            if (!seen.insert(line.word).second) r.fail(line.word, "given twice");
+            s.gain_db = r.number("gain", s.gain_db, gain_range, "dB");
         } else if (line.word == "accuracy") {
             if (!seen.insert(line.word).second) r.fail(line.word, "given twice");
             if (r.has("cents") == r.has("db")) r.fail("accuracy", "give one of cents=C (frequency error) or db=D (spectral distance)");
@@ -442,9 +449,9 @@ SceneDescription parse_scene(std::string_view text, const std::string& file) {
 
 std::string format_scene(const SceneDescription& s) {
     std::ostringstream out;
-    out << "ameoto-scene " << (s.accuracy ? 2 : 1) << "\n";   // version 1 readers load what needs nothing new
+    out << "ameoto-scene " << (s.accuracy || s.gain_db != 0.0 ? 2 : 1) << "\n";   // version 1 readers load what needs nothing new
     out << "# written by ameoto; units: rate mm/h, wind m/s, direction and facing degrees, sizes and positions m,\n";
-    out << "# budget % of the block period (docs/scenes.md)\n";
+    out << "# budget % of the block period, gain dB (docs/scenes.md)\n";
     out << "name " << s.name << "\n";
     const RainDescription& r = s.rain;
     out << "rain rate=" << number(r.rate_mm_per_h) << " dsd=" << r.dsd << " mu=" << number(r.gamma_mu)
@@ -460,6 +467,7 @@ std::string format_scene(const SceneDescription& s) {
         if (f.kind == SurfaceKind::umbrella) out << " panels=" << f.panels;
         out << "\n";
     }
+    if (s.gain_db != 0.0) out << "output gain=" << number(s.gain_db) << "\n";
     if (s.accuracy) out << "accuracy " << accuracy_measure_name(s.accuracy->measure) << "=" << number(s.accuracy->value) << "\n";
     return out.str();
 }

@@ -92,6 +92,7 @@ struct SceneDescription {
     LodDescription lod;
     std::vector<SurfaceDescription> surfaces;
     std::optional<AccuracyBudget> accuracy;   // none: the engine's default method (explicit, as stable needs)
+    double gain_db = 0.0;                // the listening gain (`output gain=DB`, /gain): dB on top of the level
     bool operator==(const SceneDescription&) const = default;
 };
 

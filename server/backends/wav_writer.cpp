@@ -59,6 +59,15 @@ void WavWriter::open_file(const std::string& path) {
     fd_ = fd;
     failing_ = false;
     path_ = path;
+    sf_set_string(file_, SF_STR_SOFTWARE, "ameotod " AMEOTO_VERSION);
+    if (!comment_.empty()) sf_set_string(file_, SF_STR_COMMENT, comment_.c_str());
+}
+
+// libsndfile writes the strings into the LIST/INFO chunk when the file is finalised (close, SIGHUP).
+void WavWriter::set_comment(const std::string& text) {
+    std::lock_guard lock(file_mutex_);
+    comment_ = text;
+    if (file_) sf_set_string(file_, SF_STR_COMMENT, comment_.c_str());
 }
 
 void WavWriter::report(std::string event) {

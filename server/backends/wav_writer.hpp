@@ -12,6 +12,8 @@
 //                   w.close()                   // drain, finalise; also done by the destructor
 //                   w.path(), w.frames_written(), w.frames_lost()
 //                   w.take_error()              // the next disk event, once, oldest first; "" when none
+//                   w.set_comment(text)         // before audio starts: the calibration, in this file and every
+//                                               // later one (RIFF LIST/INFO ICMT, libsndfile's SF_STR_COMMENT)
 //
 // Nothing a user made is lost: the header is rewritten about once a second (libsndfile's
 // SFC_UPDATE_HEADER_NOW), so even after SIGKILL the file reads back up to the last second; close()
@@ -59,6 +61,7 @@ public:
     std::uint64_t frames_written() const { return frames_written_.load(); }
     std::uint64_t frames_lost() const { return frames_lost_.load(); }
     std::string take_error();
+    void set_comment(const std::string& text);
 
 private:
     void run();
@@ -77,6 +80,7 @@ private:
     int fd_ = -1;                     // file_'s descriptor, for the link count
     bool failing_ = false;            // the last write failed (reported once until writes succeed again)
     std::string path_;
+    std::string comment_;
     std::deque<std::string> events_;
     std::atomic<std::uint64_t> frames_written_{0};
     std::atomic<std::uint64_t> frames_lost_{0};

@@ -23,7 +23,10 @@ AudioBridge::AudioBridge(std::unique_ptr<Renderer> renderer, std::size_t queue_c
       channels_(renderer_->config().channels),
       commands_(queue_capacity),
       events_(queue_capacity),
-      meter_(sample_rate_, channels_) {}
+      meter_(sample_rate_, channels_),
+      loudness_(channels_, sample_rate_) {
+    output_gain_db_.store(renderer_->level_gain_db() + renderer_->output().gain_db());
+}
 
 double AudioBridge::take_cpu_peak_percent() { return 100.0 * load_peak_.exchange(0.0, std::memory_order_relaxed); }
 
@@ -62,6 +65,8 @@ AudioSnapshot AudioBridge::snapshot() const {
     s.active_grains = active_grains_.load(std::memory_order_relaxed);
     s.rain_rate_mm_per_h = rain_rate_.load(std::memory_order_relaxed);
     s.clock_ppm = (clock_rate_ratio_.load(std::memory_order_relaxed) - 1.0) * 1e6;
+    s.clipped_samples = clipped_.load(std::memory_order_relaxed);
+    s.output_gain_db = output_gain_db_.load(std::memory_order_relaxed);
     return s;
 }
 
@@ -105,6 +110,7 @@ void AudioBridge::process(int frames, float* const* outputs, const BlockTime& ti
     while (commands_.try_pop(command)) renderer_->schedule(command);
     renderer_->process(frames, outputs);
     meter_.measure(frames, outputs, renderer_->frame());
+    loudness_.feed(frames, outputs);
     // Take an event from the renderer only when the queue has room for it: events that hand back an
     // object (a retired canopy) must never be dropped; the rest wait in the renderer's own list.
     RendererEvent event;
@@ -120,6 +126,8 @@ void AudioBridge::process(int frames, float* const* outputs, const BlockTime& ti
     active_full_drops_.store(st.active_full_drops, std::memory_order_relaxed);
     active_grains_.store(st.active_grains, std::memory_order_relaxed);
     rain_rate_.store(st.rain_rate_mm_per_h, std::memory_order_relaxed);
+    clipped_.store(st.clipped_samples, std::memory_order_relaxed);
+    output_gain_db_.store(renderer_->level_gain_db() + renderer_->output().gain_db(), std::memory_order_relaxed);
     const std::uint64_t callback = callbacks_.fetch_add(1, std::memory_order_relaxed);
     frames_.store(renderer_->frame(), std::memory_order_release);
 

@@ -13,6 +13,7 @@
 //                    bridge.frame_for(unix_seconds) -> the sample a timetag falls on
 //                    bridge.clock() + frame_at(clock, unix_seconds) -> the same, one clock reading for a whole packet
 //                    bridge.take_meter(w)  -> the next finished level-meter window (/meter)
+//                    bridge.loudness_tap() -> the output's samples for /meter's loudness (loudness_tap.hpp)
 //                    bridge.enable_block_trace(n) -> before audio starts: record every block (block_trace.hpp)
 //                    bridge.block_trace()  -> that record's ring (null when off), read by one thread
 //   audio thread:    bridge.process(frames, outputs, time)   // never allocates, frees, locks, blocks or logs
@@ -37,6 +38,7 @@
 #include "engine/render/renderer.hpp"
 #include "server/realtime/block_trace.hpp"
 #include "server/realtime/level_meter.hpp"
+#include "server/realtime/loudness_tap.hpp"
 #include "server/realtime/spsc_queue.hpp"
 
 namespace ameoto {
@@ -56,6 +58,8 @@ struct AudioSnapshot {
     int active_grains = 0;        // texture grains sounding
     double rain_rate_mm_per_h = 0.0;
     double clock_ppm = 0.0;       // the audio clock's rate against the wall clock's, minus one, in ppm
+    std::uint64_t clipped_samples = 0;    // past full scale, after the output stage
+    double output_gain_db = 0.0;          // the level gain and the gain in effect (targets of their ramps)
 };
 
 // When a block plays, as the backend's clock filter sees it (audio thread, given to process()).
@@ -90,6 +94,7 @@ public:
     std::uint64_t frame_for(double unix_seconds) const { return frame_at(clock(), unix_seconds); }
     AudioClock clock() const;
     bool take_meter(MeterWindow& window) { return meter_.take(window); }
+    LoudnessTap& loudness_tap() { return loudness_; }   // /meter's loudness: set_wanted, drain (loudness_tap.hpp)
     double sample_rate() const { return sample_rate_; }
     int channels() const { return channels_; }
     const RendererConfig& config() const { return renderer_->config(); }   // fixed at construction
@@ -108,6 +113,7 @@ private:
     SpscQueue<Command> commands_;
     SpscQueue<RendererEvent> events_;
     LevelMeter meter_;
+    LoudnessTap loudness_;
     std::unique_ptr<BlockTrace> trace_;   // null unless --block-trace
 
     // published by the audio thread
@@ -118,6 +124,8 @@ private:
     std::atomic<std::uint64_t> frames_{0}, drops_{0}, late_{0}, busy_{0}, resets_{0}, events_lost_{0}, callbacks_{0};
     std::atomic<int> active_impacts_{0}, active_full_drops_{0}, active_grains_{0};
     std::atomic<double> rain_rate_{0.0};
+    std::atomic<std::uint64_t> clipped_{0};
+    std::atomic<double> output_gain_db_{0.0};
     std::atomic<double> load_average_{0.0};
     std::atomic<double> load_peak_{0.0};
     static_assert(std::atomic<double>::is_always_lock_free && std::atomic<std::uint64_t>::is_always_lock_free);

@@ -63,7 +63,9 @@ TEST_CASE("ameoto watch on a pipe: one line per update, --count ends it") {
     CHECK(meters + statuses == 15);
     CHECK(meters >= 10);   // ten a second against one status a second
     CHECK(statuses >= 1);
-    CHECK(r.out.find(" dBFS peak/rms\n") != std::string::npos);
+    CHECK(r.out.find(" dBFS peak/rms M=") != std::string::npos);   // then the loudness: momentary, short-term, true peak
+    CHECK(r.out.find(" LUFS TP=") != std::string::npos);
+    CHECK(r.out.find(" dBTP\n") != std::string::npos);
     CHECK(r.out.find("backend=null") != std::string::npos);
     CHECK(r.out.find("\x1b[") == std::string::npos);   // no terminal codes in a pipe
 }

@@ -21,7 +21,8 @@ namespace {
 DecodedMessage sample_status_reply() {
     return message("/status.reply", {f(3.14), f(4.0), f(120), OscArgument::from_int(1), OscArgument::from_int(3),
                                      OscArgument::from_int(40), OscArgument::from_int(0), OscArgument::from_int(2), f(48000),
-                                     OscArgument::from_int(256), f(2.0), f(2), OscArgument::from_string("null")});
+                                     OscArgument::from_int(256), f(2.0), f(2), OscArgument::from_string("null"),
+                                     OscArgument::from_int(0), f(110.5)});
 }
 
 }  // namespace
@@ -54,6 +55,11 @@ TEST_CASE("a bar spans -60..0 dBFS and never overflows its width") {
 TEST_CASE("line format: one line per update, fields named, for pipes and logs") {
     const auto m = parse_meter(message("/meter", {f(0.1), OscArgument::from_int(2), f(-12.54), f(-20), f(-3), f(-9.96)}));
     CHECK(format_meter_line(m) == "meter t=0.100 1:-12.5/-20.0 2:-3.0/-10.0 dBFS peak/rms\n");
+    // With the loudness (momentary, short-term, true peak) after the channels.
+    const auto l = parse_meter(message("/meter", {f(0.1), OscArgument::from_int(1), f(-12.54), f(-20), f(-23.04), f(-22.96), f(-1.2)}));
+    REQUIRE(l.error.empty());
+    CHECK(format_meter_line(l) == "meter t=0.100 1:-12.5/-20.0 dBFS peak/rms M=-23.0 S=-23.0 LUFS TP=-1.2 dBTP\n");
+    CHECK_FALSE(parse_meter(message("/meter", {f(0.1), OscArgument::from_int(1), f(-1), f(-2), f(-3)})).error.empty());
     const auto s = parse_status_reply(sample_status_reply());
     REQUIRE(s.error.empty());
     CHECK(format_status_line(s) ==
@@ -72,7 +78,7 @@ TEST_CASE("the terminal screen: load, rain and one bar per channel, a fixed numb
     CHECK(screen.starts_with("ameoto watch 127.0.0.1:7770  (Ctrl-C to quit)\n"));
     CHECK(screen.find("load  3.1 % average, 4.0 % peak   xruns 0   late bundles 2\n") != std::string::npos);
     CHECK(screen.find("rain  2.00 mm/h, 120.0 drops/s") != std::string::npos);
-    CHECK(screen.find("2.0 s played") != std::string::npos);
+    CHECK(screen.find("2.0 s played, 0 dBFS = 110.50 dB SPL, 0 samples past full scale") != std::string::npos);
     CHECK(screen.find("ch 1  [" + std::string(20, '#') + std::string(20, '.') + "] rms -30.0  peak -12.0 dBFS\n") != std::string::npos);
     CHECK(screen.find("ch 2  [" + std::string(40, '.') + "] rms -60.0  peak -6.0 dBFS\n") != std::string::npos);
     // Redrawing in place moves up by the previous screen's lines: the shape must not change as values do.

@@ -12,6 +12,7 @@
 #include <thread>
 #include <vector>
 
+#include "engine/render/loudness.hpp"
 #include "tests/support/audio_clock.hpp"
 #include "tests/support/daemon_process.hpp"
 #include "tests/support/osc_test_client.hpp"
@@ -56,7 +57,8 @@ TEST_CASE("a subscriber gets /status.reply every second and /meter ten times a s
     std::vector<DecodedMessage> got;
     double audio_from = 0.0, audio_to = 0.0;   // the audio clock (seconds rendered) around the collection
     {
-        Daemon d({"--backend", "null", "--output", wav, "--rain", "40", "--fixed-detail"});
+        // --level auto, as ameotod runs by default: the levels are those of the samples written, whatever the gain.
+        Daemon d({"--backend", "null", "--output", wav, "--rain", "40", "--fixed-detail", "--level", "auto"});
         OscTestClient c(d.port());
         // Read before subscribing: a periodic /status.reply could otherwise answer this request, and
         // the real answer would then be counted among the notifications below.
@@ -83,7 +85,7 @@ TEST_CASE("a subscriber gets /status.reply every second and /meter ten times a s
     CHECK(static_cast<double>(count(got, "/meter")) >= 0.4 * expected - 1.0);
     CHECK(static_cast<double>(count(got, "/meter")) <= expected + 2.0);
     for (const auto& m : got)
-        if (m.address == "/status.reply") CHECK(m.types == "fffiiiiififfsf");
+        if (m.address == "/status.reply") CHECK(m.types == "fffiiiiififfsfif");
 
     // Each /meter is the peak and RMS of the 100 ms (4800 frames) of the stream that end at its frame:
     // recomputed here from the WAV (32-bit float, the same samples), they agree to 0.01 dB (float
@@ -94,7 +96,7 @@ TEST_CASE("a subscriber gets /status.reply every second and /meter ten times a s
     int checked = 0;
     for (const auto& m : got) {
         if (m.address != "/meter") continue;
-        REQUIRE(m.types == "fiffff");
+        REQUIRE(m.types == "fifffffff");   // time, channels, peak and RMS of 2 channels, momentary, short-term, true peak
         const long long end = std::llround(m.args[0].number * 48000.0);   // seconds at the null backend's 48 kHz
         CHECK(m.args[1].integer == 2);
         if (end > w.frames || end < 4800) continue;
@@ -111,6 +113,16 @@ TEST_CASE("a subscriber gets /status.reply every second and /meter ten times a s
             CHECK(m.args[3 + 2 * ch].number <= m.args[2 + 2 * ch].number);
             CHECK(m.args[2 + 2 * ch].number > -120.0);   // 40 mm/h of rain is not silence
         }
+        // The loudness (momentary, 400 ms) of the newest samples when it was sent, recomputed with libebur128
+        // from the 400 ms of the WAV that end at the window's frame: the server read a few ms more at most
+        // (its 5 ms poll, a block), and rain's momentary loudness moves little in that: 1.5 LU.
+        if (end >= 19200) {
+            ameoto::LoudnessMeter reference(2, 48000.0, 0);
+            reference.add(&w.samples[static_cast<std::size_t>((end - 19200) * 2)], 19200);
+            CHECK(std::fabs(m.args[6].number - reference.momentary_lufs()) <= 1.5);
+        }
+        CHECK(m.args[7].number > -120.0);                                         // short-term: 3 s of heavy rain
+        CHECK(m.args[8].number >= std::max(m.args[2].number, m.args[4].number) - 1.0);   // true peak >= the peaks, about
         CHECK(m.args[0].number >= audio_from - 0.2);   // a reading of the audio rendered meanwhile
         CHECK(m.args[0].number <= audio_to + 0.2);
         ++checked;
@@ -128,6 +140,9 @@ TEST_CASE("/notify 0 stops the notifications; a silent stream meters -120 dBFS")
         if (m.address == "/meter") {
             CHECK(m.args[2].number == -120.0f);
             CHECK(m.args[3].number == -120.0f);
+            CHECK(m.args[6].number == -120.0f);   // momentary, short-term loudness and true peak of silence
+            CHECK(m.args[7].number == -120.0f);
+            CHECK(m.args[8].number == -120.0f);
         }
     REQUIRE(c.request("/notify", {i(0)}, "/done", 2s));
     collect(c, 100ms);   // what was already on its way

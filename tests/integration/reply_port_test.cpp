@@ -108,7 +108,7 @@ TEST_CASE("after /reply/port P every reply to the sender goes to P at its addres
     sender.send("/status");
     const auto status = receiver.wait_for("/status.reply", 2s);
     REQUIRE(status);
-    CHECK(status->types == "fffiiiiififfsf");
+    CHECK(status->types == "fffiiiiififfsfif");
 
     sender.send("/rain/rate", {f(12)});
     sender.send("/rain/rate");   // its query, answered from the applied state

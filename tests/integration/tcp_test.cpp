@@ -49,7 +49,7 @@ TEST_CASE("OSC over TCP: replies on the same connection, the same validation as 
     TcpClient c(port);
     const auto status = c.request("/status", {}, "/status.reply");
     REQUIRE(status);
-    CHECK(status->types == "fffiiiiififfsf");
+    CHECK(status->types == "fffiiiiififfsfif");
     const auto synced = c.request("/sync", {i(42)}, "/synced");
     REQUIRE(synced);
     CHECK(synced->args[0].integer == 42);

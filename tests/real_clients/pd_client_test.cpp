@@ -44,8 +44,10 @@ TEST_CASE("Pd: [ameoto] sets the rain rate, sends drops, gets /fail, /synced and
     CHECK(run.out.find("reply: synced 5") != std::string::npos);
 
     const auto status = name_value_lines(run.out, "status: ");
-    REQUIRE(status.size() == 13);
+    REQUIRE(status.size() == 15);
     CHECK(status.at("backend") == "null");
+    CHECK(std::stod(status.at("full_scale_db_spl")) == doctest::Approx(133.98).epsilon(1e-4));   // --level physical
+    CHECK(status.at("clipped_samples") == "0");
     CHECK(status.at("sample_rate_hz") == "48000");
     CHECK(status.at("block_size_frames") == "256");
     CHECK(status.at("late_bundles") == "0");
@@ -96,6 +98,9 @@ TEST_CASE("Pd: every [ameoto] command sends its documented address and arguments
         "/scene/save s \"mine\"",
         "/listener ffff 1.000000 0.500000 1.600000 30.000000",
         "/lod ff 50.000000 16.000000",
+        "/gain f -6.000000",
+        "/loudness f -18.000000",
+        "/loudness ",
         "/status ",
         "/sync f 3.000000",
         "/notify f 1.000000",

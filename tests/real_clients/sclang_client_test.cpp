@@ -76,7 +76,7 @@ TEST_CASE("SuperCollider: the install script puts Ameoto in the Extensions folde
     // The refused rate reached the class's onFail with the server's reason.
     CHECK(run.out.find("fail /rain/rate argument 1 rate (mm/h): 900 is outside 0..500") != std::string::npos);
     const auto status = name_value_lines(run.out, "status ");
-    REQUIRE(status.size() == 14);
+    REQUIRE(status.size() == 16);
     CHECK(status.at("sample_rate_hz") == "48000.0");
     CHECK(status.at("block_size_frames") == "256");
     // The two drops the script sent are lattice drops, still sounding when it asked (right after
@@ -149,6 +149,9 @@ TEST_CASE("SuperCollider: every Ameoto method sends its documented address and a
         "/scene/save s \"mine\"",
         "/listener ffff 1.000000 0.500000 1.600000 30.000000",
         "/lod fi 50.000000 16",
+        "/gain f -6.000000",
+        "/loudness f -18.000000",
+        "/loudness ",
         "/surface/add sssfffff \"roof\" \"plate\" \"tin\" 1.000000 0.600000 0.000000 1.000000 3.000000",
         "/surface/set sssfffff \"roof\" \"plate\" \"glass\" 1.000000 0.600000 0.000000 1.000000 3.000000",
         "/surface/remove s \"roof\"",

@@ -131,3 +131,23 @@ TEST_CASE("--scene takes a name or a scene file's path (the command line is trus
     }
     CHECK(ameoto::usage().find("--scene NAME|FILE.scene") != std::string::npos);
 }
+
+TEST_CASE("--level, --loudness, --gain, --limiter: defaults, valid values, refusals with the range") {
+    const auto d = parse({});
+    CHECK(d.options.level_auto);                 // issue 21: auto is ameotod's default
+    CHECK(d.options.target_lufs == -23.0);       // EBU R 128
+    CHECK_FALSE(d.options.gain_db.has_value());  // the scene's
+    CHECK(d.options.limiter_on());               // on with auto...
+    CHECK_FALSE(parse({"--level", "physical"}).options.limiter_on());   // ...off with physical
+    CHECK(parse({"--level", "physical", "--limiter", "on"}).options.limiter_on());
+    CHECK_FALSE(parse({"--limiter", "off"}).options.limiter_on());
+    const auto p = parse({"--loudness", "-18", "--gain", "-6.5"});
+    CHECK(p.error.empty());
+    CHECK(p.options.target_lufs == -18.0);
+    CHECK(p.options.gain_db == std::optional<double>(-6.5));
+    CHECK(parse({"--level", "loud"}).error == "--level needs auto or physical");
+    CHECK(parse({"--loudness", "-3"}).error == "--loudness needs a target of -60..-5 LUFS");
+    CHECK(parse({"--gain", "81"}).error == "--gain needs a gain of -80..80 dB");
+    CHECK(parse({"--limiter", "yes"}).error == "--limiter needs on or off");
+    CHECK(ameoto::usage().find("0 dBFS = 133.98 dB SPL") != std::string::npos);   // the calibration, stated
+}

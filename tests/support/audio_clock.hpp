@@ -29,7 +29,7 @@ namespace ameoto::test {
 inline protocol::DecodedMessage status_reply(OscTestClient& client) {
     const auto reply = client.request("/status", {}, "/status.reply", std::chrono::seconds(2));
     REQUIRE(reply);
-    REQUIRE(reply->types == "fffiiiiififfsf");   // docs/PROTOCOL.md, /status.reply
+    REQUIRE(reply->types == "fffiiiiififfsfif");   // docs/PROTOCOL.md, /status.reply
     return *reply;
 }
 

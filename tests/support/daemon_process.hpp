@@ -4,6 +4,7 @@
 //
 // Interface:
 //   DaemonProcess d({"--backend", "null", "--output", "-"}, {"ENV=value"});   // AMEOTO_BIN_DIR/ameotod ARGS --port 0
+//                                                                         // (and --level physical unless ARGS name a --level)
 //   d.port()             // from "ameotod: listening on osc.udp://ADDRESS:PORT/"
 //   d.listening_line()   // that whole line
 //   d.tcp_port()         // from "ameotod: listening on osc.tcp://ADDRESS:PORT/" (given --tcp-port); -1 without

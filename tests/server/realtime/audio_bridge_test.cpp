@@ -81,27 +81,35 @@ TEST_CASE_FIXTURE(ProbeFixture, "AudioBridge::process never allocates, frees, lo
     ameoto::RendererConfig config;
     config.rain_rate_mm_per_h = 100.0;   // heavy rain: many impacts start and end in every block
     config.channels = 4;
+    config.limiter = true;                // the output stage's look-ahead limiter, and gains to ramp
+    config.level_gain_db = 30.0;          // loud enough that the limiter works in every block
     ameoto::AudioBridge bridge(std::make_unique<ameoto::Renderer>(config), 256);
+    bridge.loudness_tap().set_wanted(true);   // /meter's loudness: the samples handed over (drained below)
     constexpr int block = 256;
     std::vector<std::vector<float>> planes(4, std::vector<float>(block));
     std::vector<float*> outputs{planes[0].data(), planes[1].data(), planes[2].data(), planes[3].data()};
 
     // A control thread floods commands (drops, rate changes, syncs, far-future timed drops that fill
-    // the pending list and produce busy events) while the audio thread renders.
+    // the pending list and produce busy events, gain and level changes that ramp) while the audio thread
+    // renders, and drains the loudness tap into a libebur128 meter as the daemon's /meter does.
+    ameoto::LoudnessMeter loudness(4, config.sample_rate, ameoto::LoudnessMeter::short_term | ameoto::LoudnessMeter::peaks);
     std::atomic<bool> done{false};
     std::thread control([&] {
         int i = 0;
         while (!done.load()) {
             ameoto::Command c;
-            switch (i % 4) {
+            switch (i % 6) {
                 case 0: c.kind = ameoto::CommandKind::drop; c.values[0] = 0.004; c.values[2] = 0.2; break;
                 case 1: c.kind = ameoto::CommandKind::rain_rate; c.values[0] = (i % 400) * 1.0; break;
                 case 2: c.kind = ameoto::CommandKind::sync; c.id = i; break;
                 case 3: c.kind = ameoto::CommandKind::drop; c.timed = true; c.frame = 1'000'000'000; c.values[0] = 0.002; c.values[2] = 0.2; break;
+                case 4: c.kind = ameoto::CommandKind::gain; c.values[0] = (i % 7) * 3.0 - 9.0; break;
+                case 5: c.kind = ameoto::CommandKind::level; c.values[0] = 20.0 + (i % 5) * 4.0; break;
             }
             (void)bridge.send(c);
             ameoto::RendererEvent e;
             while (bridge.poll_event(e)) {}
+            if (i % 64 == 0) bridge.loudness_tap().drain(loudness);
             ++i;
             if (i % 64 == 0) std::this_thread::yield();
         }
@@ -116,6 +124,7 @@ TEST_CASE_FIXTURE(ProbeFixture, "AudioBridge::process never allocates, frees, lo
     const ameoto::AudioSnapshot s = bridge.snapshot();
     CHECK(s.drops > 1000);            // the workload really ran
     CHECK(s.busy_commands > 0);       // including the overflow path
+    CHECK(s.clipped_samples == 0);    // the limiter held the ceiling through every gain change
     CHECK(ameoto_rt_probe_entries() == 2000);
     INFO("first violation: " << std::string(ameoto_rt_probe_first_violation()));
     CHECK(ameoto_rt_probe_violations() == 0);

@@ -1,0 +1,33 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#pragma once
+// --level auto: the level gain that makes a scene's default rain play at a target loudness.
+//
+// Interface (off the audio thread: it builds a renderer and renders; about a second of CPU for the umbrella):
+//   LevelChoice c = choose_level(config, target_lufs);   // config: configure_for_scene's, at the scene's own rain
+//   config.level_gain_db = c.gain_db;
+//
+// How: the scene is rendered offline for `seconds` at its default rain with the same engine and seed as the
+// stream (fixed detail, the physical samples: level gain, gain and limiter off), its integrated loudness
+// measured (loudness.hpp), and gain = target - measured. Chosen once per scene load, never again while it
+// plays: it is not an automatic gain control, so heavier rain stays louder by the physical amount (the slope
+// of level against rain rate is the physical one; tests/engine/render/level_choice_test.cpp).
+// A scene whose default rain is silent (rate 0, or nothing to strike) gets 0 dB: the physical level.
+
+#include "engine/render/renderer.hpp"
+
+namespace ameoto {
+
+struct LevelChoice {
+    double measured_lufs = 0.0;   // the default rain's integrated loudness at the physical scale (-inf: silent)
+    double gain_db = 0.0;         // the level gain chosen, within [min_level_gain_db, max_level_gain_db]
+    double seconds = 0.0;         // rendered
+};
+
+inline constexpr double default_target_lufs = -23.0;   // EBU R 128's programme loudness
+inline constexpr double min_target_lufs = -60.0, max_target_lufs = -5.0;
+inline constexpr double min_level_gain_db = -60.0, max_level_gain_db = 120.0;
+inline constexpr double level_choice_seconds = 3.0;
+
+LevelChoice choose_level(const RendererConfig& config, double target_lufs, double seconds = level_choice_seconds);
+
+}  // namespace ameoto

@@ -1,0 +1,82 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// --level auto (engine/render/level_choice.hpp): each built-in scene's default rain, played with the gain
+// chosen for it, lands at the target loudness; the choice does not follow the rain actually played (not an
+// automatic gain control), so heavier rain stays louder by its physical amount.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "engine/render/level_choice.hpp"
+#include "engine/render/loudness.hpp"
+#include "engine/render/renderer.hpp"
+
+using namespace ameoto;
+
+namespace {
+
+// Integrated loudness (LUFS) of `seconds` of the renderer's output, through its output stage.
+double render_lufs(const RendererConfig& config, double seconds) {
+    Renderer r(config);
+    const int channels = config.channels;
+    const int total = static_cast<int>(seconds * config.sample_rate);
+    constexpr int block = 1024;
+    std::vector<std::vector<float>> planar(static_cast<std::size_t>(channels), std::vector<float>(block));
+    std::vector<float*> out;
+    for (auto& p : planar) out.push_back(p.data());
+    std::vector<float> interleaved(static_cast<std::size_t>(block * channels));
+    LoudnessMeter meter(channels, config.sample_rate, LoudnessMeter::integrated);
+    for (int done = 0; done < total; done += block) {
+        const int n = std::min(block, total - done);
+        r.process(n, out.data());
+        for (int i = 0; i < n; ++i)
+            for (int c = 0; c < channels; ++c)
+                interleaved[static_cast<std::size_t>(i * channels + c)] = planar[static_cast<std::size_t>(c)][static_cast<std::size_t>(i)];
+        meter.add(interleaved.data(), static_cast<std::size_t>(n));
+    }
+    return meter.integrated_lufs();
+}
+
+RendererConfig scene_config(const char* name, std::uint64_t seed) {
+    RendererConfig base;
+    base.seed = seed;
+    base.limiter = true;   // as ameotod and render scene run with --level auto
+    return configure_for_scene(base, *builtin_scene(name));
+}
+
+}  // namespace
+
+TEST_CASE("level auto: every built-in scene at its default rain plays within 1 LU of the target") {
+    // As ameotod and render scene do: the gain is chosen from the first 3 s of the stream's own rain (seed 1),
+    // then 5 s of that stream are played through the output stage (limiter on): its last 2 s are rain the
+    // choice never heard. Tolerance 1 LU: issue 21's bound (measured 2026-12-01: within 0.6 LU for every
+    // scene, docs/loudness.md). Another seed's rain is louder or quieter by itself: the umbrella's 12 s
+    // integrated loudness is -48.15, -47.13 and -48.73 LUFS for seeds 1, 2 and 3 (render scene --level physical).
+    for (const std::string& name : builtin_scene_names()) {
+        RendererConfig config = scene_config(name.c_str(), 1);
+        const LevelChoice choice = choose_level(config, default_target_lufs);
+        REQUIRE(std::isfinite(choice.measured_lufs));
+        config.level_gain_db = choice.gain_db;
+        const double played = render_lufs(config, 5.0);
+        MESSAGE(name << ": default rain " << config.scene.rain.rate_mm_per_h << " mm/h measures " << choice.measured_lufs
+                     << " LUFS physical; level gain " << choice.gain_db << " dB; played (5 s) " << played << " LUFS");
+        CHECK(std::fabs(played - default_target_lufs) <= 1.0);
+    }
+}
+
+TEST_CASE("level auto is chosen from the scene's default rain, not the rain played: heavier rain stays louder") {
+    // --rain 20 on the umbrella (default 2 mm/h): the same gain as at 2 mm/h, exactly, and the cloudburst
+    // plays louder than the target by its physical amount: 20 LU or more at 50 mm/h (issue 21's headroom;
+    // docs/levels.md measures the umbrella's slope at about 16 dB a decade of rate).
+    RendererConfig config = scene_config("umbrella", 1);
+    const LevelChoice at_default = choose_level(config, default_target_lufs, 1.0);
+    RendererConfig heavy = config;
+    heavy.rain_rate_mm_per_h = 50.0;   // what --rain 50 sets
+    const LevelChoice at_heavy = choose_level(heavy, default_target_lufs, 1.0);
+    CHECK(at_heavy.gain_db == at_default.gain_db);
+    heavy.level_gain_db = at_default.gain_db;
+    heavy.limiter = false;   // the unlimited level: the limiter would hold the peaks at -1 dBFS
+    const double loud = render_lufs(heavy, 1.5);
+    MESSAGE("umbrella at 50 mm/h with the 2 mm/h gain: " << loud << " LUFS");
+    CHECK(loud - default_target_lufs >= 20.0);
+}

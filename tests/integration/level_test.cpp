@@ -1,0 +1,105 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Level and loudness against the real daemon over UDP (docs/loudness.md): /gain and /loudness set,
+// queried and refused; the calibration in /status.reply and /loudness.reply; --level physical.
+
+#include <doctest/doctest.h>
+#include <signal.h>
+
+#include <cmath>
+#include <fstream>
+#include <string>
+#include <thread>
+
+#include "tests/support/daemon_process.hpp"
+#include "tests/support/osc_shorthand.hpp"
+#include "tests/support/osc_test_client.hpp"
+#include "tests/support/temp_dir.hpp"
+
+using namespace ameoto::test::osc_shorthand;
+using namespace std::chrono_literals;
+using ameoto::protocol::OscArgument;
+using ameoto::test::OscTestClient;
+using Daemon = ameoto::test::DaemonProcess;
+
+namespace {
+
+constexpr double level_physical_full_scale = 133.9794;   // 20 log10(100 Pa / 20 uPa), dB SPL
+
+ameoto::protocol::DecodedMessage ask_level(OscTestClient& c, const std::string& address) {
+    auto r = c.request(address, {}, address + ".reply", 2s);
+    REQUIRE_MESSAGE(r, "no " << address << ".reply");
+    return *r;
+}
+
+std::string read_level_report(const std::string& path) {
+    std::ifstream in(path);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+}  // namespace
+
+TEST_CASE("/gain and /loudness: set, queried, refused out of range with nothing changed; the calibration follows") {
+    const std::string report = ameoto::test::temp_path("level-rt.txt");
+    {
+        Daemon d({"--backend", "null", "--output", "-", "--realtime", "--rain", "20", "--level", "auto"},
+                 {"LD_PRELOAD=" AMEOTO_RT_INTERPOSER, "AMEOTO_RT_REPORT=" + report});
+        OscTestClient c(d.port());
+        auto l = ask_level(c, "/loudness");
+        REQUIRE(l.types == "sfffff");
+        CHECK(l.args[0].text == "auto");
+        CHECK(l.args[1].number == -23.0f);
+        const double measured = l.args[2].number, level = l.args[3].number;
+        CHECK(measured < -23.0);   // the umbrella's 2 mm/h at 1.0 = 100 Pa is quieter than the target
+        CHECK(level == doctest::Approx(-23.0 - measured).epsilon(1e-5));
+        CHECK(l.args[4].number == 0.0f);
+        CHECK(l.args[5].number == doctest::Approx(level_physical_full_scale - level).epsilon(1e-5));
+        CHECK(ask_level(c, "/gain").args[0].number == 0.0f);
+
+        c.send("/gain", {f(-6.0)});
+        CHECK(ask_level(c, "/gain").args[0].number == -6.0f);
+        auto fail = c.request("/gain", {f(90.0)}, "/fail", 2s);
+        REQUIRE(fail);
+        CHECK(fail->args[0].text == "/gain");
+        CHECK(fail->args[1].text.find("outside -80..80") != std::string::npos);
+        CHECK(ask_level(c, "/gain").args[0].number == -6.0f);
+
+        c.send("/loudness", {f(-18.0)});
+        l = ask_level(c, "/loudness");
+        CHECK(l.args[1].number == -18.0f);
+        CHECK(l.args[2].number == doctest::Approx(measured).epsilon(1e-6));        // not measured again
+        CHECK(l.args[3].number == doctest::Approx(level + 5.0).epsilon(1e-5));     // moved by the difference
+        CHECK(l.args[5].number == doctest::Approx(level_physical_full_scale - level - 5.0 + 6.0).epsilon(1e-5));
+        REQUIRE(c.request("/loudness", {f(0.0)}, "/fail", 2s));
+        CHECK(ask_level(c, "/loudness").args[1].number == -18.0f);
+
+        // /status.reply field 15 says the same once the audio thread has applied both (field 14: clipped).
+        REQUIRE(c.request("/sync", {i(1)}, "/synced", 2s));
+        const auto status = c.request("/status", {}, "/status.reply", 2s);
+        REQUIRE(status);
+        CHECK(status->args[14].number == doctest::Approx(level_physical_full_scale - level - 5.0 + 6.0).epsilon(1e-5));
+        CHECK(status->args[13].integer == 0);   // 20 mm/h, 20 dB over the target's rain: the limiter holds it
+        for (int k = 0; k < 20; ++k) c.send("/gain", {f(k % 2 ? 12.0 : -12.0)});   // ramps, one after another
+        REQUIRE(c.request("/sync", {i(2)}, "/synced", 2s));
+        std::this_thread::sleep_for(200ms);
+        CHECK(d.process().stop(SIGTERM, 5s) == 0);
+    }
+    // The gain ramps and the limiter ran on the audio thread without allocating, locking or logging.
+    const std::string rt = read_level_report(report);
+    INFO(rt);
+    CHECK(rt.find("violations 0\n") != std::string::npos);
+    CHECK(rt.find("entries 0\n") == std::string::npos);
+}
+
+TEST_CASE("--level physical: 1.0 = 100 Pa, no loudness target; --gain sets the gain") {
+    Daemon d({"--backend", "null", "--output", "-", "--level", "physical", "--gain", "20"});
+    OscTestClient c(d.port());
+    const auto l = ask_level(c, "/loudness");
+    CHECK(l.args[0].text == "physical");
+    CHECK(l.args[3].number == 0.0f);
+    CHECK(l.args[4].number == 20.0f);
+    CHECK(l.args[5].number == doctest::Approx(level_physical_full_scale - 20.0).epsilon(1e-5));
+    const auto fail = c.request("/loudness", {f(-20.0)}, "/fail", 2s);
+    REQUIRE(fail);
+    CHECK(fail->args[1].text.find("physical") != std::string::npos);
+    CHECK(ask_level(c, "/loudness").args[1].number == -23.0f);
+}
