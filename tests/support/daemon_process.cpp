@@ -6,8 +6,9 @@
 namespace ameoto::test {
 namespace {
 
-std::vector<std::string> command_line(std::vector<std::string> arguments) {
+std::vector<std::string> command_line(std::vector<std::string> arguments, const std::vector<std::string>& wrapper) {
     arguments.insert(arguments.begin(), AMEOTO_BIN_DIR "/ameotod");
+    arguments.insert(arguments.begin(), wrapper.begin(), wrapper.end());
     arguments.insert(arguments.end(), {"--port", "0"});
     return arguments;
 }
@@ -17,7 +18,7 @@ std::string within(std::chrono::milliseconds t) { return "within " + std::to_str
 }  // namespace
 
 DaemonProcess::DaemonProcess(std::vector<std::string> arguments, const std::vector<std::string>& env, const DaemonOptions& options)
-    : process_(command_line(std::move(arguments)), env, options.child) {
+    : process_(command_line(std::move(arguments), options.wrapper), env, options.child) {
     // A throw from here on destroys process_, which stops ameotod.
     const auto line = process_.wait_for_line("listening on osc.udp://", options.listen_timeout);
     if (!line)
