@@ -150,7 +150,9 @@ TEST_CASE("PipeWire: ameotod under pw-jack plays into a null sink, its monitor t
         const auto after = ameoto::test::status_reply(client);
         played = after.args[10].number;
         xruns = after.args[6].integer;
-        CHECK(d.process().stop(SIGTERM, 5s) == 0);
+        const int status = d.process().stop(SIGTERM, 5s);
+        INFO("ameotod printed:\n" << d.process().output());
+        CHECK(status == 0);
     }
     const auto recorded = ameoto::test::read_wav(recording);
     REQUIRE_MESSAGE(recorded.ok, recorded.error);
