@@ -74,6 +74,10 @@ Options:
                       key. Over OSC, /scene/load takes names only
   --scene-dir DIR     the scene folder for /scene/load and /scene/save (default
                       $XDG_DATA_HOME/ameoto/scenes, else ~/.local/share/ameoto/scenes)
+  --node K            play node K's part of the scene, 1..16: only the surfaces the
+                      scene file gives node K (node=K; default node 1), with the same
+                      listener and rain (give every node the same --seed): the nodes'
+                      outputs sum to the whole scene (default: the whole scene)
   --rain MM/H         starting rain rate, 0..500 mm/h (default: the scene's; 0 for a
                       dry start where only /drop sounds)
   --fixed-detail      never shed detail because of the measured load: the stream then
@@ -147,6 +151,9 @@ ParsedOptions parse_options(int argc, const char* const* argv) {
             o.realtime = true;
         } else if (arg == "--offline") {
             o.realtime = false;
+        } else if (arg == "--node") {
+            if (!value(v) || !parse_int(v, 1, max_scene_nodes, n)) return fail("--node needs a node number 1..16");
+            o.node = static_cast<int>(n);
         } else if (arg == "--realtime-priority") {
             if (!value(v) || !parse_int(v, 0, 99, n))
                 return fail("--realtime-priority needs a priority 1..99, or 0 for normal scheduling");

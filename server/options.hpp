@@ -33,6 +33,7 @@ struct DaemonOptions {
     std::optional<double> duration_s;
     std::uint64_t seed = 0;
     int channels = 2;
+    int node = 0;                         // --node K: only the scene's surfaces on node K (0: all)
     std::string scene = "umbrella";       // a built-in scene, a NAME.scene in scene_folder (is_scene_name),
                                           // or else the path of a scene file (ending in .scene)
     std::optional<std::string> scene_folder;   // default: SceneStore::default_folder()

@@ -46,6 +46,7 @@ std::optional<FirstScene> read_first_scene(const DaemonOptions& options, double 
     first.base.sample_rate = sample_rate;
     first.base.channels = options.channels;
     first.base.seed = options.seed;
+    first.base.node = options.node;   // kept by every later /scene/load (base_config_)
     // Shedding detail by measured load makes the output depend on the machine: live playback only. An
     // offline render (null backend, not paced) stays reproducible to the sample.
     first.base.adaptive_lod = !options.fixed_detail && live;

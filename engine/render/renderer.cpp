@@ -27,6 +27,7 @@ const RendererConfig& checked(const RendererConfig& config) {
         throw std::invalid_argument("channels must be 1 to 16");
     if (!(config.sample_rate >= 8000.0 && config.sample_rate <= 384000.0))
         throw std::invalid_argument("sample rate must be 8000 to 384000 Hz");
+    if (config.node < 0 || config.node > max_scene_nodes) throw std::invalid_argument("node must be 0 (the whole scene) to 16");
     if (config.full_drops < 0 || config.full_drops > Renderer::max_full_drops)
         throw std::invalid_argument("full drops must be 0 to 64");
     if (!(config.lod_budget >= 0.01 && config.lod_budget <= 0.95)) throw std::invalid_argument("lod budget must be 0.01 to 0.95");
@@ -43,6 +44,12 @@ OutputStageConfig output_config(const RendererConfig& config) {
 }
 
 }  // namespace
+
+bool umbrella_on_node(const SceneDescription& scene, int node) {
+    return std::any_of(scene.surfaces.begin(), scene.surfaces.end(), [node](const SurfaceDescription& s) {
+        return s.kind == SurfaceKind::umbrella && (node == 0 || s.node == node);
+    });
+}
 
 RendererConfig configure_for_scene(RendererConfig config, const SceneDescription& scene, MaterialResolver material,
                                    const void* context) {
@@ -77,9 +84,8 @@ std::unique_ptr<LoadedScene> Renderer::make_loaded_scene(const RendererConfig& c
     auto loaded = std::make_unique<LoadedScene>();
     loaded->umbrella = make_scene(config);
     loaded->surfaces = std::make_unique<SceneSurfaces>(config.scene, config.sample_rate, config.channels, config.seed,
-                                                       config.full_scale_pa);
-    loaded->has_umbrella = std::any_of(config.scene.surfaces.begin(), config.scene.surfaces.end(),
-                                       [](const SurfaceDescription& s) { return s.kind == SurfaceKind::umbrella; });
+                                                       config.full_scale_pa, config.node);
+    loaded->has_umbrella = umbrella_on_node(config.scene, config.node);
     loaded->rain = std::make_unique<RainSpawner>(rain_config_for(loaded->umbrella->drops.canopy(), config.scene.rain));
     loaded->rain_rate_mm_per_h = config.rain_rate_mm_per_h;
     loaded->wind_m_per_s = config.scene.rain.wind_m_per_s;
@@ -131,10 +137,9 @@ Renderer::Renderer(const RendererConfig& config)
       grain_noise_(config.seed ^ 0x9E3779B97F4A7C15ull),
       output_(output_config(config_)) {
     set_level_db(config_.level_gain_db, false);
-    surface_rng_ = Random(config.seed ^ 0xD1B54A32D192ED03ull);
-    surfaces_ = new SceneSurfaces(config_.scene, config_.sample_rate, config_.channels, config_.seed, config_.full_scale_pa);
-    has_umbrella_ = std::any_of(config_.scene.surfaces.begin(), config_.scene.surfaces.end(),
-                                [](const SurfaceDescription& s) { return s.kind == SurfaceKind::umbrella; });
+    surfaces_ = new SceneSurfaces(config_.scene, config_.sample_rate, config_.channels, config_.seed, config_.full_scale_pa,
+                                  config_.node);
+    has_umbrella_ = umbrella_on_node(config_.scene, config_.node);
     rain_->set_rate_now(has_umbrella_ ? config.rain_rate_mm_per_h : 0.0);
     wind_ = Wind(Wind::Config{.turbulence_intensity = config_.scene.rain.gustiness});
     wind_.set_now(config_.scene.rain.wind_m_per_s, config_.scene.rain.wind_direction_rad);
@@ -390,7 +395,7 @@ void Renderer::render_sample(float* const* outputs, int offset) {
     float frame[max_channels] = {};
     const int channels = config_.channels;
     if (has_umbrella_) scene_->drops.process_frame(frame);
-    surfaces_->render(frame, surface_rng_, wind_);
+    surfaces_->render(frame, wind_);
     if (level_ramp_left_ > 0) {
         level_ *= level_step_;
         if (--level_ramp_left_ == 0) level_ = level_target_;
@@ -400,7 +405,7 @@ void Renderer::render_sample(float* const* outputs, int offset) {
     if (fading_) {
         float old[max_channels] = {};
         if (fading_has_umbrella_) fading_->drops.process_frame(old);
-        if (fading_surfaces_) fading_surfaces_->render(old, surface_rng_, wind_);
+        if (fading_surfaces_) fading_surfaces_->render(old, wind_);
         for (int ch = 0; ch < channels; ++ch) frame[ch] = scaled(frame[ch], level_) + scaled(old[ch], fading_level_);
         if (--fade_left_ <= 0) {
             // If the event list is full they ring on and are handed back at a later sample.

@@ -99,6 +99,10 @@ struct RendererConfig {
     bool limiter = false;
     NetworkOptions canopy_network{};      // the canopy panels' method; configure_for_scene sets it from the
                                           // scene's accuracy budget (core/method_choice.hpp)
+    int node = 0;                         // 1..16: render only the surfaces the scene gives this node (its
+                                          // umbrella too if it is that node's); 0: the whole scene. Same
+                                          // seed, same listener and rain: the nodes' outputs sum to the
+                                          // whole scene's (scene_surfaces.hpp)
 };
 
 struct RendererStats {
@@ -134,6 +138,9 @@ struct BlockActivity {
     double detail = 1.0;          // the governor's detail at the end of the block
     bool scene_changed = false;   // a scene, surface or liquid was installed in this block
 };
+
+// Whether the scene's umbrella (if it has one) is rendered by `node` (0: the whole scene).
+bool umbrella_on_node(const SceneDescription& scene, int node);
 
 // Sets config's umbrella fields, rain rate and LOD from the scene, and the scene itself; throws
 // std::invalid_argument with the reason (an unknown umbrella material, a listener not under the umbrella).
@@ -208,7 +215,6 @@ private:
     bool has_umbrella_ = true;
     bool fading_has_umbrella_ = true;
     int fade_left_ = 0;
-    Random surface_rng_;                         // the other surfaces' rain, apart from the umbrella's
     double rain_rate_ = 0.0;                     // mm/h, the scene's target
     RainSpawner* rain_ = nullptr;        // the umbrella's rain (owned; swapped with a loaded scene's DSD)
     Wind wind_;

@@ -15,7 +15,7 @@ constexpr double water_density = 998.0;
 }  // namespace
 
 SceneSurfaces::SceneSurfaces(const SceneDescription& scene, double sample_rate, int channels, std::uint64_t seed,
-                             double full_scale_pa)
+                             double full_scale_pa, int node)
     : channels_(channels), dt_(1.0 / sample_rate), inverse_full_scale_(1.0 / full_scale_pa) {
     const ListenerDescription& l = scene.listener;
     listener_ = Vec3{l.x_m, l.y_m, l.z_m};
@@ -24,14 +24,19 @@ SceneSurfaces::SceneSurfaces(const SceneDescription& scene, double sample_rate, 
     std::uint64_t k = 0;
     for (const SurfaceDescription& s : scene.surfaces) {
         if (s.kind == SurfaceKind::umbrella) continue;
-        auto source = make_surface_source(s, sample_rate, seed + 0x51ED27u * ++k);
+        // k counts every surface of the scene, rendered here or not: a surface's streams do not depend on
+        // which node renders it. The first surface's rain stream is the renderer's former shared one.
+        const std::uint64_t stream = (seed ^ 0xD1B54A32D192ED03ull) + 0x9E3779B97F4A7C15ull * k;
+        ++k;
+        if (node != 0 && s.node != node) continue;
+        auto source = make_surface_source(s, sample_rate, seed + 0x51ED27u * k);
         RainSpawner rain(RainSpawner::Config{.area_m2 = source->area_m2(), .dsd = dsd});
         rain.set_rate_now(scene.rain.rate_mm_per_h);
         PropagationConfig pc;
         pc.sample_rate = sample_rate;
         pc.max_distance_m = 2000.0;   // the scene file's positions reach 1000 m each way
         pc.min_distance_m = min_distance_m;
-        placed_.push_back(Placed{std::move(source), std::move(rain), Propagation(pc), Vec3{s.x_m, s.y_m, s.z_m}, 1.0, {}});
+        placed_.push_back(Placed{std::move(source), std::move(rain), Random(stream), Propagation(pc), Vec3{s.x_m, s.y_m, s.z_m}, 1.0, {}});
         place(placed_.back(), true);
     }
 }
@@ -62,9 +67,10 @@ void SceneSurfaces::set_rate_now(double mm_per_h) {
     for (Placed& p : placed_) p.rain.set_rate_now(mm_per_h);
 }
 
-void SceneSurfaces::render(float* frame, Random& rng, const Wind& wind) {
+void SceneSurfaces::render(float* frame, const Wind& wind) {
     // The scene's surfaces lie horizontal (scene_description.hpp).
     for (Placed& p : placed_) {
+        Random& rng = p.rng;
         const int arrivals = p.rain.advance(dt_, rng);
         for (int a = 0; a < arrivals; ++a) {
             const double d = p.rain.sample_diameter_m(rng);

@@ -11,13 +11,23 @@
 // Interface:
 //   SceneSurfaces s(scene_description, sample_rate, channels, seed);   // off the audio thread; throws
 //                                                                      // std::invalid_argument (a surface's reason)
+//   SceneSurfaces s(scene_description, sample_rate, channels, seed, full_scale_pa, node);
+//                                           // node K (1..16): only the surfaces the scene gives node K;
+//                                           // 0 (the default): all of them
 //   ---- audio thread: no allocation ----
 //   s.set_rate(mm_per_h);                   // every surface's rain ramps there (1 s)
-//   s.render(frame, rng, wind);             // adds this sample of every surface into frame[channel], in
+//   s.render(frame, wind);                  // adds this sample of every surface into frame[channel], in
 //                                           // full-scale units (1.0 = full_scale_pa)
 //   s.set_listener(x, y, z, facing_rad);    // the paths glide there (20 ms); the panning follows
 //   s.drops()                               // drops struck so far
 //   s.count(), s.distance_m(i), s.delay_samples(i)
+//
+// Each surface draws its rain (arrivals, sizes, points, the strike's own draws) from a random stream of
+// its own, seeded from the seed and its place among the scene's surfaces: a surface sounds the same
+// whichever other surfaces are rendered beside it, so a scene split over several nodes (each with the
+// same seed) sums to the whole scene's samples (up to the float rounding of the sum's order). The
+// scene's first surface's stream is the one all surfaces once shared, so a scene with one surface
+// besides an umbrella renders as it did.
 //
 // r is the distance from the listener's ears to the surface's centre, at least 0.5 m (a surface is no
 // point source nearer than its own size allows; the floor keeps a surface under the listener's feet
@@ -41,11 +51,11 @@ namespace ameoto {
 class SceneSurfaces {
 public:
     SceneSurfaces(const SceneDescription& scene, double sample_rate, int channels, std::uint64_t seed,
-                  double full_scale_pa = 100.0);
+                  double full_scale_pa = 100.0, int node = 0);
 
     void set_rate(double mm_per_h);
     void set_rate_now(double mm_per_h);
-    void render(float* frame, Random& rng, const Wind& wind);
+    void render(float* frame, const Wind& wind);
     void set_listener(double x_m, double y_m, double z_m, double facing_rad);
 
     int count() const { return static_cast<int>(placed_.size()); }
@@ -57,6 +67,7 @@ private:
     struct Placed {
         std::unique_ptr<SurfaceSource> source;
         RainSpawner rain;
+        Random rng;                      // this surface's rain and strikes only
         Propagation path;
         Vec3 centre;
         double distance_m = 1.0;

@@ -34,6 +34,7 @@ constexpr Range budget_range{1.0, 95.0};         // % of the block period
 constexpr Range full_range{0.0, 64.0};
 constexpr Range panels_range{3.0, 16.0};
 constexpr Range gain_range{-80.0, 80.0};         // dB: the listening gain (engine/render/output_stage.hpp)
+constexpr Range node_range{1.0, static_cast<double>(max_scene_nodes)};
 
 // The shortest text that reads back as the same double (so a saved scene reloads exactly).
 std::string number(double v) {
@@ -149,6 +150,8 @@ std::string validate_scene(const SceneDescription& s) {
                                        check_number("y", f.y_m, position_range, "m"),
                                        check_number("z", f.z_m, position_range, "m")})
             if (!why.empty()) return which + why;
+        if (f.node < 1 || f.node > max_scene_nodes)
+            return which + "node " + std::to_string(f.node) + " is outside 1.." + std::to_string(max_scene_nodes);
         if (f.kind == SurfaceKind::umbrella) {
             if (!in(panels_range, f.panels)) return which + "panels " + std::to_string(f.panels) + " is outside 3..16";
             if (f.size_x_m > 3.0) return which + "an umbrella's diameter " + number(f.size_x_m) + " m is outside 0.05..3";
@@ -339,7 +342,7 @@ SceneDescription parse_scene(std::string_view text, const std::string& file) {
             }
             if (version > scene_format_version)
                 throw SceneFileError(file, number, "version",
-                                     "version " + std::to_string(version) + " needs a newer ameoto (this one reads versions 1 and 2)");
+                                     "version " + std::to_string(version) + " needs a newer ameoto (this one reads versions 1 to 3)");
             if (version < 1) throw SceneFileError(file, number, "version", "version " + std::to_string(version) + " does not exist");
             have_header = true;
             file_version = version;
@@ -434,6 +437,10 @@ SceneDescription parse_scene(std::string_view text, const std::string& file) {
                 if (panels != std::floor(panels)) r.fail("panels", "is not a whole number");
                 f.panels = static_cast<int>(panels);
             }
+            if (r.has("node") && file_version < 3) r.fail("node", "the node key needs version 3 (start the file with 'ameoto-scene 3')");
+            const double node = r.number("node", 1, node_range, "");
+            if (node != std::floor(node)) r.fail("node", "is not a whole number");
+            f.node = static_cast<int>(node);
             for (const auto& other : s.surfaces)
                 if (other.name == f.name) r.fail("surface", "a second surface named '" + f.name + "'");
             s.surfaces.push_back(f);
@@ -449,7 +456,10 @@ SceneDescription parse_scene(std::string_view text, const std::string& file) {
 
 std::string format_scene(const SceneDescription& s) {
     std::ostringstream out;
-    out << "ameoto-scene " << (s.accuracy || s.gain_db != 0.0 ? 2 : 1) << "\n";   // version 1 readers load what needs nothing new
+    // Older readers load what needs nothing new: version 3 only for surfaces on other nodes, 2 for accuracy
+    // or a gain.
+    const bool nodes = std::any_of(s.surfaces.begin(), s.surfaces.end(), [](const SurfaceDescription& f) { return f.node != 1; });
+    out << "ameoto-scene " << (nodes ? 3 : s.accuracy || s.gain_db != 0.0 ? 2 : 1) << "\n";
     out << "# written by ameoto; units: rate mm/h, wind m/s, direction and facing degrees, sizes and positions m,\n";
     out << "# budget % of the block period, gain dB (docs/scenes.md)\n";
     out << "name " << s.name << "\n";
@@ -465,6 +475,7 @@ std::string format_scene(const SceneDescription& s) {
             << " size=" << number(f.size_x_m) << "x" << number(f.size_y_m) << " x=" << number(f.x_m)
             << " y=" << number(f.y_m) << " z=" << number(f.z_m);
         if (f.kind == SurfaceKind::umbrella) out << " panels=" << f.panels;
+        if (f.node != 1) out << " node=" << f.node;
         out << "\n";
     }
     if (s.gain_db != 0.0) out << "output gain=" << number(s.gain_db) << "\n";

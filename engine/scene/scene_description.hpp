@@ -28,6 +28,11 @@
 //   accuracy cents=C | db=D              the accuracy budget (core/method_choice.hpp): the canopy runs the
 //                                        cheapest measured method within C cents of frequency error or
 //                                        D dB of log-spectral distance
+// Version 3 adds one optional key on surface lines (what needs nothing new is still written as 1 or 2):
+//   surface ... node=K                   the node (1..16) that renders this surface when the scene is
+//                                        played by several ameotod (--node K); default 1. Every node
+//                                        renders the same listener and rain (the same seed): the sum of
+//                                        the nodes' outputs is the whole scene's (renderer.hpp)
 // Keys after the first word are key=value pairs in any order; unknown keys, repeated keys, missing
 // required keys and values out of range are errors naming the line and the key. A later version
 // number is refused (the file needs a newer ameoto); lines are at most 1024 characters, files at most
@@ -58,6 +63,7 @@ struct SurfaceDescription {
     double size_x_m = 1.0, size_y_m = 1.0;   // umbrella: diameter (size_y = size_x); others: extent
     double x_m = 0.0, y_m = 0.0, z_m = 0.0;  // centre (umbrella: top of the shaft)
     int panels = 8;                      // umbrella only
+    int node = 1;                        // the node that renders it, 1..max_scene_nodes (version 3)
     bool operator==(const SurfaceDescription&) const = default;
 };
 
@@ -96,8 +102,9 @@ struct SceneDescription {
     bool operator==(const SceneDescription&) const = default;
 };
 
-inline constexpr int scene_format_version = 2;   // the newest this ameoto reads (and writes when needed)
+inline constexpr int scene_format_version = 3;   // the newest this ameoto reads (and writes when needed)
 inline constexpr int max_scene_surfaces = 16;
+inline constexpr int max_scene_nodes = 16;
 inline constexpr std::size_t max_scene_line = 1024;
 inline constexpr std::size_t max_scene_file_bytes = 64 * 1024;
 

@@ -151,3 +151,14 @@ TEST_CASE("--level, --loudness, --gain, --limiter: defaults, valid values, refus
     CHECK(parse({"--limiter", "yes"}).error == "--limiter needs on or off");
     CHECK(ameoto::usage().find("0 dBFS = 133.98 dB SPL") != std::string::npos);   // the calibration, stated
 }
+
+TEST_CASE("--node takes the scene's node 1..16 to play; the whole scene (0) by default") {
+    CHECK(parse({}).options.node == 0);
+    CHECK(parse({"--node", "1"}).options.node == 1);
+    CHECK(parse({"--node", "16"}).options.node == 16);
+    for (const auto& args : std::vector<std::vector<const char*>>{{"--node", "0"}, {"--node", "17"}, {"--node", "x"}, {"--node"}}) {
+        const auto p = parse(args);
+        CHECK(p.error == "--node needs a node number 1..16");
+    }
+    CHECK(ameoto::usage().find("--node K") != std::string::npos);
+}

@@ -7,8 +7,9 @@
 namespace ameoto::test {
 namespace {
 
-std::vector<std::string> command_line(std::vector<std::string> arguments) {
+std::vector<std::string> command_line(std::vector<std::string> arguments, const std::vector<std::string>& wrapper) {
     arguments.insert(arguments.begin(), AMEOTO_BIN_DIR "/ameotod");
+    arguments.insert(arguments.begin(), wrapper.begin(), wrapper.end());
     arguments.insert(arguments.end(), {"--port", "0"});
     // --level physical unless the test chooses: most tests check the physical samples (and the drop's onset
     // without the limiter's look-ahead), and --level auto's calibration render would cost every start about
@@ -22,7 +23,7 @@ std::string within(std::chrono::milliseconds t) { return "within " + std::to_str
 }  // namespace
 
 DaemonProcess::DaemonProcess(std::vector<std::string> arguments, const std::vector<std::string>& env, const DaemonOptions& options)
-    : process_(command_line(std::move(arguments)), env, options.child) {
+    : process_(command_line(std::move(arguments), options.wrapper), env, options.child) {
     // A throw from here on destroys process_, which stops ameotod.
     const auto line = process_.wait_for_line("listening on osc.udp://", options.listen_timeout);
     if (!line)

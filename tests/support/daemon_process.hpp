@@ -15,6 +15,7 @@
 //   o.listen_timeout = 15s;        // for the listening line (default 30 s)
 //   o.running_timeout = 10s;       // then for "running" (default 10 s)
 //   o.child.unset_env = {...};     // ChildOptions for the process
+//   o.wrapper = {"pw-jack"};       // a program that runs ameotod: WRAPPER... AMEOTO_BIN_DIR/ameotod ARGS
 //   DaemonProcess d(args, env, o);
 //
 // The constructor returns once ameotod has said "running" after the listening line; when either
@@ -37,6 +38,7 @@ struct DaemonOptions {
     std::chrono::milliseconds listen_timeout{30000};
     std::chrono::milliseconds running_timeout{10000};
     ChildOptions child;
+    std::vector<std::string> wrapper;
 
     // For tests that start ameotod many times beside others' builds: 30 s to listen and 30 s until
     // its first "running" line (both stretched under the sanitizers).
