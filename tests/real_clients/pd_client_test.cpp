@@ -44,7 +44,7 @@ TEST_CASE("Pd: [ameoto] sets the rain rate, sends drops, gets /fail, /synced and
     CHECK(run.out.find("reply: synced 5") != std::string::npos);
 
     const auto status = name_value_lines(run.out, "status: ");
-    REQUIRE(status.size() == 15);
+    REQUIRE(status.size() == 16);
     CHECK(status.at("backend") == "null");
     CHECK(std::stod(status.at("full_scale_db_spl")) == doctest::Approx(133.98).epsilon(1e-4));   // --level physical
     CHECK(status.at("clipped_samples") == "0");
