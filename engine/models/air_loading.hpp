@@ -73,6 +73,21 @@ AddedMass screen_added_mass(const ScreenSampling& sampling, double air_density);
 // shell's approximation, canopy.hpp): each square belongs to the node Canopy::locate gives there.
 AddedMass canopy_added_mass(const Canopy& canopy, double square_side_m, double air_density);
 
+// The umbrella's air mass converged in the cell size, for the server (the call above keeps one ring per
+// node, whose O(h) over-estimate is about +6 % at the umbrella's 45 mm cells). Each panel's triangle is
+// cut into rows x (rows + 1) / 2 nearly square sub-cells, each a ring of its own moving with the node that
+// Canopy::locate gives at its centre; the cells' forces are summed per node (M_a = P' M_cells P, P the
+// 0/1 owner matrix). The panels are one triangle turned by 2 pi / N, so the cells' G is block circulant:
+// it is solved on the N Fourier modes over the panel index, one panel's size each. With extrapolate,
+// the same at rows / 2 and M_a = (r2 M(r2) - r1 M(r1)) / (r2 - r1) (Richardson; the error is O(h)).
+// area and centroid are the finer level's. Throws std::invalid_argument for rows < 2 or a density <= 0,
+// std::runtime_error if some node owns no sub-cell at rows / 2 (more rows).
+struct CanopyAirMassOptions {
+    int rows = 24;            // the finer level's rows from the shaft to the hem (300 sub-cells a panel)
+    bool extrapolate = true;  // with rows / 2 (78 a panel): Richardson
+};
+AddedMass canopy_added_mass(const Canopy& canopy, double air_density, const CanopyAirMassOptions& options = {});
+
 // The modes of the whole canopy (every panel; node index panel * nodes + node) in air, from the
 // panels' own K and M (its lattice) and the air's M_a: mass-normalised, Phi' (M + M_a) Phi = I, with
 // each mode's decay rate s_k = (Phi' C Phi)_kk / 2 from the material's damping C = alpha M + beta K
