@@ -10,8 +10,11 @@
 //                                                         // 0..N-1, or -1 where there is no screen
 //   AddedMass a = screen_added_mass(s, rho0);             // a.matrix (N x N, kg), a.area (m^2 per
 //                                                         // cell), a.centroid (collocation points)
-//   AddedMass c = canopy_added_mass(canopy, h, rho0);     // the umbrella's nodes, panel-major
-//                                                         // (index panel * nodes + node)
+//   AddedMass c = canopy_added_mass(canopy, rho0);        // the umbrella's nodes, panel-major
+//                                                         // (index panel * nodes + node), converged
+//                                                         // in the cell size (0.3 s of CPU): use this
+//   AddedMass o = canopy_added_mass(canopy, h, rho0);     // the same by one ring per node (squares of
+//                                                         // side h): about 6 % too much air
 //   a.matrix * acceleration = the force the air puts on each cell, with the sign reversed: the
 //   equation of motion in air is (M + M_a) u'' + C u' + K u = f.
 //   AirLoadedModes m = air_loaded_modes(canopy, a);       // the whole canopy's modes in air:
@@ -37,7 +40,9 @@
 // Cells: every square of the sampling belongs to one cell; a cell's ring is the sum of its squares'
 // rings, so only edges between different owners (or the outside) are kept, merged along straight runs.
 // Accuracy (tests/engine/models/air_loading_test.cpp): a disc's added mass against Lamb's
-// (8/3) rho0 a^3 (Hydrodynamics, section 108), and the modes of Christian et al.'s timpani head in air.
+// (8/3) rho0 a^3 (Hydrodynamics, section 108), and the modes of Christian et al.'s timpani head in air;
+// the umbrella's first 10 panel modes against the FDTD reference (tests/engine/reference/
+// canopy_modes_test.cpp, docs/canopy.md: -1.5 .. +0.9 %, mode 4 -3.9 %).
 
 #include <functional>
 #include <vector>
@@ -72,6 +77,21 @@ AddedMass screen_added_mass(const ScreenSampling& sampling, double air_density);
 // The umbrella's canopy seen from above (a flat canopy; a curved one is taken as its plan: the shallow
 // shell's approximation, canopy.hpp): each square belongs to the node Canopy::locate gives there.
 AddedMass canopy_added_mass(const Canopy& canopy, double square_side_m, double air_density);
+
+// The umbrella's air mass converged in the cell size, for the server (the call above keeps one ring per
+// node, whose O(h) over-estimate is about +6 % at the umbrella's 45 mm cells). Each panel's triangle is
+// cut into rows x (rows + 1) / 2 nearly square sub-cells, each a ring of its own moving with the node that
+// Canopy::locate gives at its centre; the cells' forces are summed per node (M_a = P' M_cells P, P the
+// 0/1 owner matrix). The panels are one triangle turned by 2 pi / N, so the cells' G is block circulant:
+// it is solved on the N Fourier modes over the panel index, one panel's size each. With extrapolate,
+// the same at rows / 2 and M_a = (r2 M(r2) - r1 M(r1)) / (r2 - r1) (Richardson; the error is O(h)).
+// area and centroid are the finer level's. Throws std::invalid_argument for rows < 2 or a density <= 0,
+// std::runtime_error if some node owns no sub-cell at rows / 2 (more rows).
+struct CanopyAirMassOptions {
+    int rows = 24;            // the finer level's rows from the shaft to the hem (300 sub-cells a panel)
+    bool extrapolate = true;  // with rows / 2 (78 a panel): Richardson
+};
+AddedMass canopy_added_mass(const Canopy& canopy, double air_density, const CanopyAirMassOptions& options = {});
 
 // The modes of the whole canopy (every panel; node index panel * nodes + node) in air, from the
 // panels' own K and M (its lattice) and the air's M_a: mass-normalised, Phi' (M + M_a) Phi = I, with

@@ -5,9 +5,11 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <complex>
 #include <limits>
 #include <stdexcept>
 
+#include "engine/core/modal_decomposition.hpp"
 #include "engine/core/physical_constants.hpp"
 #include "engine/reference/air_solver.hpp"
 #include "engine/reference/spectrum.hpp"
@@ -140,6 +142,58 @@ std::vector<PanelMode> panel_modes_in_air(const CanopyInAirSetup& setup, int mod
         }
         mode.air_hz = peak_frequency(projection, r.sample_interval_s, 0.2 * mode.vacuum_hz, 1.05 * mode.vacuum_hz);
         out.push_back(mode);
+    }
+    return out;
+}
+
+std::vector<double> modal_panel_modes(const CanopyInAirSetup& s, const Canopy& canopy, const AirLoadedModes& air, int modes) {
+    const int nodes = canopy.nodes_per_panel();
+    if (air.shapes.rows() != canopy.panel_count() * nodes)
+        throw std::invalid_argument("modal_panel_modes: the modes are not the canopy's");
+    if (s.panel < 0 || s.panel >= canopy.panel_count() || s.node < -1 || s.node >= nodes)
+        throw std::invalid_argument("modal_panel_modes: the struck panel or node does not exist");
+    const ModalDecomposition vac = decompose_modes(canopy.panel(0).network.arrays());
+    const Point2 centre = canopy.panel_centroid(s.panel);
+    const int struck = s.panel * nodes + (s.node >= 0 ? s.node : canopy.locate(centre.x, centre.y).node);
+    modes = std::clamp(modes, 1, nodes);
+    const double dt = 1.0 / 40000.0;
+    const int steps = static_cast<int>(s.duration_s / dt);
+    constexpr int quadrature = 40;
+    // Each mode's velocity, v(t) = Re((1 + i s / w_d) e^(lambda t) F(t)), lambda = -s + i w_d, F(t) the
+    // midpoint sum of f(tau) e^(-lambda tau) over the pulse's points before t (the impulse response's
+    // convolution with the pulse, as one complex exponential): computed once per mode.
+    const Eigen::Index count = air.omega.size();
+    Eigen::MatrixXd velocity(steps, count);
+    for (Eigen::Index m = 0; m < count; ++m) {
+        const double sigma = air.damping_rate[m], w = air.omega[m];
+        const double wd = std::sqrt(std::max(w * w - sigma * sigma, 1e-12));
+        const std::complex<double> lambda(-sigma, wd), gain(1.0, sigma / wd);
+        std::complex<double> f = 0.0;
+        int k = 0;   // the pulse's points summed into f so far
+        for (int t = 0; t < steps; ++t) {
+            const double time = (t + 1) * dt;
+            for (; k < quadrature; ++k) {
+                const double tau = (k + 0.5) * s.pulse_s / quadrature;
+                if (tau >= time) break;
+                const double force = s.force_n * 0.5 * (1.0 - std::cos(2.0 * constants::pi * tau / s.pulse_s));
+                f += force * std::exp(-lambda * tau);
+            }
+            velocity(t, m) = (gain * std::exp(lambda * time) * f).real() * s.pulse_s / quadrature;
+        }
+    }
+    std::vector<double> out;
+    for (int q = 0; q < modes; ++q) {
+        // The struck panel's vacuum shape q against each mode, times the struck node's share of it.
+        Eigen::VectorXd weight(count);
+        for (Eigen::Index m = 0; m < count; ++m) {
+            double sum = 0.0;
+            for (int i = 0; i < nodes; ++i) sum += vac.shapes(i, q) * air.shapes(s.panel * nodes + i, m);
+            weight[m] = sum * air.shapes(struck, m);
+        }
+        const Eigen::VectorXd p = velocity * weight;
+        const std::vector<double> projection(p.data(), p.data() + p.size());
+        const double f_vac = vac.omega[q] / (2.0 * constants::pi);
+        out.push_back(peak_frequency(projection, dt, 0.2 * f_vac, 1.05 * f_vac));
     }
     return out;
 }

@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "engine/core/body3d_vec3.hpp"
+#include "engine/models/air_loading.hpp"
 #include "engine/models/canopy.hpp"
 #include "engine/models/membrane.hpp"
 
@@ -63,5 +64,13 @@ struct PanelMode {
 // mode out of the panel's own motion; the other panels ring with it through the air, so a mode of the
 // whole canopy that the panels share (in phase, out of phase) is what is found.
 std::vector<PanelMode> panel_modes_in_air(const CanopyInAirSetup& setup, int modes);
+
+// The same estimator on a modal model of the canopy (the fast model's, engine/models/air_loading.hpp:
+// modes of the whole canopy, node index panel * nodes + node, built for `canopy` with setup's geometry
+// and material): the struck panel's velocity after the same pulse at the same node, by modal
+// superposition (each mode's impulse response e^(-s t) (cos w_d t - (s / w_d) sin w_d t) for velocity,
+// convolved with the pulse by a 40-point midpoint rule, sampled at 40 kHz for setup.duration_s),
+// projected on the panel's vacuum modes and peaked in the same windows. Hz, `modes` of them.
+std::vector<double> modal_panel_modes(const CanopyInAirSetup& setup, const Canopy& canopy, const AirLoadedModes& air, int modes);
 
 }  // namespace ameoto::reference
