@@ -89,6 +89,8 @@ struct RendererConfig {
     double lod_full_level_db = 6.0;       // the governor's thresholds (lod_governor.hpp); benchmarks move
     double lod_texture_margin_db = 20.0;  // them to put every drop in one tier
     bool adaptive_lod = false;            // shed detail by measured load (live only: not reproducible)
+    bool settle = true;                   // the lattice drops' settling (drop_on_canopy.hpp); false: the
+                                          // model before it (ameoto bench render times both)
     NetworkOptions canopy_network{};      // the canopy panels' method; configure_for_scene sets it from the
                                           // scene's accuracy budget (core/method_choice.hpp)
 };
