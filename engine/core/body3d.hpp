@@ -28,6 +28,7 @@
 //   body.step(k);                                             // k output steps as one (a coarse step)
 //   for (const LinkBreak& e : body.breaks()) ...              // links that broke during that step
 //   body.set_position(m, p); body.set_velocity(m, v); body.reset();
+//   body.freeze(m, p); body.is_frozen(m)                      // out of the motion for good (1/m = 0, mass kept)
 //   body.position(m), velocity(m), momentum(), energy(), resets(), link_broken(l), stability(),
 //   body.positions()                                          // .x .y .z: every mass's coordinates
 //   body.lowest_z()                                           // the lowest mass's z after the last step
