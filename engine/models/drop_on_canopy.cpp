@@ -299,7 +299,10 @@ void DropOnCanopy::collide() {
     if (config_.settle)
         for (const int d : pool_.active()) {
             const double lowest = pool_.lowest_z(d);
-            if (!pool_.dormant(d) && lowest > band_below && lowest <= top_ + reach_) {
+            // Over the rest cap's top by the reach: below that, a piece lies on the membrane and the drop
+            // cannot step coarsely whatever the floor (no reading: a lone drop's sliding pieces would
+            // pay two passes over the nodes a sample for nothing).
+            if (!pool_.dormant(d) && lowest > top_ + touch_ && lowest <= top_ + reach_) {
                 coarse_wanted = true;
                 break;
             }
@@ -326,7 +329,13 @@ void DropOnCanopy::collide() {
     // for its first 50 ms. (A mass that touched during a coarse step would end it: counted in
     // DropPoolStats::coarse_interrupted, never seen.)
     double floor = have_u ? above + 2e-3 + skin : band_top;
-    if (have_u && coarse_wanted) {
+    bool between = false;   // an awake drop's lowest mass between `above` and that floor: the speed matters
+    if (have_u && coarse_wanted)
+        for (const int d : pool_.active()) {
+            const double lowest = pool_.lowest_z(d);
+            if (!pool_.dormant(d) && lowest > above && lowest <= floor + 1e-3) between = true;
+        }
+    if (between) {
         canopy_.velocities(node_velocities_.data());
         double fastest = 0.0;
         for (const double v : node_velocities_) fastest = std::max(fastest, std::fabs(v));
