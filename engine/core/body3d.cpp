@@ -70,7 +70,18 @@ void Body3D::set_velocity(int mass, Vec3 v) {
     pz_[i] = z_[i] - sub_dt_ * v.z;
 }
 
+void Body3D::freeze(int mass, Vec3 at) {
+    const auto i = idx(mass);
+    if (fixed_[i]) return;
+    set_position(mass, at);
+    set_velocity(mass, Vec3{});
+    inv_mass_[i] = 0.0;
+}
+
 void Body3D::reset() {
+    // A frozen mass moves again (the same 1 / m as add_mass computed).
+    for (std::size_t i = 0; i < mass_.size(); ++i)
+        if (!fixed_[i]) inv_mass_[i] = 1.0 / mass_[i];
     std::copy(x0_.begin(), x0_.end(), x_.begin());
     std::copy(y0_.begin(), y0_.end(), y_.begin());
     std::copy(z0_.begin(), z0_.end(), z_.begin());

@@ -28,6 +28,7 @@
 //   body.step(k);                                             // k output steps as one (a coarse step)
 //   for (const LinkBreak& e : body.breaks()) ...              // links that broke during that step
 //   body.set_position(m, p); body.set_velocity(m, v); body.reset();
+//   body.freeze(m, p); body.is_frozen(m)                      // out of the motion for good (1/m = 0, mass kept)
 //   body.position(m), velocity(m), momentum(), energy(), resets(), link_broken(l), stability(),
 //   body.positions()                                          // .x .y .z: every mass's coordinates
 //   body.lowest_z()                                           // the lowest mass's z after the last step
@@ -245,6 +246,13 @@ public:
     std::span<const LinkBreak> breaks() const { return {events_.data(), event_count_}; }
     void set_position(int mass, Vec3 p);          // keeps the mass's velocity
     void set_velocity(int mass, Vec3 v);          // ignored for fixed points
+    // Takes a mass out of the motion for good (DropPool's parking of liquid that is done: drop_pool.hpp):
+    // moves it to `at` at rest and gives it 1/m = 0, so no force moves it again (both schemes leave it
+    // where it is, as a fixed point), while it keeps its mass (mass(), total_mass(): conservation) and
+    // its links (a parked piece's own bonds hold; any link to a moving mass keeps acting on that mass
+    // alone). reset() and clear() undo it. Ignored for fixed points.
+    void freeze(int mass, Vec3 at);
+    bool is_frozen(int m) const { return inv_mass_[idx(m)] == 0.0 && fixed_[idx(m)] == 0; }
     void reset();
 
     // ---- queries ----

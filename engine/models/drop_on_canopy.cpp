@@ -25,6 +25,7 @@ DropPoolConfig pool_config(const DropOnCanopyConfig& c) {
     p.retire_below = c.retire_below_m;
     p.max_lifetime = c.max_lifetime_s;
     p.coarse_max = c.coarse_steps;
+    p.park_done = c.settle;
     // Wet: the lattice tilted (drop.hpp, drop_orientation), so that its masses reach the membrane one by
     // one, not a plane at a time; the seed's lattice stands upright.
     p.options.tilted = c.impact == ImpactModel::wet;
@@ -54,6 +55,25 @@ std::string number(double v) {
 
 }  // namespace
 
+std::function<bool(Vec3, Vec3)> settle_predicate(const DropOnCanopyConfig& c, double touch_m) {
+    const double r = c.geometry.radius_m, rc = c.geometry.curvature_radius_m, below = c.retire_below_m;
+    const double rest_speed = c.rest_speed_m_per_s;
+    const bool flat = !std::isfinite(rc);
+    // The rest cap, as Canopy::rest_height and surface_normal compute it (canopy.hpp).
+    auto rest_z = [=](double r2) { return flat ? 0.0 : -r2 / (std::sqrt(rc * rc - r2) + rc); };
+    const double out2 = (r + 0.01) * (r + 0.01);
+    return [=](Vec3 p, Vec3 v) {
+        if (p.z < below) return true;
+        const double r2 = p.x * p.x + p.y * p.y;
+        if (r2 > out2 && p.x * v.x + p.y * v.y >= 0.0) return true;   // gone past the rim, outwards
+        if (r2 > r * r) return false;
+        const Vec3 n = flat ? Vec3{0.0, 0.0, 1.0} : Vec3{p.x / rc, p.y / rc, std::sqrt(1.0 - r2 / (rc * rc))};
+        const double h = (p.z - rest_z(r2)) * n.z;   // over the rest cap, along its normal
+        if (h < -0.05 && v.z <= 0.0) return true;     // under the band the membrane never reaches
+        return h <= touch_m + 1e-3 && h >= -3e-3 && std::fabs(dot(v, n)) < rest_speed;   // at rest on it
+    };
+}
+
 CollisionOptions collision_options(const DropOnCanopyConfig& c) {
     return c.impact == ImpactModel::seed ? CollisionOptions::seed(c.restitution) : CollisionOptions::wet(c.liquid.density);
 }
@@ -66,6 +86,8 @@ const DropOnCanopyConfig& DropOnCanopy::checked(const DropOnCanopyConfig& c) {
     if (!(c.restitution >= 0.0 && c.restitution <= 1.0))
         throw std::invalid_argument("restitution " + number(c.restitution) + " is outside 0..1");
     if (c.impact != ImpactModel::wet && c.impact != ImpactModel::seed) throw std::invalid_argument("unknown impact model");
+    if (!(c.rest_speed_m_per_s >= 0.0 && c.rest_speed_m_per_s <= 10.0))
+        throw std::invalid_argument("rest speed " + number(c.rest_speed_m_per_s) + " m/s is outside 0..10");
     if (c.guard_interval < 0) throw std::invalid_argument("guard interval must be 0 or more samples");
     if (c.coarse_steps < 1 || c.coarse_steps > 64)
         throw std::invalid_argument("coarse steps " + std::to_string(c.coarse_steps) + " is outside 1..64");
@@ -129,6 +151,7 @@ DropOnCanopy::DropOnCanopy(Built, const DropOnCanopyConfig& config, Canopy&& can
     reach_ = 0.05 / rim_normal_z_;
     touch_ = config_.impact == ImpactModel::seed ? 0.0 : collider_.options().max_reach_m;
     pool_.set_coarse_floor(top_ + reach_);   // collide() sets it each sample (see there)
+    if (config_.settle) pool_.set_retire_predicate(settle_predicate(config_, touch_));
     double shortest = 1e300;
     const RayleighRadiator& radiator = far_field_.radiator();
     for (int p = 0; p < radiator.point_count(); ++p)
@@ -136,6 +159,7 @@ DropOnCanopy::DropOnCanopy(Built, const DropOnCanopyConfig& config, Canopy&& can
     listener_points_ = far_field_.layout().points;
     latency_samples_ = config_.output == SceneOutput::far_field ? static_cast<int>(std::floor(shortest)) : 0;
     scan_.assign(static_cast<std::size_t>(pool_.max_masses()), 0);
+    node_velocities_.assign(static_cast<std::size_t>(canopy_.lanes() * canopy_.nodes_per_panel()), 0.0);
 }
 
 bool DropOnCanopy::drop(double diameter_m, double speed_m_per_s, double x_m, double y_m) {
@@ -268,7 +292,22 @@ void DropOnCanopy::collide() {
     const double skin = collider_.options().skin_m + touch_, t = collider_.time_step();
     bool have_u = false;
     double u_max = 0.0, above = top_ + reach_;
-    if ((near_masses_ >= 16 || displaced_ || unread_steps_ >= 255) && !pool_.active().empty()) {
+    // Settling: also while an awake drop's lowest mass is in the band over the membrane, so that its
+    // coarse steps (their floor, below) go by the membrane's highest point and not by the band's top:
+    // a splash's pieces flying a few centimetres over the membrane, once what lay on it is parked.
+    bool coarse_wanted = false;
+    if (config_.settle)
+        for (const int d : pool_.active()) {
+            const double lowest = pool_.lowest_z(d);
+            // Over the rest cap's top by the reach: below that, a piece lies on the membrane and the drop
+            // cannot step coarsely whatever the floor (no reading: a lone drop's sliding pieces would
+            // pay two passes over the nodes a sample for nothing).
+            if (!pool_.dormant(d) && lowest > top_ + touch_ && lowest <= top_ + reach_) {
+                coarse_wanted = true;
+                break;
+            }
+        }
+    if ((near_masses_ >= 16 || displaced_ || unread_steps_ >= 255 || coarse_wanted) && !pool_.active().empty()) {
         const DisplacementRange u = canopy_.displacement_range();
         // Wet: a mass touches up to touch_ over a node (its parcel's reach, at most the collider's cap);
         // 1e-12 m more keeps a - u_j <= reach from being lost to the rounding of u_max + touch_.
@@ -282,7 +321,27 @@ void DropOnCanopy::collide() {
     // Coarse steps (drop_pool.hpp) this sample for a drop wholly above: the membrane's highest point read
     // now, with 2 mm for what it can rise in the few samples of a coarse step (0.1 mm at 1 m/s over
     // 4 samples at 48 kHz) and the collider's skin; unread, the band, which it never reaches.
-    pool_.set_coarse_floor(have_u ? above + 2e-3 + skin : band_top);
+    // Settling: with the membrane's fastest node read as well (another pass over the nodes, only while
+    // a drop could step coarsely), the floor is what the membrane can reach within a coarse step: its
+    // highest point (with the reach, in `above`) plus 1.5 times that speed and 0.5 m/s over the longest
+    // coarse step (0.25 mm for a 5 mm drop on nylon, 1.7 m/s at most; 1.9 mm for 8 mm at 30 m/s on
+    // vinyl, 14.5 m/s), instead of a fixed 3-4 mm: a wet splash's sheet flies 3-5 mm over the membrane
+    // for its first 50 ms. (A mass that touched during a coarse step would end it: counted in
+    // DropPoolStats::coarse_interrupted, never seen.)
+    double floor = have_u ? above + 2e-3 + skin : band_top;
+    bool between = false;   // an awake drop's lowest mass between `above` and that floor: the speed matters
+    if (have_u && coarse_wanted)
+        for (const int d : pool_.active()) {
+            const double lowest = pool_.lowest_z(d);
+            if (!pool_.dormant(d) && lowest > above && lowest <= floor + 1e-3) between = true;
+        }
+    if (between) {
+        canopy_.velocities(node_velocities_.data());
+        double fastest = 0.0;
+        for (const double v : node_velocities_) fastest = std::max(fastest, std::fabs(v));
+        if (std::isfinite(fastest)) floor = above + (1.5 * fastest + 0.5) * config_.coarse_steps * dt_ * per_normal + 1e-12;
+    }
+    pool_.set_coarse_floor(floor);
     // A mass higher than this is neither looked up (it is over `above`) nor counted as near (over the
     // band): one comparison for most of a splash's masses in flight; a drop whose lowest mass is over it
     // is skipped whole.
@@ -392,9 +451,12 @@ std::vector<SceneMass> DropOnCanopy::snapshot() const {
     for (const int d : pool_.active()) {
         const int n = pool_.mass_count(d);
         const bool whole = pool_.dormant(d);   // a dormant drop is one piece; piece_of is not computed yet
-        for (int m = 0; m < n; ++m)
-            out.push_back(SceneMass{pool_.position(d, m), pool_.velocity(d, m), d, pool_.serial(d),
-                                    whole ? 0 : pool_.piece_of(d, m)});
+        for (int m = 0; m < n; ++m) {
+            const bool parked = pool_.parked(d, m);
+            const Vec3 lift{0.0, 0.0, parked ? pool_.config().park_lift : 0.0};
+            out.push_back(SceneMass{pool_.position(d, m) - lift, pool_.velocity(d, m), d, pool_.serial(d),
+                                    whole ? 0 : pool_.piece_of(d, m), parked});
+        }
     }
     return out;
 }

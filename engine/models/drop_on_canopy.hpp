@@ -55,6 +55,21 @@
 // the momentum: twice a real drop's impulse). Wet masses touch up to their reach (their parcel's
 // radius, at most 1 mm) above the membrane, so the broad phase below adds that reach to its bounds.
 //
+// Settling (config.settle, the default): every 32 samples (DropPool's retirement check) each piece of a
+// drop whose masses are all done is parked (DropPool, "Parking": taken out of the motion, its mass
+// kept), and a drop whose pieces are all parked retires. A mass is done (settle_predicate()) when it can
+// no longer be heard: gone past the rim (outside the rim's circle by 1 cm, moving outwards: only
+// gravity and drag act on a piece in flight, and drag only slows it, so it never comes back over the
+// cap);
+// under the cap by more than the 5 cm band the membrane never reaches, moving down; or at rest on it
+// (within its reach plus 1 mm over the rest cap and 3 mm under it, moving along the normal slower than
+// rest_speed_m_per_s, 5 cm/s). Such liquid only loads the membrane with its weight and its mass (a
+// 5 mm drop's 65 mg against a panel's 5.3 g); leaving it in the motion cost a drop's whole lattice
+// every sample, since a piece at rest holds the drop's coarse steps down (the splash's flying pieces
+// could not be stepped coarsely while any piece lay on the membrane). What it changes in the sound is
+// bounded by a test (drop_on_canopy_test: band levels of a render with and without, docs/drop.md).
+// settle = false is the model before it (ameoto bench drop times both).
+//
 // Placement: drop() puts the drop's lowest mass gap_m (0.5 mm) above the rest surface at (x, y)
 // (DropPool::underside; wet: its parcel's underside, the mass's reach lower), moving straight down at `speed`, so it reaches the membrane within a few
 // samples (a 5 mm drop at 9.1 m/s covers 0.19 mm per sample at 48 kHz); with gap_m = 0 it strikes at
@@ -76,6 +91,7 @@
 // retire_below_m, or after max_lifetime_s).
 
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "engine/core/body3d_vec3.hpp"
@@ -113,6 +129,9 @@ struct DropOnCanopyConfig {
     double max_lifetime_s = 30.0;                  // s (0: never)
     int coarse_steps = 4;                          // 1..64: samples a drop wholly over the band may take
                                                    // as one (drop_pool.hpp, "Coarse steps"; 1: never)
+    bool settle = true;                            // park liquid that is done (below, "Settling"); false:
+                                                   // every mass is stepped until its drop retires
+    double rest_speed_m_per_s = 0.05;              // m/s: slower along the normal, a mass in touch is at rest
     int guard_interval = 256;                      // samples between runs of the canopy's guard (0: only
                                                    // when the caller calls guard())
     NetworkOptions network{};                      // the panels' integrator (core/method_choice.hpp picks
@@ -144,11 +163,16 @@ struct SceneMass {
     int drop = 0;                   // pool slot
     std::uint64_t serial = 0;       // spawn number of its drop (1, 2, ...)
     int piece = 0;                  // its piece within the drop
+    bool parked = false;            // settled (config.settle): position is where it was parked
 };
 
 // The collider's options for a configuration: CollisionOptions::seed(restitution) for ImpactModel::seed,
 // CollisionOptions::wet(liquid density) for wet.
 CollisionOptions collision_options(const DropOnCanopyConfig& config);
+
+// Settling's test of one mass (position, velocity in canopy coordinates): done, as above. `touch` is
+// how far above the rest cap a mass is touched (the collider's reach cap; 0 for the seed).
+std::function<bool(Vec3, Vec3)> settle_predicate(const DropOnCanopyConfig& config, double touch_m);
 
 class DropOnCanopy {
 public:
@@ -206,6 +230,7 @@ private:
     std::uint64_t drops_passed_over_in_band_ = 0;
     std::uint64_t drops_passed_over_ = 0;   // stats()
     std::vector<int> scan_;       // collide(): an awake drop's masses to look at (collision_scan.hpp)
+    std::vector<double> node_velocities_;   // collide(): the membrane's du/dt (settling's coarse floor)
 };
 
 }  // namespace ameoto

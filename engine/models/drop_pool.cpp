@@ -43,6 +43,7 @@ DropPool::DropPool(const DropPoolConfig& config) : config_(config) {
         s.body.set_gravity(config_.gravity);
         s.body.set_integrator(config_.integrator);
         s.components.init(max_masses_, max_links);
+        s.piece_live.assign(static_cast<std::size_t>(std::max(max_masses_, 1)), 0);
     }
     active_.reserve(slots_.size());
     free_.reserve(slots_.size());
@@ -216,8 +217,28 @@ bool DropPool::all_done(const Slot& s) const {
         return true;
     }
     for (int m = 0; m < s.body.mass_count(); ++m)
-        if (!done_(s.body.position(m), s.body.velocity(m))) return false;
+        if (!s.body.is_frozen(m) && !done_(s.body.position(m), s.body.velocity(m))) return false;
     return true;
+}
+
+void DropPool::park_done_pieces(Slot& s) {
+    const int n = s.body.mass_count();
+    std::fill(s.piece_live.begin(), s.piece_live.begin() + n, std::uint8_t{0});
+    bool any = false;
+    for (int m = 0; m < n; ++m) {
+        if (s.body.is_frozen(m)) continue;
+        if (!done_(s.body.position(m), s.body.velocity(m)))
+            s.piece_live[static_cast<std::size_t>(s.components.component_of(m))] = 1;
+        else
+            any = true;
+    }
+    if (!any) return;
+    for (int m = 0; m < n; ++m) {
+        if (s.body.is_frozen(m) || s.piece_live[static_cast<std::size_t>(s.components.component_of(m))]) continue;
+        const Vec3 p = s.body.position(m);
+        s.body.freeze(m, Vec3{p.x, p.y, p.z + config_.park_lift});
+        ++stats_.parked;
+    }
 }
 
 Vec3 DropPool::position(int drop, int mass) const {
@@ -317,6 +338,7 @@ void DropPool::step() {
             if (finished(s)) release(i);
             continue;
         }
+        if (check && config_.park_done && s.coarse_left == 0) park_done_pieces(s);
         if (s.coarse_left > 0) {   // a coarse step covered this one (see the header)
             --s.coarse_left;
             ++stats_.coarse_sat_out;

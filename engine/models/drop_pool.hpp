@@ -21,6 +21,7 @@
 //       }
 //   pool.pieces(d); pool.piece_of(d, m); pool.piece_size(d, p);   // what a drop has broken into
 //   pool.dormant(d);                                  // falling whole, not yet touched (see below)
+//   pool.parked(d, m);                                // taken out of the motion (Parking, below)
 //   pool.lowest_z(d);                                 // m, no mass of the drop is lower (broad phase)
 //   pool.body(d); pool.calibration(d); pool.serial(d); // its Body3D (wakes it), calibration, spawn number
 //   pool.retire(d); pool.clear();
@@ -57,6 +58,14 @@
 // predicate (default: z < retire_below); a drop whose masses are all done (at rest on a surface, or
 // gone from the scene: the caller's choice) retires, as does one older than max_lifetime (a safety net;
 // 0 = never). The slot returns to the free list.
+//
+// Parking (config.park_done; DropOnCanopy turns it on: drop_on_canopy.hpp, "Settling"): at the same
+// checks, a piece of an awake drop (not sitting out a coarse step) whose every mass is done is parked:
+// Body3D::freeze puts each of its masses park_lift (1 km) above where it was, at rest with 1/m = 0, so
+// it no longer moves, touches anything, nor holds the drop's coarse steps and broad phase down with it;
+// the rest of the drop carries on. A parked mass counts as done, and keeps its mass (conservation is
+// unchanged), so the drop retires once every piece is parked or done. Whole pieces only: a parked
+// mass has no intact bond to a moving one.
 //
 // Coarse steps (config.coarse_max > 1, and a floor set): an awake drop whose every mass is above the
 // floor by more than it can travel takes k output steps as one (Body3D::coarse_factor() picks k, at
@@ -100,6 +109,8 @@ struct DropPoolConfig {
     Integrator integrator = Integrator::symplectic_euler;
     DropOptions options;
     int coarse_max = 1;                        // output steps a drop in flight may take as one (1: never)
+    bool park_done = false;                    // park each piece whose masses are all done (below)
+    double park_lift = 1000.0;                 // m: how far above where it was a parked mass is put
 };
 
 struct DropPoolStats {
@@ -113,6 +124,7 @@ struct DropPoolStats {
     long coarse_steps = 0;         // steps a drop took as k > 1 output steps
     long coarse_sat_out = 0;       // step() calls a drop sat out after a coarse step
     long coarse_interrupted = 0;   // coarse steps cut short by a force or a move (never expected)
+    long parked = 0;               // masses parked (config.park_done)
 };
 
 class DropPool {
@@ -145,6 +157,8 @@ public:
     Body3D& body(int drop) { return awake(drop); }
     const Body3D& body(int drop) const { return awake(drop); }
     bool dormant(int drop) const { return slot(drop).dormant; }
+    // Parked (config.park_done): taken out of the motion, position() park_lift above where it was.
+    bool parked(int drop, int mass) const { return !slot(drop).dormant && slot(drop).body.is_frozen(mass); }
     // m: no mass of the drop lies lower (a lower bound for a broad phase; -infinity when unknown: just
     // woken or reset). Awake: Body3D::lowest_z(); dormant: the lowest mass at spawn plus the shift, which
     // is exactly the lowest of position(drop, m) (rounding x + s is monotonic in x). Does not wake it.
@@ -192,6 +206,7 @@ private:
         long steps = 0;
         std::uint64_t serial = 0;
         int coarse_left = 0;   // step() calls to sit out after a coarse step
+        std::vector<std::uint8_t> piece_live;   // parking's scratch: per piece, a mass not done
     };
     Slot& slot(int drop) const { return slots_[static_cast<std::size_t>(drop)]; }
     Body3D& awake(int drop) const;   // wakes a dormant drop (no allocation; the physics is unchanged)
@@ -199,6 +214,7 @@ private:
     void step_dormant(Slot& s) const;
     void set_changed_piece_drag(Slot& s);
     bool all_done(const Slot& s) const;
+    void park_done_pieces(Slot& s);
     // add_liquid's check: (diameter, sub-steps needed) for each end of each lattice's diameter range,
     // cached per process by everything the answer depends on (drop_pool.cpp).
     std::shared_ptr<const std::vector<std::pair<double, int>>> sub_step_needs(const Liquid& liquid) const;

@@ -30,7 +30,12 @@ bool MembraneCollider::collide_one(Canopy& canopy, Vec3 p, Vec3 v, double m1, Ve
     // Height above the membrane: the rest cap's normal distance under (x, y), less the node's u.
     const double h =
         (p.z - canopy.rest_height(p.x, p.y)) * canopy.surface_normal(p.x, p.y).z - canopy.displacement(hit.panel, hit.node);
-    if (!(h <= law_.reach(m1))) return false;
+    if (m1 != memo_mass_) {   // the cube root once per mass size (a drop's masses are all one size)
+        memo_mass_ = m1;
+        memo_parcel_ = law_.parcel(m1);
+        memo_reach_ = law_.reach(m1);
+    }
+    if (!(h <= memo_reach_)) return false;
     const auto slot = static_cast<std::size_t>(hit.panel * nodes_per_panel_ + hit.node);
     if (stamp_[slot] != step_) {
         stamp_[slot] = step_;
@@ -40,7 +45,7 @@ bool MembraneCollider::collide_one(Canopy& canopy, Vec3 p, Vec3 v, double m1, Ve
     const double v1 = dot(v, n);
     const double v2 = canopy.normal_velocity(hit.panel, hit.node) + pending_[slot];
     const double m2 = canopy.panel(hit.panel).network.mass(hit.node);
-    const ContactImpulse c = contact_impulse(law_, m1, m2, h, v1, v2, time_step_);   // wet_impact.hpp
+    const ContactImpulse c = contact_impulse_of_parcel(law_, memo_parcel_, m1, m2, h, v1, v2, time_step_);   // wet_impact.hpp
     if (!c.contact) return false;
     const double impulse = c.impulse;   // on the drop mass, along n
     const double v1_after = v1 + impulse / m1, v2_after = v2 - impulse / m2;

@@ -199,6 +199,7 @@ private:
     std::vector<std::uint64_t> stamp_;
     std::uint64_t step_ = 1;
     std::uint64_t collisions_ = 0;
+    double memo_mass_ = -1.0, memo_parcel_ = 0.0, memo_reach_ = 0.0;   // law_.parcel and reach of the last mass
 };
 
 }  // namespace ameoto

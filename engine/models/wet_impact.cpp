@@ -62,6 +62,11 @@ double wet_phase(double x) {
 
 ContactImpulse contact_impulse(const ContactLaw& law, double m1, double m2, double h, double v1, double v2,
                                double time_step_s) {
+    return contact_impulse_of_parcel(law, law.parcel(m1), m1, m2, h, v1, v2, time_step_s);
+}
+
+ContactImpulse contact_impulse_of_parcel(const ContactLaw& law, double parcel_m, double m1, double m2, double h,
+                                         double v1, double v2, double time_step_s) {
     ContactImpulse c;
     const double closing = v1 - v2;
     if (law.model == ImpactModel::seed) {
@@ -75,8 +80,8 @@ ContactImpulse contact_impulse(const ContactLaw& law, double m1, double m2, doub
         c.dissipated = 0.5 * mu * (1.0 - law.restitution * law.restitution) * closing * closing;
         return c;
     }
-    const double l = law.parcel(m1);
-    const double depth = law.reach(m1) - h;   // since the parcel's underside touched
+    const double l = parcel_m;
+    const double depth = std::min(0.5 * l, law.max_reach_m) - h;   // since the parcel's underside touched (reach)
     if (!(depth >= 0.0)) return c;
     if (!(closing < 0.0)) return c;
     const double w = -closing;

@@ -88,6 +88,11 @@ struct ContactImpulse {
 ContactImpulse contact_impulse(const ContactLaw& law, double m1, double m2, double h, double v1, double v2,
                                double time_step_s);
 
+// The same with the mass's parcel diameter given, parcel_m = law.parcel(m1) (a caller that meets many
+// masses of one size computes the cube root once: MembraneCollider). The same result to the bit.
+ContactImpulse contact_impulse_of_parcel(const ContactLaw& law, double parcel_m, double m1, double m2, double h, double v1,
+                                         double v2, double time_step_s);
+
 // The wet pulse's phase s (0..1) at a depth of `depth_over_parcel` parcel diameters (A^-1 above); 1 at
 // and beyond 3/7. Exposed for tests.
 double wet_phase(double depth_over_parcel);

@@ -120,6 +120,7 @@ std::unique_ptr<UmbrellaScene> Renderer::make_scene(const RendererConfig& config
     c.max_lifetime_s = 0.5;
     c.guard_interval = 0;         // the renderer runs the guard after every block
     c.network = config.canopy_network;
+    c.settle = config.settle;
     return std::make_unique<UmbrellaScene>(c);
 }
 
