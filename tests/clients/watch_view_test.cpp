@@ -22,7 +22,7 @@ DecodedMessage sample_status_reply() {
     return message("/status.reply", {f(3.14), f(4.0), f(120), OscArgument::from_int(1), OscArgument::from_int(3),
                                      OscArgument::from_int(40), OscArgument::from_int(0), OscArgument::from_int(2), f(48000),
                                      OscArgument::from_int(256), f(2.0), f(2), OscArgument::from_string("null"),
-                                     OscArgument::from_int(0), f(110.5)});
+                                     f(-3.5), OscArgument::from_int(0), f(110.5)});
 }
 
 }  // namespace

@@ -76,8 +76,8 @@ TEST_CASE("/gain and /loudness: set, queried, refused out of range with nothing 
         REQUIRE(c.request("/sync", {i(1)}, "/synced", 2s));
         const auto status = c.request("/status", {}, "/status.reply", 2s);
         REQUIRE(status);
-        CHECK(status->args[14].number == doctest::Approx(level_physical_full_scale - level - 5.0 + 6.0).epsilon(1e-5));
-        CHECK(status->args[13].integer == 0);   // 20 mm/h, 20 dB over the target's rain: the limiter holds it
+        CHECK(status->args[15].number == doctest::Approx(level_physical_full_scale - level - 5.0 + 6.0).epsilon(1e-5));
+        CHECK(status->args[14].integer == 0);   // 20 mm/h, 20 dB over the target's rain: the limiter holds it
         for (int k = 0; k < 20; ++k) c.send("/gain", {f(k % 2 ? 12.0 : -12.0)});   // ramps, one after another
         REQUIRE(c.request("/sync", {i(2)}, "/synced", 2s));
         std::this_thread::sleep_for(200ms);

@@ -31,7 +31,10 @@ constexpr const char* street_split =
 
 ameoto::test::WavData render_part(const std::string& scene, const std::string& wav, const std::string& node) {
     std::vector<std::string> argv{ameoto::test::ameotod, "--backend", "null", "--offline", "--duration", "0.2", "--seed", "7",
-                                  "--scene", scene, "--output", wav, "--port", "0"};
+                                  "--scene", scene, "--output", wav, "--port", "0",
+                                  // Physical level: --level auto would choose each node's gain from its own part
+                                  // (docs/loudness.md), and the parts would no longer sum to the whole.
+                                  "--level", "physical"};
     if (!node.empty()) argv.insert(argv.end(), {"--node", node});
     ameoto::test::ChildProcess p(argv);
     REQUIRE_MESSAGE(p.wait(60s) == 0, p.output());

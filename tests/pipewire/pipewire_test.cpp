@@ -175,6 +175,7 @@ TEST_CASE("PipeWire: ameotod under pw-jack plays into a null sink, its monitor t
     char seconds[32];
     std::snprintf(seconds, sizeof seconds, "%.3f", played + 0.5);
     const auto offline = ameoto::test::run_program({ameoto::test::ameoto_bin, "render", "scene", "--seed", "11", "--seconds", seconds, "--quiet",
+                                                    "--level", "physical",   // as the harness starts ameotod
                                                     "-o", rendered_path},
                                                    120s);
     REQUIRE_MESSAGE(offline.exit_code == 0, offline.out);
