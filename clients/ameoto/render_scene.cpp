@@ -22,7 +22,7 @@ namespace ameoto::client {
 
 std::string render_scene_usage() {
     return "usage: ameoto render scene -o FILE.wav [--scene NAME|FILE.scene] [--rain MM/H] [--seconds S]\n"
-           "           [--rate HZ] [--seed N] [--channels N] [--quiet]\n"
+           "           [--rate HZ] [--seed N] [--channels N] [--air on|off] [--quiet]\n"
            "\n"
            "Renders a rain scene offline (no server needed) with the engine ameotod runs: its surfaces,\n"
            "rain and listener, every drop at its level of detail. Same scene, seed and rate: the same\n"
@@ -36,6 +36,9 @@ std::string render_scene_usage() {
            "  --rate HZ           sample rate, 8000..192000 Hz (default 48000)\n"
            "  --seed N            random seed, 0..2^64-1 (default 1)\n"
            "  --channels N        1..16 (default 2)\n"
+           "  --air on|off        the umbrella's canopy in air (its air-loaded modes heard as dipoles,\n"
+           "                      docs/canopy.md) or in vacuum, baffled (the seed's); default: the\n"
+           "                      scene's umbrella air= key (off when not given)\n"
            "  --quiet             no progress on stderr\n"
            "  -o FILE.wav         the output (32-bit float WAV)\n"
            "\n"
@@ -58,6 +61,13 @@ RenderParse parse_render_scene_options(const CommandWords& words, RenderSceneOpt
         if (name == "--quiet") {
             if (!reader.flag_into(error)) return RenderParse::error;
             o.quiet = true;
+        } else if (name == "--air") {
+            if (!take_value()) return RenderParse::error;
+            if (value != "on" && value != "off") {
+                error = "--air: '" + value + "' is not on or off";
+                return RenderParse::error;
+            }
+            o.air = value == "on";
         } else if (name == "--scene") {
             if (!take_value()) return RenderParse::error;
             if (!builtin_scene(value) && !value.ends_with(".scene")) {
@@ -134,6 +144,9 @@ int run_render_scene(const RenderSceneOptions& o, const CommandIo& io) {
             scene = parse_scene(text.str(), o.scene);
         }
         if (o.rain_mm_per_h) scene.rain.rate_mm_per_h = *o.rain_mm_per_h;
+        if (o.air)
+            for (SurfaceDescription& s : scene.surfaces)
+                if (s.kind == SurfaceKind::umbrella) s.air = *o.air;
     } catch (const std::exception& e) {
         io.err << "ameoto render scene: " << e.what() << "\n";
         return exit_status::refused;

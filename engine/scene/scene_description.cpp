@@ -426,6 +426,9 @@ SceneDescription parse_scene(std::string_view text, const std::string& file) {
                 const double panels = r.number("panels", 8, panels_range, "");
                 if (panels != std::floor(panels)) r.fail("panels", "is not a whole number");
                 f.panels = static_cast<int>(panels);
+                const std::string air = r.text("air", "off");
+                if (air != "on" && air != "off") r.fail("air", "'" + air + "' is not on or off");
+                f.air = air == "on";
             }
             for (const auto& other : s.surfaces)
                 if (other.name == f.name) r.fail("surface", "a second surface named '" + f.name + "'");
@@ -458,6 +461,7 @@ std::string format_scene(const SceneDescription& s) {
             << " size=" << number(f.size_x_m) << "x" << number(f.size_y_m) << " x=" << number(f.x_m)
             << " y=" << number(f.y_m) << " z=" << number(f.z_m);
         if (f.kind == SurfaceKind::umbrella) out << " panels=" << f.panels;
+        if (f.kind == SurfaceKind::umbrella && f.air) out << " air=on";   // off is the default
         out << "\n";
     }
     if (s.accuracy) out << "accuracy " << accuracy_measure_name(s.accuracy->measure) << "=" << number(s.accuracy->value) << "\n";

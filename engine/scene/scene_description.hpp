@@ -58,6 +58,9 @@ struct SurfaceDescription {
     double size_x_m = 1.0, size_y_m = 1.0;   // umbrella: diameter (size_y = size_x); others: extent
     double x_m = 0.0, y_m = 0.0, z_m = 0.0;  // centre (umbrella: top of the shaft)
     int panels = 8;                      // umbrella only
+    bool air = false;                    // umbrella only: air=on|off, the canopy in air (its air-loaded
+                                         // modes heard as dipoles) or in vacuum, baffled (the seed's;
+                                         // the default until air meets its 3 dB, docs/canopy.md)
     bool operator==(const SurfaceDescription&) const = default;
 };
 
