@@ -394,6 +394,22 @@ std::vector<AddressSpec> make_table() {
                      return std::nullopt;
                  }});
     t.back().query = {true, {}, "/reply/port.reply i port: where this sender's replies go (0: the port it sends from)"};
+    // Appended (issue 19): the canopy in air or in vacuum (engine/models/air_canopy.hpp, docs/canopy.md).
+    t.push_back({"/canopy/air",
+                 {{"on", ArgumentKind::integer, "", 0.0, 1.0, false,
+                   "1: the umbrella's canopy in air (its air-loaded modes heard as dipoles); 0: in vacuum, baffled (the seed's)",
+                   "1"}},
+                 "Put the scene's umbrella canopy in air (1) or in vacuum (0). The scene is rebuilt off the audio thread "
+                 "and swapped in, as /material/surface does; saved scenes keep it (the umbrella's air= key). With no "
+                 "arguments, ask which.",
+                 "/done /canopy/air (once the rebuilt scene plays); /fail /canopy/air when the scene has no umbrella",
+                 [](const ValidatedArguments& a, const ProtocolContext&, Request& r) -> std::optional<std::string> {
+                     r.action = Action::edit_scene;
+                     r.edit.op = SceneEdit::Op::air;
+                     r.edit.air = a.numbers[0] != 0.0;
+                     return std::nullopt;
+                 }});
+    t.back().query = {true, {}, "/canopy/air.reply i 1|0: whether the umbrella's canopy is in air (0 with no umbrella)"};
     return t;
 }
 

@@ -161,6 +161,16 @@ void SceneManager::edit(const Peer& sender, const std::string& address, const pr
                 scene.surfaces.erase(found);
             break;
         case Op::accuracy: scene.accuracy = edit.accuracy; break;   // configure_for_scene applies it
+        case Op::air: {   // configure_for_scene applies it
+            bool umbrella = false;
+            for (SurfaceDescription& s : scene.surfaces)
+                if (s.kind == SurfaceKind::umbrella) {
+                    s.air = edit.air;
+                    umbrella = true;
+                }
+            if (!umbrella) refusal = "the scene has no umbrella";
+            break;
+        }
     }
     if (refusal.empty()) refusal = validate_scene(scene);
     if (!refusal.empty()) {

@@ -51,7 +51,7 @@ std::string render_usage() {
     return "usage: ameoto render drop --diameter MM -o FILE.wav [--speed M/S] [--material NAME]\n"
            "           [--liquid NAME] [--seconds S] [--rate HZ] [--seed N] [--x M --y M]\n"
            "           [--output-kind far-field|mass] [--channels 1|2] [--coarse-steps N]\n"
-           "           [--impact wet|seed] [--quiet] [--plot FILE.svg]\n"
+           "           [--impact wet|seed] [--air on|off] [--quiet] [--plot FILE.svg]\n"
            "\n"
            "Renders one drop falling on the umbrella, offline (no server needed): a lattice drop of\n"
            "the chosen liquid strikes the canopy's membrane, may break up, and the canopy's sound is\n"
@@ -88,6 +88,9 @@ std::string render_usage() {
            "  --impact MODEL      how the drop's masses meet the membrane: wet (default: stopped\n"
            "                      as a liquid is, impulse m V, spreading; docs/impacts.md) or seed\n"
            "                      (the seed's elastic exchange: they bounce, impulse about 2 m V)\n"
+           "  --air on|off        on: the canopy in air, its air-loaded modes heard as dipoles\n"
+           "                      without a baffle (docs/canopy.md, \"In air\"); off (default): the\n"
+           "                      lattice in vacuum under the baffled Rayleigh sum (the seed's model)\n"
            "  --quiet             no progress on stderr\n"
            "  --plot FILE.svg     also write a plot: pieces over time, a side view of the drop's\n"
            "                      masses at a few times, the waveform and the spectrogram\n"
@@ -138,6 +141,13 @@ RenderParse parse_render_drop_options(const CommandWords& words, RenderDropOptio
                 return RenderParse::error;
             }
             o.impact = *model;
+        } else if (name == "--air") {
+            if (!take_value()) return RenderParse::error;
+            if (value != "on" && value != "off") {
+                error = "--air: '" + value + "' is not on or off";
+                return RenderParse::error;
+            }
+            o.air = value == "on";
         } else if (name == "--material") {
             if (!take_value()) return RenderParse::error;
             if (!membrane_material(value)) {
@@ -337,6 +347,7 @@ int run_render(const CommandWords& words, const CommandIo& io) {
     config.channels = o.channels;
     config.coarse_steps = o.coarse_steps;
     config.impact = o.impact;
+    config.air = o.air;
     config.capacity = 1;
     config.max_diameter = o.diameter_mm * 1e-3 * (1.0 + 1e-9);   // build only the lattices this drop needs
     config.retire_below_m = -1e9;                                 // offline: follow every piece to the end

@@ -37,6 +37,8 @@ struct RenderDropOptions {
     int channels = 1;                   // 1 or 2
     int coarse_steps = 4;               // 1..64: samples a splash in the air may take as one (1: never)
     ImpactModel impact = ImpactModel::wet;   // --impact wet|seed (engine/models/wet_impact.hpp)
+    bool air = false;                   // --air on|off: the canopy's modes in air heard as dipoles
+                                        // (engine/models/air_canopy.hpp), or the lattice in vacuum, baffled
     bool quiet = false;
     std::string wav_path;               // -o, required
     std::string plot_path;              // --plot, optional

@@ -25,7 +25,7 @@ namespace ameoto::client {
 std::string render_scene_usage() {
     return "usage: ameoto render scene -o FILE.wav [--scene NAME|FILE.scene] [--rain MM/H] [--seconds S]\n"
            "           [--rate HZ] [--seed N] [--channels N] [--level auto|physical] [--loudness LUFS]\n"
-           "           [--gain DB] [--limiter on|off] [--quiet]\n"
+           "           [--gain DB] [--limiter on|off] [--air on|off] [--quiet]\n"
            "\n"
            "Renders a rain scene offline (no server needed) with the engine ameotod runs: its surfaces,\n"
            "rain and listener, every drop at its level of detail. Same scene, seed and rate: the same\n"
@@ -48,6 +48,9 @@ std::string render_scene_usage() {
            "  --gain DB           listening gain on top, -80..80 dB (default: the scene's, else 0)\n"
            "  --limiter on|off    look-ahead limiter, ceiling -1 dBFS, 2 ms look-ahead and attack,\n"
            "                      100 ms release (default: on with --level auto, off with physical)\n"
+           "  --air on|off        the umbrella's canopy in air (its air-loaded modes heard as dipoles,\n"
+           "                      docs/canopy.md) or in vacuum, baffled (the seed's); default: the\n"
+           "                      scene's umbrella air= key (off when not given)\n"
            "  --quiet             no progress on stderr\n"
            "  -o FILE.wav         the output (32-bit float WAV)\n"
            "\n"
@@ -92,6 +95,13 @@ RenderParse parse_render_scene_options(const CommandWords& words, RenderSceneOpt
         if (name == "--quiet") {
             if (!reader.flag_into(error)) return RenderParse::error;
             o.quiet = true;
+        } else if (name == "--air") {
+            if (!take_value()) return RenderParse::error;
+            if (value != "on" && value != "off") {
+                error = "--air: '" + value + "' is not on or off";
+                return RenderParse::error;
+            }
+            o.air = value == "on";
         } else if (name == "--scene") {
             if (!take_value()) return RenderParse::error;
             if (!builtin_scene(value) && !value.ends_with(".scene")) {
@@ -188,6 +198,9 @@ int run_render_scene(const RenderSceneOptions& o, const CommandIo& io) {
             scene = parse_scene(text.str(), o.scene);
         }
         if (o.gain_db) scene.gain_db = *o.gain_db;
+        if (o.air)
+            for (SurfaceDescription& s : scene.surfaces)
+                if (s.kind == SurfaceKind::umbrella) s.air = *o.air;
     } catch (const std::exception& e) {
         io.err << "ameoto render scene: " << e.what() << "\n";
         return exit_status::refused;

@@ -27,6 +27,7 @@ struct RenderSceneOptions {
     int rate = 48000;                   // Hz, 8000..192000
     std::uint64_t seed = 1;
     int channels = 2;                   // 1..16
+    std::optional<bool> air;            // --air on|off: overrides every umbrella's air= key
     bool quiet = false;
     std::string wav_path;               // -o, required
     bool level_auto = true;             // --level auto|physical (docs/loudness.md)

@@ -6,6 +6,7 @@
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #if defined(__SSE2__)
 #include <emmintrin.h>
@@ -120,44 +121,71 @@ Vec3 Canopy::node_position(int panel, int node) const {
     return rest_position(panel, node) + displacement(panel, node) * normal(panel, node);
 }
 
+void Canopy::set_air(std::shared_ptr<const AirCanopyModes> modes) {
+    if (modes && modes->nodes != panel_count() * nodes_)
+        throw std::invalid_argument("Canopy::set_air: the modes are another canopy's");
+    air_ = std::move(modes);
+    if (air_) air_state_.init(*air_);
+}
+
 double Canopy::displacement(int panel, int node) const {
+    if (air_) return air_state_.displacement(*air_, static_cast<int>(index(panel, node)));
     if (laned_) return lanes_state_.position(panel, node);
     return panels_[static_cast<std::size_t>(panel)].network.position(node);
 }
 
 double Canopy::normal_velocity(int panel, int node) const {
+    if (air_) return air_state_.velocity(*air_, static_cast<int>(index(panel, node)));
     if (laned_) return lanes_state_.velocity(panel, node);
     return panels_[static_cast<std::size_t>(panel)].network.velocity(node);
 }
 
 void Canopy::panel_positions(int panel, double* out) const {
+    if (air_) {
+        for (int i = 0; i < nodes_; ++i) out[i] = displacement(panel, i);
+        return;
+    }
     if (laned_) return lanes_state_.positions(panel, out);
     panels_[static_cast<std::size_t>(panel)].network.positions(out);
 }
 
 void Canopy::panel_velocities(int panel, double* out) const {
+    if (air_) {
+        for (int i = 0; i < nodes_; ++i) out[i] = normal_velocity(panel, i);
+        return;
+    }
     if (laned_) return lanes_state_.velocities(panel, out);
     panels_[static_cast<std::size_t>(panel)].network.velocities(out);
 }
 
 bool Canopy::panel_finite(int panel) const {
+    if (air_) return air_state_.finite();
     return laned_ ? lanes_state_.finite(panel) : panels_[static_cast<std::size_t>(panel)].network.finite();
 }
 
+// In air the modes are the whole canopy's: each panel is given an equal share of their energy.
 double Canopy::panel_energy(int panel) const {
+    if (air_) return air_state_.energy() / panel_count();
     return laned_ ? lanes_state_.energy(panel)
                   : panels_[static_cast<std::size_t>(panel)].network.kinetic_plus_potential_energy();
 }
 
 std::uint64_t Canopy::panel_guard_resets(int panel) const {
+    if (air_) return air_resets_;
     return laned_ ? lanes_state_.guard_resets(panel) : panels_[static_cast<std::size_t>(panel)].network.guard_resets();
 }
 
 // Node-major, out[node * lanes_ + panel]: the lanes' own layout, one pass over the whole canopy.
 void Canopy::velocities(double* out) const {
-    if (laned_) return lanes_state_.velocities(out);
+    if (laned_ && !air_) return lanes_state_.velocities(out);
     const auto stride = static_cast<std::size_t>(lanes_);
     std::fill(out, out + stride * static_cast<std::size_t>(nodes_), 0.0);
+    if (air_) {
+        for (int k = 0; k < panel_count(); ++k)
+            for (int i = 0; i < nodes_; ++i)
+                out[static_cast<std::size_t>(i) * stride + static_cast<std::size_t>(k)] = normal_velocity(k, i);
+        return;
+    }
     double* const v = displacements_.data();
     for (std::size_t k = 0; k < panels_.size(); ++k) {
         panels_[k].network.velocities(v);
@@ -169,6 +197,12 @@ void Canopy::velocities(double* out) const {
 // before the runtime guard resets it) never wins a comparison, so it is passed over; with no finite
 // node at all the range is empty (lowest +infinity, highest -infinity).
 DisplacementRange Canopy::displacement_range() const {
+    if (air_) {
+        const double b = air_state_.displacement_bound(*air_);
+        if (!std::isfinite(b))
+            return {std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
+        return {-b, b};
+    }
     if (laned_) return laned_displacement_range();
     DisplacementRange r{std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
     double* const u_all = displacements_.data();
@@ -314,16 +348,28 @@ Point2 Canopy::sample_point(Random& rng) const {
 
 void Canopy::apply_force(CanopyHit hit, double newtons) {
     if (hit.panel < 0) return;
+    if (air_) return air_state_.apply_force(*air_, static_cast<int>(index(hit.panel, hit.node)), newtons);
     if (laned_) return lanes_state_.apply_force(hit.panel, hit.node, newtons);
     panels_[static_cast<std::size_t>(hit.panel)].network.apply_force(hit.node, newtons);
 }
 
 void Canopy::step(double* panel_forces) {
+    if (air_) {
+        air_state_.step(*air_);
+        std::fill(panel_forces, panel_forces + panels_.size(), 0.0);
+        return;
+    }
     if (laned_) return lanes_state_.step(panel_forces);
     for (std::size_t k = 0; k < panels_.size(); ++k) panel_forces[k] = panels_[k].network.step();
 }
 
 int Canopy::reset_unstable() {
+    if (air_) {   // exact and unconditionally stable: only a non-finite input can spoil it
+        if (air_state_.finite()) return 0;
+        air_state_.reset();
+        ++air_resets_;
+        return panel_count();
+    }
     int resets = 0;
     for (int k = 0; k < panel_count(); ++k) {   // non-finite or runaway energy
         const bool reset = laned_ ? lanes_state_.guard(k) : panels_[static_cast<std::size_t>(k)].network.guard();

@@ -31,6 +31,17 @@
 //   canopy.lanes()                 // the layout's stride: panels rounded up to a multiple of 4
 //   canopy.velocities(out)         // out[node * lanes() + panel] (padding lanes: 0)
 //   canopy.laned(), canopy.set_portable_kernels(true), canopy.avx2_kernels()
+//   ---- in air (air_canopy.hpp) ----
+//   canopy.set_air(build_air_canopy_modes(canopy, T))   // build phase: from now on the canopy runs its
+//                                  // modes in air instead of the lattice (nullptr: the lattice again);
+//                                  // every reading above then comes from the modes, the state at rest
+//   canopy.in_air(), canopy.air_modes(), canopy.air_state()
+//   canopy.contact_mass(k, i)      // kg: the node's mass as an impact meets it (the lattice's mass in
+//                                  // vacuum; in air 1 / sum_k phi_ik^2, air_canopy.hpp)
+// In air: step() fills panel_forces with 0 (the panels' net forces are not formed: the dipole radiation,
+// dipole_radiation.hpp, reads the modes), displacement_range() is the bound -b..b with
+// b = AirCanopyState::displacement_bound (the broad phase needs only bounds), and reset_unstable()
+// resets every mode when any went non-finite (counted once per panel in panel_guard_resets).
 //
 // Stepping: the panels are identical networks, so with explicit Verlet or symplectic Euler (the default
 // and the cheap end of the accuracy chart) the canopy steps them together as SIMD lanes
@@ -58,11 +69,13 @@
 #include <array>
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <vector>
 
 #include "engine/core/body3d_vec3.hpp"
 #include "engine/core/integrators/laned_network.hpp"
 #include "engine/core/random.hpp"
+#include "engine/models/air_canopy.hpp"
 #include "engine/models/membrane.hpp"
 
 namespace ameoto {
@@ -128,6 +141,15 @@ public:
     void set_portable_kernels(bool on) { lanes_state_.set_portable_kernels(on); }
     bool avx2_kernels() const { return laned_ && lanes_state_.avx2_kernels(); }
 
+    void set_air(std::shared_ptr<const AirCanopyModes> modes);
+    bool in_air() const { return air_ != nullptr; }
+    const AirCanopyModes* air_modes() const { return air_.get(); }
+    const AirCanopyState& air_state() const { return air_state_; }
+    double contact_mass(int panel, int node) const {
+        if (air_) return air_->contact_mass[index(panel, node)];
+        return panels_[static_cast<std::size_t>(panel)].network.mass(node);
+    }
+
 private:
     // Local panel frame: hem along y = 0 from (-w, 0) to (w, 0), apex (the shaft) at (0, h).
     Point2 to_local(int panel, double x, double y) const;
@@ -149,6 +171,9 @@ private:
     LanedNetwork lanes_state_;          // every panel's state when laned_
     mutable std::vector<double> lane_low_, lane_high_;   // displacement_range()'s per-lane extremes
     std::vector<Vec3> rest_, normal_;   // per panel and node, panel-major
+    std::shared_ptr<const AirCanopyModes> air_;   // in air: the modes (shared by copies: immutable)
+    AirCanopyState air_state_;
+    std::uint64_t air_resets_ = 0;
     mutable std::vector<double> displacements_;   // displacement_range()'s scratch: one panel's u
     // locate()'s tables, set by the constructor so that locate needs no trigonometry: per panel the
     // cosine and sine of its azimuth (to_local); the sector boundaries' unit vectors, boundary k at

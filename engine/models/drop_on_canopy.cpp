@@ -105,7 +105,9 @@ const DropOnCanopyConfig& DropOnCanopy::checked(const DropOnCanopyConfig& c) {
 
 Canopy DropOnCanopy::fresh_canopy(const DropOnCanopyConfig& config) {
     const DropOnCanopyConfig& c = checked(config);
-    return Canopy(c.geometry, c.material, 1.0 / c.sample_rate, c.network);
+    Canopy canopy(c.geometry, c.material, 1.0 / c.sample_rate, c.network);
+    if (c.air) canopy.set_air(build_air_canopy_modes(canopy, 1.0 / c.sample_rate, c.air_options));
+    return canopy;
 }
 
 DropOnCanopy::DropOnCanopy(const DropOnCanopyConfig& config) : DropOnCanopy(Built{}, config, fresh_canopy(config)) {}
@@ -141,6 +143,10 @@ DropOnCanopy::DropOnCanopy(Built, const DropOnCanopyConfig& config, Canopy&& can
       spawn_masses_(static_cast<std::size_t>(config_.capacity), 0),
       spawn_mass_kg_(static_cast<std::size_t>(config_.capacity), 0.0) {
     liquid_ = pool_.add_liquid(config_.liquid);
+    // A prototype in air (fresh_canopy) brings its modes; otherwise they are built here.
+    if (config_.air && !canopy_.in_air()) canopy_.set_air(build_air_canopy_modes(canopy_, dt_, config_.air_options));
+    if (!config_.air && canopy_.in_air()) canopy_.set_air(nullptr);
+    if (config_.air) dipole_ = DipoleRadiation(canopy_, far_field_.layout(), dt_);
     // The band collide() keeps to (see there): the rest cap spans bottom_ (its rim) to top_ (the shaft);
     // the normal's vertical component is smallest at the rim, so reach_ vertically is at least 5 cm
     // along any normal inside the rim's circle.
@@ -207,7 +213,10 @@ void DropOnCanopy::process_frame(float* frame) {
     canopy_.step(panel_forces_.data());
     pool_.step();
     if (config_.output == SceneOutput::far_field) {
-        far_field_.process(canopy_, pressures_.data());
+        if (config_.air)
+            dipole_.process(canopy_, pressures_.data());
+        else
+            far_field_.process(canopy_, pressures_.data());
         const double inverse_full_scale = 1.0 / config_.full_scale_pa;
         for (int c = 0; c < channels; ++c) {
             // A panel that went non-finite is muted here and reset by the guard below.

@@ -77,6 +77,10 @@
 // point: when the impact is first heard. Speed 0 means the drop's arrival speed
 // (Gunn & Kinzer's terminal speed for its density, drop.hpp).
 //
+// In air (config.air): the canopy runs its air-loaded modes (Canopy::set_air; built with the canopy,
+// about half a second for the default one) and the far field is the unbaffled dipole sum
+// (dipole_radiation.hpp) at the same listening points; the collisions, the pickup and the broad phase
+// read the modes through the canopy as they read the lattice. The network options are then unused.
 // Output: far field: each channel is the pressure at its listening point divided by full_scale_pa, so
 // 1.0 is full_scale_pa pascals. The head is listener_below_m under the shaft, facing +x. One channel:
 // ListenerLayout::mono. Two channels: ListenerStyle::ears (two points 0.18 m apart: headphones) or
@@ -95,7 +99,9 @@
 #include <vector>
 
 #include "engine/core/body3d_vec3.hpp"
+#include "engine/models/air_canopy.hpp"
 #include "engine/models/canopy.hpp"
+#include "engine/models/dipole_radiation.hpp"
 #include "engine/models/drop_pool.hpp"
 #include "engine/models/liquid.hpp"
 #include "engine/models/membrane.hpp"
@@ -136,6 +142,11 @@ struct DropOnCanopyConfig {
                                                    // when the caller calls guard())
     NetworkOptions network{};                      // the panels' integrator (core/method_choice.hpp picks
                                                    // it from an accuracy budget)
+    bool air = false;                              // true: the canopy in air (its air-loaded modes,
+                                                   // air_canopy.hpp, heard as dipoles, dipole_radiation.hpp;
+                                                   // flat or curved); false: the lattice in vacuum under the
+                                                   // baffled Rayleigh sum (network above), the seed's model
+    AirCanopyOptions air_options{};                // in air: the air, the added mass's sampling, the cutoff
 };
 
 struct DropOnCanopyStats {
@@ -211,6 +222,7 @@ private:
     DropPool pool_;
     MembraneCollider collider_;
     FarFieldRadiation far_field_;
+    DipoleRadiation dipole_;      // in air (config_.air)
     MassPickup pickup_;
     int liquid_ = 0;
     std::vector<double> panel_forces_, pressures_;

@@ -53,7 +53,7 @@ std::optional<MembraneMaterial> membrane_material(std::string_view name) {
 namespace {
 
 // "" when lo <= value <= hi, else a sentence naming the value, the range and why (below or above it).
-std::string out_of_range(const char* what, double value, double lo, double hi, const char* unit, const char* why_low,
+std::string membrane_out_of_range(const char* what, double value, double lo, double hi, const char* unit, const char* why_low,
                          const char* why_high) {
     if (std::isfinite(value) && value >= lo && value <= hi) return {};
     const char* why = !std::isfinite(value) ? "it must be a finite number" : (value < lo ? why_low : why_high);
@@ -66,7 +66,7 @@ std::string out_of_range(const char* what, double value, double lo, double hi, c
 std::string optional_out_of_range(const char* what, double value, double lo, double hi, const char* unit,
                                   const char* why_low, const char* why_high) {
     if (value == 0.0) return {};
-    return out_of_range(what, value, lo, hi, unit, why_low, why_high);
+    return membrane_out_of_range(what, value, lo, hi, unit, why_low, why_high);
 }
 
 constexpr const char* negative_damping = "negative damping feeds energy in (it diverges under any integrator)";
@@ -76,15 +76,15 @@ constexpr const char* negative_damping = "negative damping feeds energy in (it d
 MaterialCheck validate_membrane_material(const MembraneMaterial& m) {
     const std::string reasons[] = {
         m.name.empty() ? std::string("a material needs a name") : std::string(),
-        out_of_range("areal density", m.areal_density, 1e-3, 100.0, "kg/m^2",
+        membrane_out_of_range("areal density", m.areal_density, 1e-3, 100.0, "kg/m^2",
                      "lighter than any film that could hold a drop (cling film is about 0.01)",
                      "heavier than 1 cm of steel: a plate, not a membrane (its bending stiffness is not modelled)"),
-        out_of_range("tension", m.tension, 0.1, 1e10, "N/m",
+        membrane_out_of_range("tension", m.tension, 0.1, 1e10, "N/m",
                      "a membrane that slack sags under its own weight instead of being held taut",
                      "no sheet holds that (the seed's 1.2e9 N/m links are 2.1e9 N/m)"),
-        out_of_range("mass damping alpha", m.mass_damping, 0.0, 1e4, "1/s", negative_damping,
+        membrane_out_of_range("mass damping alpha", m.mass_damping, 0.0, 1e4, "1/s", negative_damping,
                      "every mode below 800 Hz would be overdamped (alpha / 2 > w): the membrane no longer rings"),
-        out_of_range("stiffness damping beta", m.stiffness_damping, 0.0, 1e-3, "s", negative_damping,
+        membrane_out_of_range("stiffness damping beta", m.stiffness_damping, 0.0, 1e-3, "s", negative_damping,
                      "every mode above 320 Hz would be overdamped (beta w^2 / 2 > w)"),
         optional_out_of_range("link stiffness", m.link_stiffness, 1e-3, 1e10, "N/m",
                               "0 means tension / sqrt 3; a given link must be a positive spring",

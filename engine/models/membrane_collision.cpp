@@ -44,7 +44,7 @@ bool MembraneCollider::collide_one(Canopy& canopy, Vec3 p, Vec3 v, double m1, Ve
     const Vec3 n = canopy.normal(hit.panel, hit.node);
     const double v1 = dot(v, n);
     const double v2 = canopy.normal_velocity(hit.panel, hit.node) + pending_[slot];
-    const double m2 = canopy.panel(hit.panel).network.mass(hit.node);
+    const double m2 = canopy.contact_mass(hit.panel, hit.node);   // in air: with the air it carries (air_canopy.hpp)
     const ContactImpulse c = contact_impulse_of_parcel(law_, memo_parcel_, m1, m2, h, v1, v2, time_step_);   // wet_impact.hpp
     if (!c.contact) return false;
     const double impulse = c.impulse;   // on the drop mass, along n

@@ -55,7 +55,8 @@ CanopyInAirResult run_canopy_in_air(const CanopyInAirSetup& setup) {
     if (!(setup.duration_s > 0.0) || !(setup.pulse_s > 0.0) || setup.record_every < 1)
         throw std::invalid_argument("run_canopy_in_air: duration, pulse length and record_every must be positive");
     const double half = setup.geometry.radius_m + setup.margin_m;
-    const GridSpec g = GridSpec::box(setup.dx, half, half, setup.margin_m, setup.margin_m, setup.pml_cells);
+    const double z_margin = setup.z_margin_m >= 0.0 ? setup.z_margin_m : setup.margin_m;
+    const GridSpec g = GridSpec::box(setup.dx, half, half, z_margin, z_margin, setup.pml_cells);
     const double dt = g.time_step();
     const Canopy canopy(setup.geometry, setup.material, dt);
     CanopyStructure c = canopy_structure(canopy, setup.material);
@@ -92,9 +93,22 @@ CanopyInAirResult run_canopy_in_air(const CanopyInAirSetup& setup) {
         r.node_velocity.assign(static_cast<std::size_t>(c.structure.size()), {});
         for (auto& v : r.node_velocity) v.reserve(samples);
     }
+    if (setup.record_forces) {
+        r.node_air_force.assign(static_cast<std::size_t>(c.structure.size()), {});
+        for (auto& v : r.node_air_force) v.reserve(samples);
+    }
+    if (!setup.force_samples.empty() && !(setup.force_interval_s > 0.0))
+        throw std::invalid_argument("run_canopy_in_air: force samples need a positive interval");
     for (long n = 0; n < steps; ++n) {
         const double t = air.time();
-        const double f = t < setup.pulse_s ? setup.force_n * 0.5 * (1.0 - std::cos(2.0 * constants::pi * t / setup.pulse_s)) : 0.0;
+        double f = t < setup.pulse_s ? setup.force_n * 0.5 * (1.0 - std::cos(2.0 * constants::pi * t / setup.pulse_s)) : 0.0;
+        if (!setup.force_samples.empty()) {
+            const double at = t / setup.force_interval_s;
+            const auto i = static_cast<std::size_t>(at);
+            const double frac = at - static_cast<double>(i);
+            const std::vector<double>& fs = setup.force_samples;
+            f = i + 1 < fs.size() ? fs[i] + frac * (fs[i + 1] - fs[i]) : (i < fs.size() ? fs[i] * (1.0 - frac) : 0.0);
+        }
         air.set_external_force(struck, f);
         air.step();
         if ((n + 1) % setup.record_every) continue;
@@ -102,6 +116,8 @@ CanopyInAirResult run_canopy_in_air(const CanopyInAirSetup& setup) {
             r.pressure[l].push_back(air.pressure_at(setup.listeners[l].x, setup.listeners[l].y, setup.listeners[l].z));
         if (setup.record_nodes)
             for (int d = 0; d < c.structure.size(); ++d) r.node_velocity[static_cast<std::size_t>(d)].push_back(air.dof_velocity(d));
+        if (setup.record_forces)
+            for (int d = 0; d < c.structure.size(); ++d) r.node_air_force[static_cast<std::size_t>(d)].push_back(air.dof_air_force(d));
     }
     r.steps = air.steps();
     return r;

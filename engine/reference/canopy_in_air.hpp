@@ -17,6 +17,7 @@
 //   std::vector<PanelMode> modes = panel_modes_in_air(s, 4);   // the struck panel's lowest modes: vacuum
 //                                          // eigenfrequencies of the lattice and the air-loaded ones
 //
+// Given force_samples, the struck node's force is those samples instead (a drop's contact force).
 // The strike: a raised-cosine force pulse of peak force_n and length pulse_s on one node, along +z, from
 // t = 0. Node velocities are the structure's DOFs' mean velocity over each step (what the faces carry).
 // A node whose Voronoi cell holds no face centre (dx too coarse) moves no air: nodes_without_faces counts
@@ -44,6 +45,11 @@ struct CanopyInAirSetup {
     bool air = true;                                            // false: in vacuum (faces rigid, air silent)
     int record_every = 1;                                       // keep every n-th sample
     bool record_nodes = true;
+    double z_margin_m = -1.0;                                   // air above and below; < 0: margin_m
+    bool record_forces = false;                                 // keep each node's air force (below)
+    std::vector<double> force_samples;                          // not empty: the struck node's force (N)
+    double force_interval_s = 0.0;                              // at these intervals (linear between,
+                                                                // 0 after), instead of the pulse
 };
 
 struct CanopyInAirResult {
@@ -52,6 +58,8 @@ struct CanopyInAirResult {
     long cells = 0, steps = 0;
     std::vector<std::vector<double>> pressure;                  // [listener][sample]
     std::vector<std::vector<double>> node_velocity;             // [panel * nodes + node][sample]
+    std::vector<std::vector<double>> node_air_force;            // record_forces: the force the air puts
+                                                                // on each node along +z (N), [node][sample]
 };
 
 CanopyInAirResult run_canopy_in_air(const CanopyInAirSetup& setup);

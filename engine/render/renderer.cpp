@@ -67,6 +67,7 @@ RendererConfig configure_for_scene(RendererConfig config, const SceneDescription
         if (!m && material) m = material(s.material, context);
         if (!m) throw std::invalid_argument("surface '" + s.name + "': no umbrella material named '" + s.material + "'");
         config.material = *m;
+        config.air = s.air;
         config.canopy.panels = s.panels;
         config.canopy.radius_m = s.size_x_m / 2.0;
         // The umbrella is held over the listener: the far field hears it from under its shaft.
@@ -121,6 +122,7 @@ std::unique_ptr<UmbrellaScene> Renderer::make_scene(const RendererConfig& config
     c.guard_interval = 0;         // the renderer runs the guard after every block
     c.network = config.canopy_network;
     c.settle = config.settle;
+    c.air = config.air;
     return std::make_unique<UmbrellaScene>(c);
 }
 

@@ -81,6 +81,8 @@ struct RendererConfig {
     double rain_rate_mm_per_h = 2.0;      // the default scene: light rain
     CanopyGeometry canopy{};
     MembraneMaterial material = MembraneMaterial::nylon_canopy();
+    bool air = false;                     // the canopy in air (air_canopy.hpp) or in vacuum; the scene's
+                                          // umbrella air= key through configure_for_scene
     Liquid liquid = liquids::water();
     ListenerStyle listener = ListenerStyle::panned;
     double listener_below_m = 0.3;        // listener on the shaft, this far below the canopy

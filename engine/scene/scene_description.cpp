@@ -436,6 +436,9 @@ SceneDescription parse_scene(std::string_view text, const std::string& file) {
                 const double panels = r.number("panels", 8, panels_range, "");
                 if (panels != std::floor(panels)) r.fail("panels", "is not a whole number");
                 f.panels = static_cast<int>(panels);
+                const std::string air = r.text("air", "off");
+                if (air != "on" && air != "off") r.fail("air", "'" + air + "' is not on or off");
+                f.air = air == "on";
             }
             if (r.has("node") && file_version < 3) r.fail("node", "the node key needs version 3 (start the file with 'ameoto-scene 3')");
             const double node = r.number("node", 1, node_range, "");
@@ -476,6 +479,7 @@ std::string format_scene(const SceneDescription& s) {
             << " y=" << number(f.y_m) << " z=" << number(f.z_m);
         if (f.kind == SurfaceKind::umbrella) out << " panels=" << f.panels;
         if (f.node != 1) out << " node=" << f.node;
+        if (f.kind == SurfaceKind::umbrella && f.air) out << " air=on";   // off is the default
         out << "\n";
     }
     if (s.gain_db != 0.0) out << "output gain=" << number(s.gain_db) << "\n";

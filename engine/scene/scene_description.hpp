@@ -64,6 +64,9 @@ struct SurfaceDescription {
     double x_m = 0.0, y_m = 0.0, z_m = 0.0;  // centre (umbrella: top of the shaft)
     int panels = 8;                      // umbrella only
     int node = 1;                        // the node that renders it, 1..max_scene_nodes (version 3)
+    bool air = false;                    // umbrella only: air=on|off, the canopy in air (its air-loaded
+                                         // modes heard as dipoles) or in vacuum, baffled (the seed's;
+                                         // the default until air meets its 3 dB, docs/canopy.md)
     bool operator==(const SurfaceDescription&) const = default;
 };
 

@@ -189,3 +189,18 @@ TEST_CASE("scene file: a subnormal value format_scene writes reads back (found b
     CHECK(error_of("ameoto-scene 1\nrain rate=1e400\n") == "test.scene:2: rate: inf mm/h is outside 0..500");
     CHECK(error_of("ameoto-scene 1\nrain rate=1x\n") == "test.scene:2: rate: '1x' is not a number");
 }
+
+TEST_CASE("scene file: the umbrella's air key: on, off (the default), anything else refused with its line") {
+    const std::string head = "ameoto-scene 1\nsurface u kind=umbrella material=nylon size=1 z=1.9";
+    CHECK_FALSE(parse_scene(head + "\n", "test.scene").surfaces[0].air);
+    CHECK(parse_scene(head + " air=on\n", "test.scene").surfaces[0].air);
+    CHECK_FALSE(parse_scene(head + " air=off\n", "test.scene").surfaces[0].air);
+    CHECK(error_of(head + " air=yes\n") == "test.scene:2: air: 'yes' is not on or off");
+    CHECK(error_of("ameoto-scene 1\nsurface w kind=water material=pond size=1 air=on\n") == "test.scene:2: air: unknown key for 'surface'");
+    // format_scene writes it when on, and it reads back.
+    SceneDescription s = parse_scene(head + " air=on\n", "test.scene");
+    CHECK(format_scene(s).find(" air=on") != std::string::npos);
+    CHECK(parse_scene(format_scene(s), "again.scene") == s);
+    s.surfaces[0].air = false;
+    CHECK(format_scene(s).find("air=") == std::string::npos);
+}

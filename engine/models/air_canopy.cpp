@@ -1,0 +1,155 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The canopy's air-loaded modes as resonators (air_canopy.hpp).
+#include "engine/models/air_canopy.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "engine/models/air_loading.hpp"
+#include "engine/models/canopy.hpp"
+
+namespace ameoto {
+namespace {
+
+// e^{-sT} cos(wd T) and e^{-sT} sin(wd T) / wd (as core/integrators/modal.cpp; the modes in air are
+// underdamped, but the overdamped and critical cases are kept for any material).
+struct AirDecay {
+    double ec, es;
+};
+
+AirDecay air_decay(double omega, double s, double t) {
+    const double d = omega * omega - s * s;
+    const double e = std::exp(-s * t);
+    if (std::abs(d) * t * t < 1e-12) return {e * (1.0 - 0.5 * d * t * t), e * t * (1.0 - d * t * t / 6.0)};
+    if (d > 0.0) {
+        const double wd = std::sqrt(d);
+        return {e * std::cos(wd * t), e * std::sin(wd * t) / wd};
+    }
+    const double mu = std::sqrt(-d);
+    const double slow = std::exp(-(omega * omega / (s + mu)) * t), fast = std::exp(-(s + mu) * t);
+    return {0.5 * (slow + fast), 0.5 * (slow - fast) / mu};
+}
+
+}  // namespace
+
+std::shared_ptr<const AirCanopyModes> build_air_canopy_modes(const Canopy& canopy, double time_step_s,
+                                                             const AirCanopyOptions& o) {
+    if (!(time_step_s > 0.0) || !std::isfinite(time_step_s)) throw std::invalid_argument("air canopy: the time step must be positive");
+    if (!(o.air_density > 0.0 && o.air_density < 100.0)) throw std::invalid_argument("air canopy: air density outside 0..100 kg/m^3");
+    if (!(o.speed_of_sound > 1.0 && o.speed_of_sound < 1e4)) throw std::invalid_argument("air canopy: speed of sound outside 1..1e4 m/s");
+    if (!(o.square_side_m > 0.0 && o.square_side_m < 0.1)) throw std::invalid_argument("air canopy: square side outside 0..0.1 m");
+    if (!(o.max_frequency_hz > 0.0)) throw std::invalid_argument("air canopy: the cutoff must be positive");
+    const AddedMass added = canopy_added_mass(canopy, o.square_side_m, o.air_density);
+    const AirLoadedModes all = air_loaded_modes(canopy, added);
+    Eigen::VectorXd radiation = Eigen::VectorXd::Zero(all.omega.size());
+    if (o.radiation_damping) radiation = ameoto::radiation_damping(all, added, o.air_density, o.speed_of_sound);
+
+    auto m = std::make_shared<AirCanopyModes>();
+    const auto n = static_cast<int>(all.omega.size());
+    m->nodes = canopy.panel_count() * canopy.nodes_per_panel();
+    m->modes_found = n;
+    m->time_step_s = time_step_s;
+    m->cutoff_hz = o.max_frequency_hz;
+    std::vector<int> keep;
+    for (int k = 0; k < n; ++k)   // ascending
+        if (all.omega[k] <= 2.0 * constants::pi * o.max_frequency_hz) keep.push_back(k);
+    const int kept = static_cast<int>(keep.size());
+    m->modes = kept;
+    m->omega.resize(kept);
+    m->rate.resize(kept);
+    m->radiation_rate.resize(kept);
+    m->shape.assign(static_cast<std::size_t>(m->nodes) * static_cast<std::size_t>(kept), 0.0);
+    m->air_force.resize(m->nodes, kept);
+    const Eigen::MatrixXd force = added.matrix * all.shapes;
+    for (int j = 0; j < kept; ++j) {
+        const int k = keep[static_cast<std::size_t>(j)];
+        m->omega[j] = all.omega[k];
+        m->radiation_rate[j] = radiation[k];
+        m->rate[j] = all.damping_rate[k] + radiation[k];
+        for (int i = 0; i < m->nodes; ++i) m->shape[static_cast<std::size_t>(i) * kept + j] = all.shapes(i, k);
+        m->air_force.col(j) = force.col(k);
+        const AirDecay d = air_decay(m->omega[j], m->rate[j], time_step_s);
+        m->t11.push_back(d.ec + m->rate[j] * d.es);
+        m->t12.push_back(d.es);
+        m->t21.push_back(-m->omega[j] * m->omega[j] * d.es);
+        m->t22.push_back(d.ec - m->rate[j] * d.es);
+    }
+    m->contact_mass.assign(static_cast<std::size_t>(m->nodes), 0.0);
+    for (int i = 0; i < m->nodes; ++i) {
+        double mobility = 0.0;
+        for (int j = 0; j < kept; ++j) {
+            const double phi = m->shape[static_cast<std::size_t>(i) * kept + j];
+            mobility += phi * phi;
+        }
+        // With every mode dropped a node cannot move: an infinitely heavy contact.
+        m->contact_mass[static_cast<std::size_t>(i)] = mobility > 0.0 ? 1.0 / mobility : 1e300;
+    }
+    m->largest_shape.assign(static_cast<std::size_t>(kept), 0.0);
+    for (int i = 0; i < m->nodes; ++i)
+        for (int j = 0; j < kept; ++j)
+            m->largest_shape[static_cast<std::size_t>(j)] =
+                std::max(m->largest_shape[static_cast<std::size_t>(j)], std::abs(m->shape[static_cast<std::size_t>(i) * kept + j]));
+    m->node_area.assign(added.area.data(), added.area.data() + added.area.size());
+    return m;
+}
+
+void AirCanopyState::init(const AirCanopyModes& m) {
+    const auto n = static_cast<std::size_t>(m.modes);
+    q_.assign(n, 0.0);
+    qd_.assign(n, 0.0);
+    p_.assign(n, 0.0);
+    a_.assign(n, 0.0);
+    omega2_.resize(n);
+    for (std::size_t k = 0; k < n; ++k) omega2_[k] = m.omega[static_cast<Eigen::Index>(k)] * m.omega[static_cast<Eigen::Index>(k)];
+}
+
+namespace {
+
+// Kick q' += T p, then the exact transition (modal.cpp's advance_modes); a = (q'[n+1] - q'[n]) / T, the
+// step's mean acceleration (what the radiation reads, dipole_radiation.hpp). Restrict: the loop vectorises.
+void advance_air_modes(std::size_t modes, double* __restrict q, double* __restrict qd, double* __restrict p,
+                       double* __restrict a, const double* __restrict a11, const double* __restrict a12,
+                       const double* __restrict a21, const double* __restrict a22, double t, double inverse_t) {
+    for (std::size_t k = 0; k < modes; ++k) {
+        const double kicked = qd[k] + t * p[k];
+        const double q_next = a11[k] * q[k] + a12[k] * kicked;
+        const double qd_next = a21[k] * q[k] + a22[k] * kicked;
+        a[k] = (qd_next - qd[k]) * inverse_t;
+        q[k] = q_next;
+        qd[k] = qd_next;
+        p[k] = 0.0;
+    }
+}
+
+}  // namespace
+
+void AirCanopyState::step(const AirCanopyModes& m) {
+    advance_air_modes(static_cast<std::size_t>(m.modes), q_.data(), qd_.data(), p_.data(), a_.data(), m.t11.data(), m.t12.data(),
+                      m.t21.data(), m.t22.data(), m.time_step_s, 1.0 / m.time_step_s);
+}
+
+bool AirCanopyState::finite() const {
+    double s = 0.0;
+    for (std::size_t k = 0; k < q_.size(); ++k) s += q_[k] + qd_[k];
+    return std::isfinite(s);
+}
+
+void AirCanopyState::reset() {
+    for (auto* v : {&q_, &qd_, &p_, &a_})
+        for (double& x : *v) x = 0.0;
+}
+
+double AirCanopyState::displacement_bound(const AirCanopyModes& m) const {
+    double b = 0.0;
+    for (std::size_t k = 0; k < q_.size(); ++k) b += m.largest_shape[k] * std::abs(q_[k]);
+    return b;
+}
+
+double AirCanopyState::energy() const {
+    double e = 0.0;
+    for (std::size_t k = 0; k < q_.size(); ++k) e += qd_[k] * qd_[k] + omega2_[k] * q_[k] * q_[k];
+    return 0.5 * e;
+}
+
+}  // namespace ameoto

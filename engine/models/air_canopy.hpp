@@ -1,0 +1,107 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#pragma once
+// The canopy in air as modal resonators: the whole canopy's modes with the air's added mass on both
+// faces (air_loading.hpp: K phi = w^2 (M + M_a) phi), each run exactly as a two-pole resonator, the
+// drops' contact forces projected onto them through the mode shapes and the struck node's motion read
+// back through them. What Canopy runs in place of its lattice once it is given air (Canopy::set_air).
+//
+// Interface:
+//   AirCanopyOptions o;                                  // air, sampling of the added mass, cutoff
+//   std::shared_ptr<const AirCanopyModes> m = build_air_canopy_modes(canopy, time_step_s, o);
+//                                                        // build phase: allocates, ~0.5 s for the
+//                                                        // default canopy; throws std::invalid_argument
+//                                                        // (bad options, a curved canopy's plan is used)
+//   AirCanopyState s; s.init(*m);                        // allocates the state (build phase)
+//   ---- audio-safe from here: no allocation, no locks ----
+//   s.apply_force(m, node, newtons);                     // for the next step (node: panel * nodes + i)
+//   s.step(m);                                           // one sample
+//   s.displacement(m, node), s.velocity(m, node)         // u, du/dt along the node's normal
+//   s.accelerations()                                    // each mode's mean q'' over the last step
+//   s.displacement_bound(m)                              // >= |u| at every node
+//   s.finite(), s.reset(), s.energy()
+//
+// Modes (air_loading.hpp): Phi' (M + M_a) Phi = I, u = Phi q, and each mode obeys
+//   q_k'' + 2 s_k q_k' + w_k^2 q_k = phi_k' f,
+// s_k = the material's (Phi' C Phi)_kk / 2 (classical damping) plus, with radiation on, the mode's
+// radiation damping (air_loading.hpp, radiation_damping). The step is the modal integrator's
+// (core/integrators/modal.hpp: the kick q' += T p, then the exact transition over T): exact for any T.
+// Cutoff: modes above max_frequency_hz are dropped (they neither move nor radiate). The default keeps
+// every mode the lattice has (the 400-node default canopy's: 82 to 870 Hz in air): the lattice
+// itself is the resolution limit, and a panel's modes above about 700 Hz already have wavelengths under
+// four lattice spacings (docs/canopy.md, "In air").
+// Contact: a collision needs the node's mass as an impact sees it (membrane_collision.cpp): in air the
+// node's instantaneous (impulse) mobility is Delta v_i / J = sum_k phi_ik^2 = ((M + M_a)^-1)_ii over the
+// kept modes, so the node's contact mass is 1 / sum_k phi_ik^2: heavier than its structural mass, as
+// the air next to it moves with it.
+
+#include <memory>
+#include <vector>
+
+#include <Eigen/Dense>
+
+#include "engine/core/physical_constants.hpp"
+
+namespace ameoto {
+
+class Canopy;
+
+struct AirCanopyOptions {
+    double air_density = constants::air_density;            // rho0, kg/m^3
+    double speed_of_sound = constants::speed_of_sound_air;   // c, m/s
+    double square_side_m = 0.004;       // the added mass's sampling (air_loading.hpp: 4 mm for the umbrella); a
+                                        // tenth of the lattice spacing (4.5 cm by default)
+    double max_frequency_hz = 20000.0;  // modes above are dropped
+    bool radiation_damping = true;      // add each mode's radiation damping to its decay
+};
+
+struct AirCanopyModes {
+    int nodes = 0;                  // panel-major, panel * nodes_per_panel + node
+    int modes = 0;                  // kept
+    int modes_found = 0;            // before the cutoff
+    double time_step_s = 0.0;
+    double cutoff_hz = 0.0;         // max_frequency_hz as given
+    Eigen::VectorXd omega;          // rad/s
+    Eigen::VectorXd rate;           // 1/s: the material's and the radiation's
+    Eigen::VectorXd radiation_rate; // 1/s: the radiation's part (0 when off)
+    std::vector<double> shape;      // node-major: shape[node * modes + k] = phi_k at the node
+    std::vector<double> t11, t12, t21, t22;   // each mode's transition over T
+    std::vector<double> contact_mass;         // kg per node: 1 / sum_k phi_ik^2
+    std::vector<double> largest_shape;        // per mode: max over nodes of |phi_ik| (a bound on |u|)
+    Eigen::MatrixXd air_force;      // [node, mode]: (M_a phi_k)_i, N on the air per unit q_k''
+    std::vector<double> node_area;  // m^2 per node (the added mass's cells)
+};
+
+std::shared_ptr<const AirCanopyModes> build_air_canopy_modes(const Canopy& canopy, double time_step_s,
+                                                             const AirCanopyOptions& options = AirCanopyOptions{});
+
+class AirCanopyState {
+public:
+    void init(const AirCanopyModes& modes);
+    void apply_force(const AirCanopyModes& m, int node, double newtons) {
+        const double* row = m.shape.data() + static_cast<std::size_t>(node) * static_cast<std::size_t>(m.modes);
+        double* const p = p_.data();
+        const int n = m.modes;
+        for (int k = 0; k < n; ++k) p[k] += newtons * row[k];
+    }
+    void step(const AirCanopyModes& m);
+    double displacement(const AirCanopyModes& m, int node) const { return dot_row(m, node, q_.data()); }
+    double velocity(const AirCanopyModes& m, int node) const { return dot_row(m, node, qd_.data()); }
+    const double* accelerations() const { return a_.data(); }   // per mode, m/s^2 per unit of q
+    // sum_k max_i |phi_ik| |q_k| >= |u_i| at every node: the collision broad phase's bound, O(modes)
+    // where the exact extremes would cost O(nodes x modes).
+    double displacement_bound(const AirCanopyModes& m) const;
+    bool finite() const;
+    void reset();
+    double energy() const;   // J: 1/2 sum (q'^2 + w^2 q^2), the membrane's and the air's near field
+
+private:
+    static double dot_row(const AirCanopyModes& m, int node, const double* x) {
+        const double* row = m.shape.data() + static_cast<std::size_t>(node) * static_cast<std::size_t>(m.modes);
+        double s = 0.0;
+        for (int k = 0; k < m.modes; ++k) s += row[k] * x[k];
+        return s;
+    }
+    std::vector<double> q_, qd_, p_, a_, omega2_;
+};
+
+}  // namespace ameoto

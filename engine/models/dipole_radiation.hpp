@@ -1,0 +1,82 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#pragma once
+// The sound of the canopy in air (air_canopy.hpp) at each listening point: no baffle, so each face of
+// the membrane pushes the air with the opposite sign and every node is a dipole (a point force on the
+// air along its normal), not the baffled monopole of the Rayleigh integral (radiation.hpp).
+//
+// Interface:
+//   DipoleRadiation d(canopy, layout, T);       // build phase (allocates): canopy.in_air() required,
+//                                               // else std::invalid_argument
+//   d.process(canopy, pressures_pa);            // after canopy.step(): one pressure per channel, Pa;
+//                                               // never allocates
+//   d.delay_samples(channel)                    // D: the bulk delay (the nearest node's, whole samples)
+//   d.coefficients(channel, mode)               // {A, B}: the mode's two taps (below)
+//
+// Source. A thin screen in free air is a double layer: the pressure at x is
+//   p(x) = integral over the screen of Delta p(y) dG/dn_y dS(y),  G = e^{-ikr} / (4 pi r)
+// (the Kirchhoff-Helmholtz integral of a surface of zero thickness, whose single-layer terms cancel
+// between the faces; Pierce, Acoustics, 1989, section 4.3; Morse & Ingard, Theoretical Acoustics, 1968,
+// section 7.1). Node i's share, its pressure jump times its area, is the force F_i it puts on the air
+// along its normal n_i; in the time domain each is a point force (a dipole, Lighthill's analogy:
+// Dowling & Ffowcs Williams, Sound and Sources of Sound, 1983, section 2.6):
+//   p(x, t) = sum_i cos(theta_i) / (4 pi) [ F_i'(t - r_i / c) / (c r_i) + F_i(t - r_i / c) / r_i^2 ],
+// r_i = |x - y_i|, cos(theta_i) = (x - y_i) . n_i / r_i (a listener under the canopy hears -F). With the
+// potential's jump mu (Delta p = -rho0 d mu / dt, linearised Bernoulli) this is the brief's form
+// p = rho0 sum_i A_i d/dt [ mu_i d/dn G(x, y_i) ] with the far (F') and near (F / r^2) terms.
+// The force: the air's incompressible near field (air_loading.hpp), F = M_a u'' = sum_k (M_a phi_k) q_k'',
+// the same pressure jump that loads the modes (and whose far field is radiation_damping's source).
+// It holds the instantaneous part of a drop's force as well: the kick a contact gives the modes
+// carries through q'' at once, (M_a (M + M_a)^-1) f.
+// Per mode and listener. Mode k's free motion is q_k = Re(C e^{lambda t}), lambda = -s_k + i w_d, so
+// F_i' = lambda F_i and a shift by Delta multiplies by e^{-lambda Delta}: the node sum is one complex gain
+//   H_k = sum_i g_i cos(theta_i) (M_a phi_k)_i / (4 pi) e^{-lambda Delta_i} (1 / r_i^2 + lambda / (c r_i)),
+// with Delta_i = r_i / c - D T >= 0 (D: the nearest node's delay in whole samples) and g_i the panel's
+// pan gain (1 for a point). The modes deliver their mean acceleration over each step,
+// abar[n] = (q'[n] - q'[n-1]) / T = (1 - e^{-lambda T}) / (lambda T) q''(t_n) for that motion, and two
+// real taps reproduce any complex gain on a real damped sinusoid exactly:
+//   p(t_n + D T) = sum_k A_k abar_k[n] + B_k abar_k[n-1],   A + B e^{-lambda T} = H_k lambda T / (1 - e^{-lambda T}),
+// so the pressure is computed now and played D samples later (a ring per channel). Exact for each mode's
+// free ring-down (any distance, delay spread and near field); while a force acts (a drop's contact, a
+// fraction of a millisecond) the taps filter its kick as the mode's own frequency response would, an
+// approximation for the spectrum far from the mode (the broadband part of an impact).
+// Cost per sample: 2 x modes x channels multiply-adds (the default canopy: 400 modes; mono 800).
+// Distance floor: r_i >= a_eq / 2, a_eq = sqrt(A_i / pi), as the Rayleigh path (radiation.hpp).
+// Approximated: the force is the incompressible near field's (the air's compressibility changes the
+// pressure jump itself only near and above coincidence: air_loading.hpp); the canopy shades nothing and
+// nothing reflects; a curved canopy's pressure jump is its plan's (air_loading.hpp) along each node's
+// own normal.
+
+#include <utility>
+#include <vector>
+
+#include "engine/models/canopy.hpp"
+#include "engine/models/radiation.hpp"
+
+namespace ameoto {
+
+class DipoleRadiation {
+public:
+    DipoleRadiation() = default;
+    DipoleRadiation(const Canopy& canopy, const ListenerLayout& layout, double time_step_s, const AirMedium& air = AirMedium{});
+
+    void process(const Canopy& canopy, double* pressures_pa);
+    void reset();
+
+    int channels() const { return channels_; }
+    int modes() const { return modes_; }
+    int delay_samples(int channel) const { return delay_[static_cast<std::size_t>(channel)]; }
+    std::pair<double, double> coefficients(int channel, int mode) const {
+        const std::size_t at = static_cast<std::size_t>(channel) * static_cast<std::size_t>(modes_) + static_cast<std::size_t>(mode);
+        return {a_[at], b_[at]};
+    }
+
+private:
+    int channels_ = 0, modes_ = 0;
+    std::vector<double> a_, b_;      // [channel * modes + mode]
+    std::vector<double> previous_;   // each mode's abar[n - 1]
+    std::vector<int> delay_;         // per channel
+    std::vector<double> ring_;       // [channel * length_ + slot]
+    int length_ = 1, mask_ = 0, now_ = 0;
+};
+
+}  // namespace ameoto

@@ -1,0 +1,43 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#pragma once
+// The canopy in air, fast model against reference, in third-octave band levels (issue 19, part 2):
+// a raised-cosine strike (or a given force) on one node, heard at listening points by the reference
+// (engine/reference/canopy_in_air.hpp: the box's own pressure where a point lies inside it, the double
+// layer of its nodes' forces on the air beyond, screen_far_field.hpp) and by the fast model (the
+// canopy's air-loaded modes, engine/models/air_canopy.hpp, heard as dipoles, dipole_radiation.hpp, at
+// 48 kHz). Offline; allocates.
+//
+// Interface:
+//   CanopyBandsSetup s;  s.reference.dx = 0.01; s.reference.node = 12;   // the reference's setup
+//   CanopyBandsResult r = compare_canopy_bands(s);   // r.fast[l], r.reference[l]: band levels per listener
+//   r.difference(l, b)                               // dB, fast - reference
+
+#include <vector>
+
+#include "engine/core/body3d_vec3.hpp"
+#include "engine/reference/canopy_in_air.hpp"
+#include "engine/reference/screen_far_field.hpp"
+
+namespace ameoto::reference {
+
+struct CanopyBandsSetup {
+    CanopyInAirSetup reference;       // strike, grid, duration; its listeners are replaced by `listeners`
+    std::vector<Vec3> listeners{{0.0, 0.0, -0.3}, {1.0, 0.0, -0.3}, {0.0, 0.0, -3.0}};
+    double low_hz = 80.0, high_hz = 630.0;
+    double fast_rate_hz = 48000.0;
+};
+
+struct CanopyBandsResult {
+    std::vector<std::vector<BandLevel>> fast, reference;   // [listener][band]
+    std::vector<bool> inside_box;                          // per listener: the box's pressure (else the double layer)
+    int struck_node = -1;
+    double reference_seconds = 0.0;                        // the reference's run time (wall clock)
+    double difference(int listener, int band) const {
+        return fast[static_cast<std::size_t>(listener)][static_cast<std::size_t>(band)].level_db -
+               reference[static_cast<std::size_t>(listener)][static_cast<std::size_t>(band)].level_db;
+    }
+};
+
+CanopyBandsResult compare_canopy_bands(const CanopyBandsSetup& setup);
+
+}  // namespace ameoto::reference
