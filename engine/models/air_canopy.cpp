@@ -38,9 +38,8 @@ std::shared_ptr<const AirCanopyModes> build_air_canopy_modes(const Canopy& canop
     if (!(time_step_s > 0.0) || !std::isfinite(time_step_s)) throw std::invalid_argument("air canopy: the time step must be positive");
     if (!(o.air_density > 0.0 && o.air_density < 100.0)) throw std::invalid_argument("air canopy: air density outside 0..100 kg/m^3");
     if (!(o.speed_of_sound > 1.0 && o.speed_of_sound < 1e4)) throw std::invalid_argument("air canopy: speed of sound outside 1..1e4 m/s");
-    if (!(o.square_side_m > 0.0 && o.square_side_m < 0.1)) throw std::invalid_argument("air canopy: square side outside 0..0.1 m");
     if (!(o.max_frequency_hz > 0.0)) throw std::invalid_argument("air canopy: the cutoff must be positive");
-    const AddedMass added = canopy_added_mass(canopy, o.square_side_m, o.air_density);
+    const AddedMass added = canopy_added_mass(canopy, o.air_density, o.air_mass);
     const AirLoadedModes all = air_loaded_modes(canopy, added);
     Eigen::VectorXd radiation = Eigen::VectorXd::Zero(all.omega.size());
     if (o.radiation_damping) radiation = ameoto::radiation_damping(all, added, o.air_density, o.speed_of_sound);

@@ -40,6 +40,7 @@
 #include <Eigen/Dense>
 
 #include "engine/core/physical_constants.hpp"
+#include "engine/models/air_loading.hpp"
 
 namespace ameoto {
 
@@ -48,8 +49,8 @@ class Canopy;
 struct AirCanopyOptions {
     double air_density = constants::air_density;            // rho0, kg/m^3
     double speed_of_sound = constants::speed_of_sound_air;   // c, m/s
-    double square_side_m = 0.004;       // the added mass's sampling (air_loading.hpp: 4 mm for the umbrella); a
-                                        // tenth of the lattice spacing (4.5 cm by default)
+    CanopyAirMassOptions air_mass{};    // the added mass's sampling: per-panel sub-cells, extrapolated to
+                                        // zero cell size (air_loading.hpp; +0.2 % of Lamb's for the rigid canopy)
     double max_frequency_hz = 20000.0;  // modes above are dropped
     bool radiation_damping = true;      // add each mode's radiation damping to its decay
 };

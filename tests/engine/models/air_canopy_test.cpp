@@ -99,12 +99,12 @@ TEST_CASE("air canopy: impulses at three points of a panel, band levels at three
     // Issue 19's target: third-octave band levels within 3 dB of the reference from 63 Hz to 4 kHz. The
     // cheap grid (dx = 25 mm, 0.1 s) resolves 80 Hz to 630 Hz (the 63 Hz band needs a record longer
     // than 0.1 s; above about 700 Hz the membrane's waves, under four lattice spacings, are under four
-    // cells of this grid, whose near field then carries less of the air's mass). Not met yet band by
-    // band: the fast model's added mass (air_loading.hpp) is heavy, its panel modes 2-9 % low against
-    // the reference (docs/canopy.md), which moves peaks across band edges. Held here to what it gives
-    // now, as a regression bound: the median band within 6 dB (measured 2026-12-02: 1.5-4.9 dB) and
-    // the worst within 11 dB (measured 3.9-10.0 dB); to be tightened to 3 dB each once the added mass
-    // converges. Full range: `ameoto reference canopy-bands`.
+    // cells of this grid, whose near field then carries less of the air's mass). Met by the median
+    // band, not yet band by band: with the converged added mass (air_loading.hpp, per-panel sub-cells)
+    // the medians are 1.3-2.95 dB (2026-12-02; 1.5-4.9 with the 4 mm squares), held within 3.5 dB; the
+    // worst band 2.7-11.6 dB, a single peak across a band edge (this coarse reference's own modes sit
+    // 0-6 % above its converged ones, canopy_modes_test.cpp), held within 12 dB as a regression bound.
+    // Full range on the converged grid: `ameoto reference canopy-bands`.
     const Canopy vacuum(CanopyGeometry{}, MembraneMaterial::nylon_canopy(), 1.0 / air_test_rate);
     // Three points of panel 0: its centroid, towards the hem, towards the shaft.
     const Point2 c = vacuum.panel_centroid(0);
@@ -120,8 +120,8 @@ TEST_CASE("air canopy: impulses at three points of a panel, band levels at three
         for (int l = 0; l < 3; ++l) {
             const BandComparison b = compare_levels(r.fast[static_cast<std::size_t>(l)], r.reference[static_cast<std::size_t>(l)]);
             MESSAGE("node " << hit.node << " listener " << l << ": median " << b.median_db << " dB, worst " << b.worst_db << " dB; " << b.table);
-            CHECK(b.median_db < 6.0);
-            CHECK(b.worst_db < 11.0);
+            CHECK(b.median_db < 3.5);
+            CHECK(b.worst_db < 12.0);
         }
     }
 }
@@ -160,8 +160,9 @@ TEST_CASE("air canopy: a 2 mm drop on the whole canopy, band levels at the liste
     const BandComparison b = compare_levels(reference::third_octave_levels(fast, 1.0 / air_test_rate, bands.low_hz, bands.high_hz),
                                             r.reference[0]);
     MESSAGE("2 mm drop: median " << b.median_db << " dB, worst " << b.worst_db << " dB; " << b.table);
-    CHECK(b.median_db < 6.0);
-    CHECK(b.worst_db < 11.0);
+    // Measured 2026-12-02: median 1.34 dB, worst 7.06 (the 157 Hz band); bounds as above.
+    CHECK(b.median_db < 3.5);
+    CHECK(b.worst_db < 12.0);
 }
 
 TEST_CASE("air canopy: air off is the lattice in vacuum, bit for bit; on is another sound, audio-safe") {
