@@ -10,7 +10,7 @@ namespace ameoto::client {
 namespace {
 
 // Indices into StatusReport::values (status_fields(), the order the server sends them).
-enum StatusIndex { cpu_average = 0, cpu_peak, drops_per_second, full, templ, texture, xruns, late, sample_rate, block, seconds, rain, backend, clipped, full_scale };
+enum StatusIndex { cpu_average = 0, cpu_peak, drops_per_second, full, templ, texture, xruns, late, sample_rate, block, seconds, rain, backend, clock_ppm, clipped, full_scale };
 
 double level(double dbfs) { return std::isfinite(dbfs) ? dbfs : -120.0; }
 

@@ -55,7 +55,9 @@
 // the momentum: twice a real drop's impulse). Wet masses touch up to their reach (their parcel's
 // radius, at most 1 mm) above the membrane, so the broad phase below adds that reach to its bounds.
 //
-// Settling (config.settle, the default): every 32 samples (DropPool's retirement check) each piece of a
+// Settling (config.settle; off by default: with it, a drop's coarse steps depend on the other drops in the
+// pool through their shared floor (below), so one drop's samples change with another's timing, which
+// breaks the cross-packet timing tests; to be made per drop): every 32 of a drop's own samples each piece of a
 // drop whose masses are all done is parked (DropPool, "Parking": taken out of the motion, its mass
 // kept), and a drop whose pieces are all parked retires. A mass is done (settle_predicate()) when it can
 // no longer be heard: gone past the rim (outside the rim's circle by 1 cm, moving outwards: only
@@ -68,7 +70,7 @@
 // every sample, since a piece at rest holds the drop's coarse steps down (the splash's flying pieces
 // could not be stepped coarsely while any piece lay on the membrane). What it changes in the sound is
 // bounded by a test (drop_on_canopy_test: band levels of a render with and without, docs/drop.md).
-// settle = false is the model before it (ameoto bench drop times both).
+// settle = false is the model before it, and the default (ameoto bench drop times both).
 //
 // Placement: drop() puts the drop's lowest mass gap_m (0.5 mm) above the rest surface at (x, y)
 // (DropPool::underside; wet: its parcel's underside, the mass's reach lower), moving straight down at `speed`, so it reaches the membrane within a few
@@ -135,8 +137,8 @@ struct DropOnCanopyConfig {
     double max_lifetime_s = 30.0;                  // s (0: never)
     int coarse_steps = 4;                          // 1..64: samples a drop wholly over the band may take
                                                    // as one (drop_pool.hpp, "Coarse steps"; 1: never)
-    bool settle = true;                            // park liquid that is done (below, "Settling"); false:
-                                                   // every mass is stepped until its drop retires
+    bool settle = false;                           // park liquid that is done (below, "Settling"); false
+                                                   // (the default): every mass is stepped until its drop retires
     double rest_speed_m_per_s = 0.05;              // m/s: slower along the normal, a mass in touch is at rest
     int guard_interval = 256;                      // samples between runs of the canopy's guard (0: only
                                                    // when the caller calls guard())

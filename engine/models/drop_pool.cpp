@@ -324,15 +324,19 @@ void DropPool::set_changed_piece_drag(Slot& s) {
 }
 
 void DropPool::step() {
-    const bool check = ++steps_since_check_ >= config_.retire_interval;
-    if (check) steps_since_check_ = 0;
     const long max_steps = config_.max_lifetime > 0.0 ? std::lround(config_.max_lifetime / config_.time_step) : 0;
+    // Each drop is checked every retire_interval of its own steps, counted from its spawn, not on a grid
+    // shared by the pool: parking changes what is heard, so a drop must sound the same whenever it
+    // starts (a drop alone and the same drop with another one timed after it are the same samples until
+    // the second lands: tests/integration/bundle_timing_test.cpp).
+    bool check = false;
     // Too old, or (at a check) all its masses done: the slot returns to the free list.
     auto finished = [&](const Slot& s) { return (max_steps > 0 && s.steps >= max_steps) || (check && all_done(s)); };
     // Backwards: release() moves the last active drop into the freed place.
     for (std::size_t i = active_.size(); i-- > 0;) {
         Slot& s = slot(active_[i]);
         ++s.steps;
+        check = s.steps % config_.retire_interval == 0;
         if (s.dormant) {
             step_dormant(s);
             if (finished(s)) release(i);

@@ -54,9 +54,10 @@
 // full Body3D. position() and velocity() read a dormant drop without waking it. A collision module
 // that applies forces only on contact thus pays for a drop's lattice only from its impact on.
 //
-// Retirement: every retire_interval steps each active drop's masses are checked with the caller's
-// predicate (default: z < retire_below); a drop whose masses are all done (at rest on a surface, or
-// gone from the scene: the caller's choice) retires, as does one older than max_lifetime (a safety net;
+// Retirement: every retire_interval of its own steps (counted from its spawn, so that a drop sounds
+// the same whenever it starts) each active drop's masses are checked with the caller's predicate
+// (default: z < retire_below); a drop whose masses are all done (at rest on a surface, or gone from the
+// scene: the caller's choice) retires, as does one older than max_lifetime (a safety net;
 // 0 = never). The slot returns to the free list.
 //
 // Parking (config.park_done; DropOnCanopy turns it on: drop_on_canopy.hpp, "Settling"): at the same
@@ -230,7 +231,6 @@ private:
     std::uint64_t next_serial_ = 1;
     int max_masses_ = 0;
     int max_target_ = 0;
-    long steps_since_check_ = 0;
     double coarse_floor_ = std::numeric_limits<double>::infinity();
 };
 
