@@ -6,32 +6,11 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "engine/core/integrators/mode_decay.hpp"
 #include "engine/models/air_loading.hpp"
 #include "engine/models/canopy.hpp"
 
 namespace ameoto {
-namespace {
-
-// e^{-sT} cos(wd T) and e^{-sT} sin(wd T) / wd (as core/integrators/modal.cpp; the modes in air are
-// underdamped, but the overdamped and critical cases are kept for any material).
-struct AirDecay {
-    double ec, es;
-};
-
-AirDecay air_decay(double omega, double s, double t) {
-    const double d = omega * omega - s * s;
-    const double e = std::exp(-s * t);
-    if (std::abs(d) * t * t < 1e-12) return {e * (1.0 - 0.5 * d * t * t), e * t * (1.0 - d * t * t / 6.0)};
-    if (d > 0.0) {
-        const double wd = std::sqrt(d);
-        return {e * std::cos(wd * t), e * std::sin(wd * t) / wd};
-    }
-    const double mu = std::sqrt(-d);
-    const double slow = std::exp(-(omega * omega / (s + mu)) * t), fast = std::exp(-(s + mu) * t);
-    return {0.5 * (slow + fast), 0.5 * (slow - fast) / mu};
-}
-
-}  // namespace
 
 std::shared_ptr<const AirCanopyModes> build_air_canopy_modes(const Canopy& canopy, double time_step_s,
                                                              const AirCanopyOptions& o) {
@@ -68,7 +47,7 @@ std::shared_ptr<const AirCanopyModes> build_air_canopy_modes(const Canopy& canop
         m->rate[j] = all.damping_rate[k] + radiation[k];
         for (int i = 0; i < m->nodes; ++i) m->shape[static_cast<std::size_t>(i) * kept + j] = all.shapes(i, k);
         m->air_force.col(j) = force.col(k);
-        const AirDecay d = air_decay(m->omega[j], m->rate[j], time_step_s);
+        const ModeDecay d = mode_decay(m->omega[j], m->rate[j], time_step_s);   // integrators/mode_decay.hpp
         m->t11.push_back(d.ec + m->rate[j] * d.es);
         m->t12.push_back(d.es);
         m->t21.push_back(-m->omega[j] * m->omega[j] * d.es);

@@ -5,33 +5,9 @@
 #include <cmath>
 #include <vector>
 
+#include "engine/core/integrators/mode_decay.hpp"
+
 namespace ameoto {
-namespace {
-
-// e^{-sT} cos(wd T) and e^{-sT} sin(wd T) / wd for a mode (omega, s), written so that neither overflows
-// (strongly overdamped: e^{-sT} cosh(mu T) as a sum of decaying exponentials) nor divides by zero.
-struct Decay {
-    double ec, es;
-};
-
-Decay decay(double omega, double s, double t) {
-    const double d = omega * omega - s * s;   // wd^2
-    const double e = std::exp(-s * t);
-    if (std::abs(d) * t * t < 1e-12) {
-        // sin(x)/x and cosh: second-order series, error ~ (|d| T^2)^2 / 120 < 1e-26.
-        return {e * (1.0 - 0.5 * d * t * t), e * t * (1.0 - d * t * t / 6.0)};
-    }
-    if (d > 0.0) {
-        const double wd = std::sqrt(d);
-        return {e * std::cos(wd * t), e * std::sin(wd * t) / wd};
-    }
-    const double mu = std::sqrt(-d);
-    // s - mu = omega^2 / (s + mu) without cancellation.
-    const double slow = std::exp(-(omega * omega / (s + mu)) * t), fast = std::exp(-(s + mu) * t);
-    return {0.5 * (slow + fast), 0.5 * (slow - fast) / mu};
-}
-
-}  // namespace
 
 void Modal::init(const NetworkArrays& net, double time_step_s, const ModalOptions& options) {
     dt_ = time_step_s;
@@ -54,7 +30,7 @@ void Modal::init(const NetworkArrays& net, double time_step_s, const ModalOption
         omega_[j] = all_.omega[k];
         rate_[j] = all_.damping_rate[k];
         weight_[j] = all_.net_force_weight[k];
-        const Decay dc = decay(omega_[j], rate_[j], dt_);
+        const ModeDecay dc = mode_decay(omega_[j], rate_[j], dt_);
         t11_[j] = dc.ec + rate_[j] * dc.es;
         t12_[j] = dc.es;
         t21_[j] = -omega_[j] * omega_[j] * dc.es;
