@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "protocol/osc_codec.hpp"
+#include "tests/support/audio_clock.hpp"
 #include "tests/support/daemon_process.hpp"
 #include "tests/support/osc_test_client.hpp"
 #include "tests/support/temp_dir.hpp"
@@ -53,7 +54,10 @@ std::vector<float> play(const std::string& name, const std::function<std::vector
         ameoto::test::OscTestClient c(d.port());
         std::this_thread::sleep_for(200ms);   // the audio clock is published
         c.send_raw(build(wall()));
-        std::this_thread::sleep_for(1200ms);
+        // 1.2 s of audio after sending (the last drop is due 0.55 s after it), counted in the stream's own
+        // seconds: under the sanitizers the engine runs slower than real time, and a fixed wall-clock wait
+        // stopped the daemon before the last drop was rendered (its frame is on the backend's deadline grid).
+        ameoto::test::wait_for_audio(c, 1.2);
         REQUIRE(c.request("/sync", {OscArgument::from_int(1)}, "/synced", 2s));
         REQUIRE(d.process().stop(SIGTERM, 5s) == 0);
     }
