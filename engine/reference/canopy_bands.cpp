@@ -30,6 +30,19 @@ double strike_force(const CanopyInAirSetup& s, double t) {
 
 }  // namespace
 
+NodeForcesOnAir node_forces_on_air(const Canopy& canopy, const CanopyInAirResult& run) {
+    NodeForcesOnAir out;
+    for (int k = 0; k < canopy.panel_count(); ++k)
+        for (int i = 0; i < canopy.nodes_per_panel(); ++i) {
+            out.positions.push_back(canopy.rest_position(k, i));
+            out.normals.push_back(canopy.normal(k, i));
+            std::vector<double> f = run.node_air_force[static_cast<std::size_t>(k * canopy.nodes_per_panel() + i)];
+            for (double& v : f) v = -v;   // the air's force on the node, reversed: the node's on the air
+            out.force.push_back(std::move(f));
+        }
+    return out;
+}
+
 CanopyBandsResult compare_canopy_bands(const CanopyBandsSetup& setup) {
     if (setup.listeners.empty()) throw std::invalid_argument("compare_canopy_bands: no listener");
     CanopyInAirSetup s = setup.reference;
@@ -55,16 +68,10 @@ CanopyBandsResult compare_canopy_bands(const CanopyBandsSetup& setup) {
     out.reference_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     out.struck_node = r.struck_node;
     const Canopy vacuum(s.geometry, s.material, 1.0 / setup.fast_rate_hz);
-    std::vector<Vec3> positions, normals;
-    std::vector<std::vector<double>> on_air;
-    for (int k = 0; k < vacuum.panel_count(); ++k)
-        for (int i = 0; i < vacuum.nodes_per_panel(); ++i) {
-            positions.push_back(vacuum.rest_position(k, i));
-            normals.push_back(vacuum.normal(k, i));
-            std::vector<double> f = r.node_air_force[static_cast<std::size_t>(k * vacuum.nodes_per_panel() + i)];
-            for (double& v : f) v = -v;   // the air's force on the node, reversed: the node's on the air
-            on_air.push_back(std::move(f));
-        }
+    const NodeForcesOnAir nodes = node_forces_on_air(vacuum, r);
+    const auto& positions = nodes.positions;
+    const auto& normals = nodes.normals;
+    const auto& on_air = nodes.force;
     const int samples = static_cast<int>(r.node_air_force.front().size());
     for (std::size_t l = 0; l < setup.listeners.size(); ++l) {
         const std::vector<double> p = box_index[l] >= 0 ? r.pressure[static_cast<std::size_t>(box_index[l])]

@@ -40,4 +40,13 @@ struct CanopyBandsResult {
 
 CanopyBandsResult compare_canopy_bands(const CanopyBandsSetup& setup);
 
+// The reference's nodes as point forces on the air, for double_layer_pressure (screen_far_field.hpp):
+// each node's rest position and normal, and the force it put on the air at each recorded sample (the
+// air's recorded force on it, reversed). Needs a run with record_forces.
+struct NodeForcesOnAir {
+    std::vector<Vec3> positions, normals;
+    std::vector<std::vector<double>> force;   // [node][sample], N
+};
+NodeForcesOnAir node_forces_on_air(const Canopy& canopy, const CanopyInAirResult& run);
+
 }  // namespace ameoto::reference

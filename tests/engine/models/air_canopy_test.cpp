@@ -218,17 +218,8 @@ TEST_CASE("air canopy: the reference's double layer at 0.3 m is its box's own pr
     s.listeners = {{0.0, 0.0, -0.3}};
     const Canopy vacuum(CanopyGeometry{}, MembraneMaterial::nylon_canopy(), 1.0 / air_test_rate);
     const reference::CanopyInAirResult r = reference::run_canopy_in_air(s);
-    std::vector<Vec3> positions, normals;
-    std::vector<std::vector<double>> on_air;
-    for (int k = 0; k < vacuum.panel_count(); ++k)
-        for (int i = 0; i < vacuum.nodes_per_panel(); ++i) {
-            positions.push_back(vacuum.rest_position(k, i));
-            normals.push_back(vacuum.normal(k, i));
-            std::vector<double> f = r.node_air_force[static_cast<std::size_t>(k * vacuum.nodes_per_panel() + i)];
-            for (double& v : f) v = -v;
-            on_air.push_back(std::move(f));
-        }
-    const auto p = reference::double_layer_pressure(on_air, positions, normals, r.sample_interval_s, s.listeners[0],
+    const reference::NodeForcesOnAir nodes = reference::node_forces_on_air(vacuum, r);
+    const auto p = reference::double_layer_pressure(nodes.force, nodes.positions, nodes.normals, r.sample_interval_s, s.listeners[0],
                                                     constants::speed_of_sound_air, static_cast<int>(r.pressure[0].size()));
     const auto a = reference::third_octave_levels(p, r.sample_interval_s, 80.0, 1000.0);
     const auto b = reference::third_octave_levels(r.pressure[0], r.sample_interval_s, 80.0, 1000.0);
