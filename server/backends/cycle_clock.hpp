@@ -1,21 +1,47 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
-// The JACK backend's block clock: from JACK's delay-locked loop (jack_get_cycle_times: the time its
-// filter assigns to the current cycle's first frame, and the filtered period), the wall time at which a
-// block plays and the card's real rate against its nominal one, for AudioBridge::process (BlockTime).
+// The JACK backend's block clock: the wall time at which each block's first frame plays, and the card's
+// real rate against its nominal one, for AudioBridge::process (BlockTime).
 //
-// Interface (audio thread only; pure arithmetic, no system call):
+// Interface (audio thread only; pure arithmetic on a fixed-size state, no system call, no allocation):
 //   CycleClock clock(nominal_rate);
-//   BlockTime t = clock.block(frames, cycle_usecs, period_usecs, now_usecs, now_unix_ns);
-//   clock.reset();   // a new JACK client (after the server came back): its loop starts afresh
+//   BlockTime t = clock.block({frames, jack_frame, period_usecs, callback_mono_ns, wall_minus_mono_ns, xrun});
+//   clock.reset();   // a new JACK client (after the server came back): everything starts afresh
 //
-// cycle_usecs and now_usecs are JACK's clock (jack_get_time's microseconds); now_unix_ns is the wall
-// clock read next to now_usecs. The cycle's wall time is now_unix_ns - (now_usecs - cycle_usecs): only
-// the difference of two readings of JACK's clock is used, so it does not matter which clock JACK counts.
-// The rate ratio is frames / (period x nominal rate), averaged exponentially over about 10 s: JACK's
-// loop already smooths the period over its bandwidth (about 1 Hz), and a sound card's crystal drifts
-// with temperature over minutes, so a 10 s mean is steady (for /status) and still follows it. A ratio
-// outside 1 +/- 1 % (a loop that has not locked yet, just after a start or an xrun) is ignored.
+// How the block's time is found: the lower envelope of when the callback ran. A driver's frames follow
+// its clock on a straight line (frame F plays at t0 + F / rate); the callback runs after the driver's
+// wake-up and the graph before it, so each reading of the monotonic clock at the callback is that line
+// plus a latency that is never negative: tens of microseconds usually, milliseconds when the machine is
+// loaded. The earliest readings lie on the line. The readings, less the nominal F / rate, are kept as
+// the minimum of each half second ("buckets", 32 of them: 16 s). The line's slope is the least-squares
+// slope through those minima (the worst bucket left out once if it lies more than 20 us above the first
+// fit); its height at this block is the mean of the newest 4 minima (2 s), each carried along that
+// slope. A long slope and a short height: a card's rate changes over minutes, the latency's floor over
+// seconds.
+//
+// Why not JACK's own filtered cycle times (jack_get_cycle_times' current_usecs), as before: JACK's
+// delay-locked loop (bandwidth 0.125 Hz) averages the latencies rather than ignoring them, so on a
+// loaded machine it wanders. Measured on JACK's dummy driver, 2 cores, 256 frames (2026-12-02, a probe
+// logging both each cycle): after the first 4 s its estimate moved by 30 us in 8 s and then by 150 us in
+// 1 s when the builds of other jobs started, with no xrun, while the half-second minima of the
+// callback's readings stayed within +/- 15 us; and for the first 3 s after jackd starts its loop is
+// still settling (83 us off at start). 20.8 us is one sample at 48 kHz: the issue-22 grid test saw
+// drops land 1 and 2 samples off through JACK's loop.
+//
+// Time lost: an xrun re-anchors a timed driver (JACK's dummy driver restarts its grid from the late
+// wake-up), so the line moves later. The envelope restarts when the backend saw an xrun, when JACK's
+// frame counter does not continue from the last block, and when half a bucket of readings all lie more
+// than 1 ms above the line (time lost that no xrun reported). Until four buckets are full (2 s), the
+// line's slope is JACK's period (its loop's rate, averaged) and its height the lowest reading so far.
+//
+// The rate ratio (for /status's ppm and the bridge's extrapolation within a block) is frames / (period
+// x nominal rate) from JACK's loop, averaged exponentially over about 10 s: JACK's loop already smooths
+// the period, and a sound card's crystal drifts with temperature over minutes, so a 10 s mean is steady
+// and still follows it. A ratio outside 1 +/- 1 % (a loop that has not locked yet) is ignored.
+//
+// The wall time is the monotonic time plus wall_minus_mono_ns (realtime_minus_monotonic_ns(), read
+// every block), so an NTP step of the wall clock moves block times at once and does not disturb the
+// envelope, which lives on the monotonic clock.
 
 #include <cstdint>
 
@@ -23,38 +49,60 @@
 
 namespace ameoto {
 
+struct CycleReading {
+    std::uint32_t frames = 0;             // this block's length
+    std::uint32_t jack_frame = 0;         // JACK's frame counter at the block's first frame (wraps at 2^32)
+    float period_usecs = 0.0f;            // JACK's filtered period (0: unknown)
+    std::int64_t callback_mono_ns = 0;    // CLOCK_MONOTONIC read when the callback began
+    std::int64_t wall_minus_mono_ns = 0;  // CLOCK_REALTIME - CLOCK_MONOTONIC now
+    bool xrun = false;                    // the backend saw an xrun since the last block
+};
+
 class CycleClock {
 public:
-    explicit CycleClock(double nominal_rate) : nominal_rate_(nominal_rate) {}
+    explicit CycleClock(double nominal_rate);
 
-    void reset() { started_ = false; ratio_ = 1.0; }
-
-    BlockTime block(std::uint32_t frames, std::uint64_t cycle_usecs, float period_usecs, std::uint64_t now_usecs,
-                    std::int64_t now_unix_ns) {
-        BlockTime t;
-        t.valid = true;
-        const std::int64_t since_cycle_us = static_cast<std::int64_t>(now_usecs) - static_cast<std::int64_t>(cycle_usecs);
-        t.unix_ns = now_unix_ns - since_cycle_us * 1000;
-        if (period_usecs > 0.0f) {
-            const double measured = static_cast<double>(frames) / (static_cast<double>(period_usecs) * 1e-6 * nominal_rate_);
-            if (measured > 0.99 && measured < 1.01) {
-                const double period_s = static_cast<double>(frames) / nominal_rate_;
-                const double alpha = period_s / averaging_s > 1.0 ? 1.0 : period_s / averaging_s;
-                ratio_ = started_ ? ratio_ + alpha * (measured - ratio_) : measured;
-                started_ = true;
-            }
-        }
-        t.rate_ratio = ratio_;
-        return t;
-    }
+    void reset();
+    BlockTime block(const CycleReading& r);
 
     double ratio() const { return ratio_; }
+    int full_buckets() const { return full_; }   // for tests: how much of the window holds readings
 
 private:
-    static constexpr double averaging_s = 10.0;
+    struct Bucket {
+        double x = 0.0;   // frames since the anchor at the minimum
+        double r = 0.0;   // reading - anchor - x / nominal rate, ns, at the minimum
+    };
+    static constexpr int kBuckets = 32;        // 16 s for the slope
+    static constexpr int kSlopeBuckets = 4;    // at least 2 s before the slope is the envelope's own
+    static constexpr int kHeightBuckets = 4;   // the newest 2 s for the height
+    static constexpr double kBucketSeconds = 0.5;
+    static constexpr double kOutlierNs = 20'000.0;
+    static constexpr double kLostNs = 1'000'000.0;
+    static constexpr double kAveragingSeconds = 10.0;
+
+    void restart_envelope(const CycleReading& r);
+    void update_ratio(const CycleReading& r);
+    double line_at(double x) const;   // the envelope's line at frame x (ns after the anchor, less x / rate)
+    double fit_slope(int skip, double& mx, double& mr) const;
+
     double nominal_rate_;
+    double ns_per_frame_;
     double ratio_ = 1.0;
+    bool ratio_started_ = false;
+
     bool started_ = false;
+    std::uint32_t next_jack_frame_ = 0;
+    std::int64_t anchor_ns_ = 0;   // monotonic reading of the envelope's first block
+    std::int64_t x_ = 0;           // frames from the anchor to this block's first frame
+    Bucket ring_[kBuckets];
+    int full_ = 0;                 // full buckets in ring_ (the newest at head_ - 1)
+    int head_ = 0;
+    Bucket current_;               // the bucket being filled
+    bool current_has_ = false;
+    std::int64_t current_end_x_ = 0;
+    int current_count_ = 0;
+    int current_high_ = 0;         // readings of the current bucket more than kLostNs above the line
 };
 
 }  // namespace ameoto

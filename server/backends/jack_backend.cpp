@@ -122,21 +122,27 @@ int JackBackend::on_process(jack_nframes_t frames, void* self) {
     // acts when it is re-enabled below, where no frame of ours has anything to unwind. Found under ASan,
     // whose unwinding hook aborted inside the renderer when jack_test stopped ameotod. The state change is
     // a flag in the thread's own descriptor: no syscall, no lock, no allocation.
+    const std::int64_t callback_ns = clock_ns(CLOCK_MONOTONIC);   // first: the envelope wants the earliest reading
     int previous = PTHREAD_CANCEL_ENABLE;
     pthread_setcancelstate(PTHREAD_CANCEL_DISABLE, &previous);
     auto* me = static_cast<JackBackend*>(self);
     for (std::size_t c = 0; c < me->ports_.size(); ++c)
         me->buffers_[c] = static_cast<float*>(jack_port_get_buffer(me->ports_[c], frames));
-    // JACK's filtered time of this cycle's first frame and its filtered period (its DLL), turned into
-    // the wall time the bridge times bundles with. Both calls read JACK's shared memory: no syscall.
+    // The block's wall time: the lower envelope of the callback's own readings (server/backends/
+    // cycle_clock.hpp says why not JACK's filtered cycle times); JACK's filtered period gives the rate.
+    // Every call here reads JACK's shared memory or the vDSO clocks: no syscall.
+    CycleReading reading;
+    reading.callback_mono_ns = callback_ns;
+    reading.frames = frames;
+    reading.jack_frame = jack_last_frame_time(me->client_);
     jack_nframes_t cycle_frames = 0;
     jack_time_t cycle_usecs = 0, next_usecs = 0;
-    float period_usecs = 0.0f;
-    BlockTime time;
-    if (jack_get_cycle_times(me->client_, &cycle_frames, &cycle_usecs, &next_usecs, &period_usecs) == 0) {
-        const jack_time_t now_usecs = jack_get_time();
-        time = me->cycle_clock_.block(frames, cycle_usecs, period_usecs, now_usecs, clock_ns(CLOCK_REALTIME));
-    }
+    if (jack_get_cycle_times(me->client_, &cycle_frames, &cycle_usecs, &next_usecs, &reading.period_usecs) != 0) reading.period_usecs = 0.0f;
+    reading.wall_minus_mono_ns = realtime_minus_monotonic_ns();
+    const std::uint64_t xruns = me->xruns_.load(std::memory_order_relaxed);
+    reading.xrun = xruns != me->xruns_seen_;
+    me->xruns_seen_ = xruns;
+    const BlockTime time = me->cycle_clock_.block(reading);
     me->bridge_->process(static_cast<int>(frames), me->buffers_.data(), time);
     pthread_setcancelstate(previous, nullptr);
     return 0;

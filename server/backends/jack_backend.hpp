@@ -73,6 +73,7 @@ private:
     std::atomic<std::uint64_t> xruns_{0};
     std::atomic<bool> lost_{false};
     CycleClock cycle_clock_{48000.0};   // the audio thread's; set for the server's rate in open_client
+    std::uint64_t xruns_seen_ = 0;      // the audio thread's: xruns_ when it last looked
 };
 
 }  // namespace ameoto

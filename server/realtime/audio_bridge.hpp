@@ -28,7 +28,7 @@
 // taken when the callback happens to run: that reading jitters by the thread's wake-up latency (tens
 // to hundreds of microseconds, i.e. several samples), so bundles sent in separate packets landed a few
 // samples off their distance (issue 22: 48 006 and 48 008 samples for 1.000 s at 48 kHz). With JACK the
-// estimate is JACK's delay-locked loop (jack_get_cycle_times); on the paced null backend, its grid of
+// estimate is the lower envelope of the callback's readings (backends/cycle_clock.hpp); on the paced null backend, its grid of
 // period deadlines. Without one (the offline null backend), the callback's own reading is used.
 
 #include <atomic>

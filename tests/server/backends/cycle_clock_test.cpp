@@ -3,30 +3,182 @@
 
 #include <doctest/doctest.h>
 
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <random>
+
 #include "server/realtime/wall_offset.hpp"
 
 using ameoto::BlockTime;
 using ameoto::CycleClock;
+using ameoto::CycleReading;
 
-TEST_CASE("cycle clock: the cycle's wall time is the filtered time, moved by the gap between two readings of JACK's clock") {
+namespace {
+
+// A driver whose frames follow its crystal on a straight line (frame F at F / rate), and a callback
+// that runs after it with a latency that is never negative: a floor that wanders by 10 us (a VM's timer
+// slack), an exponential tail (mean 30 us), 2 % of wake-ups late by 0.5-5 ms, and optionally one
+// stretch of 0.4 s in which every wake-up is 300 us late (another job's burst). The figures are those a
+// probe logged on JACK's dummy driver on this 2-core machine (2026-12-02): median 64 us after the
+// cycle, 99th percentile 11 ms while builds ran, half-second minima within +/- 15 us.
+struct LoadedDriver {
+    double ppm = 0.0;
+    bool burst = false;
+    std::uint32_t frames = 256;
+    std::mt19937_64 rng{7};
+    std::uint64_t frame = 0;
+    std::int64_t start_ns = 5'000'000'000;   // the monotonic clock when frame 0 played
+    std::int64_t lost_ns = 0;                 // time lost at xruns: the grid restarts later
+
+    double seconds() const { return static_cast<double>(frame) / (48000.0 * (1.0 + ppm * 1e-6)); }
+    std::int64_t frame_ns() const { return start_ns + lost_ns + static_cast<std::int64_t>(std::llround(seconds() * 1e9)); }
+    double latency_ns() {
+        std::uniform_real_distribution<double> unit(0.0, 1.0);
+        const double t = seconds();
+        double l = 20'000.0 + 10'000.0 * (0.5 + 0.5 * std::sin(t * 0.9)) + std::exponential_distribution<double>(1.0 / 30'000.0)(rng);
+        if (unit(rng) < 0.02) l += 500'000.0 + 4'500'000.0 * unit(rng);
+        if (burst && t > 6.1 && t < 6.5) l += 300'000.0;
+        return l;
+    }
+    CycleReading next(std::int64_t wall_minus_mono = 1'700'000'000'000'000'000) {
+        CycleReading r;
+        r.frames = frames;
+        r.jack_frame = static_cast<std::uint32_t>(frame);
+        r.period_usecs = static_cast<float>(frames / (48000.0 * (1.0 + ppm * 1e-6)) * 1e6);
+        r.callback_mono_ns = frame_ns() + static_cast<std::int64_t>(latency_ns());
+        r.wall_minus_mono_ns = wall_minus_mono;
+        frame += frames;
+        return r;
+    }
+};
+
+// JACK's own delay-locked loop (jackd2 1.9.21, JackFrameTimer::IncFrameTimeAux, bandwidth 0.125 Hz),
+// fed the same wake-ups, for the figure it is compared with: its estimate of each cycle's start.
+struct JackLoop {
+    bool started = false;
+    double next = 0.0, period = 0.0, omega = 0.0, current = 0.0;
+    double cycle(double callback_us, double period_us) {
+        if (!started) {
+            started = true;
+            next = callback_us + period_us;
+            period = period_us;
+            omega = static_cast<float>(period_us * 7.854e-7);
+            current = callback_us;
+            return current;
+        }
+        const double delta = (callback_us - next) * omega;
+        current = next;
+        period += omega * delta;
+        next += std::floor(period + 1.41 * delta + 0.5);
+        return current;
+    }
+};
+
+struct Spread {
+    double lo = 1e18, hi = -1e18;
+    void add(double v) { lo = std::min(lo, v); hi = std::max(hi, v); }
+    double width() const { return hi - lo; }
+};
+
+}  // namespace
+
+TEST_CASE("cycle clock: on a loaded machine each block's time lies on the driver's line to well under a sample (+/- 5 us)") {
+    for (const double ppm : {0.0, 80.0}) {
+        CAPTURE(ppm);
+        LoadedDriver driver;
+        driver.ppm = ppm;
+        driver.burst = true;
+        CycleClock clock(48000.0);
+        JackLoop jack;
+        Spread ours, theirs;
+        std::int64_t last = 0;
+        while (driver.seconds() < 14.0) {
+            const double t = driver.seconds();
+            const std::int64_t truth = driver.frame_ns() + 1'700'000'000'000'000'000;
+            const CycleReading r = driver.next();
+            const BlockTime b = clock.block(r);
+            const double jack_us = jack.cycle(static_cast<double>(r.callback_mono_ns) * 1e-3, r.period_usecs);
+            REQUIRE(b.valid);
+            CHECK(b.unix_ns > last);   // monotonic, spikes and all
+            last = b.unix_ns;
+            if (t > 2.0) {   // the grid test starts 2-3 s after the client
+                ours.add(static_cast<double>(b.unix_ns - truth));
+                theirs.add(jack_us * 1e3 + 1'700'000'000'000'000'000.0 - static_cast<double>(truth));
+            }
+        }
+        MESSAGE(ppm << " ppm: block times against the driver's line from 2 s to 14 s span " << ours.width() * 1e-3
+                    << " us (JACK's loop fed the same wake-ups: " << theirs.width() * 1e-3 << " us); 20.8 us is a sample");
+        // The bound: a spread under one sample (20.8 us) lets two drops' landings differ from their
+        // distance by one sample at most (the issue-22 grid test's +/- 1). The floor's own 10 us wander
+        // cannot be told from the driver's line and is followed; 5 us more is the 2 s mean's lag and
+        // noise (measured 13-14 us).
+        CHECK(ours.width() < 15'000.0);
+        // The whole line sits above the true frame times by the floor of the latency only (20-30 us).
+        CHECK(ours.lo > 15'000.0);
+        CHECK(ours.hi < 40'000.0);
+        CHECK(clock.full_buckets() == 28);
+    }
+}
+
+TEST_CASE("cycle clock: time lost at an xrun restarts the envelope; so does a jump in JACK's frames, or time lost unreported") {
+    for (const int how : {0, 1, 2}) {
+        CAPTURE(how);   // 0: the xrun is reported; 1: JACK's frame counter jumps; 2: neither (found by the readings)
+        LoadedDriver driver;
+        CycleClock clock(48000.0);
+        while (driver.seconds() < 5.0) clock.block(driver.next());
+        REQUIRE(clock.full_buckets() == 10);
+        driver.lost_ns += 2'400'000;   // the grid restarts 2.4 ms late
+        if (how == 1) driver.frame += 512;
+        CycleReading r = driver.next();
+        r.xrun = how == 0;
+        clock.block(r);
+        if (how == 2) {   // found after half a bucket of late readings
+            CHECK(clock.full_buckets() == 10);
+            while (driver.seconds() < 5.3) clock.block(driver.next());
+        }
+        CHECK(clock.full_buckets() == 0);
+        Spread after;
+        while (driver.seconds() < 8.0) {
+            const double t = driver.seconds();
+            const std::int64_t truth = driver.frame_ns() + 1'700'000'000'000'000'000;
+            const BlockTime b = clock.block(driver.next());
+            if (t > 5.6) after.add(static_cast<double>(b.unix_ns - truth));
+        }
+        MESSAGE("after the lost time (" << how << "): " << after.lo * 1e-3 << " to " << after.hi * 1e-3 << " us above the line");
+        CHECK(after.lo > 15'000.0);
+        CHECK(after.hi < 40'000.0);
+    }
+}
+
+TEST_CASE("cycle clock: the wall clock's step moves the block time at once; the envelope lives on the monotonic clock") {
+    LoadedDriver driver;
     CycleClock clock(48000.0);
-    // JACK says the cycle began at 1 000 000 us; its clock reads 1 000 250 us when the wall reads T.
-    const std::int64_t wall = 1'700'000'000'000'000'000;
-    const BlockTime t = clock.block(256, 1'000'000, 256 / 48000.0 * 1e6, 1'000'250, wall);
-    CHECK(t.valid);
-    CHECK(t.unix_ns == wall - 250'000);
-    CHECK(t.rate_ratio == doctest::Approx(1.0).epsilon(1e-7));   // JACK hands the period as a float: 24 bits
+    BlockTime before;
+    while (driver.seconds() < 3.0) before = clock.block(driver.next());
+    const BlockTime stepped = clock.block(driver.next(1'700'000'001'000'000'000));   // NTP stepped the wall 1 s on
+    const double period_ns = 256 / 48000.0 * 1e9;
+    CHECK(std::fabs(static_cast<double>(stepped.unix_ns - before.unix_ns) - 1e9 - period_ns) < 10'000.0);
+    CHECK(clock.full_buckets() == 6);   // not restarted
 }
 
 TEST_CASE("cycle clock: a card 50 ppm fast is followed to its ppm, averaged; a loop not locked yet is ignored") {
     CycleClock clock(48000.0);
     const float period = static_cast<float>(256 / (48000.0 * (1.0 + 50e-6)) * 1e6);   // 50 ppm fast: shorter periods
     BlockTime t;
-    for (int k = 0; k < 48000 * 60 / 256; ++k) t = clock.block(256, 0, period, 0, 0);   // a minute of cycles
+    CycleReading r;
+    r.frames = 256;
+    r.period_usecs = period;
+    for (int k = 0; k < 48000 * 60 / 256; ++k) {   // a minute of cycles
+        t = clock.block(r);
+        r.jack_frame += 256;
+        r.callback_mono_ns += static_cast<std::int64_t>(period * 1000.0f);
+    }
     // Tolerance: the float period carries 24 bits (0.06 ppm of 5333 us) and the mean has settled (e^-6).
     CHECK((t.rate_ratio - 1.0) * 1e6 == doctest::Approx(50.0).epsilon(0.01));
     const double before = t.rate_ratio;
-    t = clock.block(256, 0, 6000.0f, 0, 0);   // 11 % slow: a loop just after an xrun, not a card
+    r.period_usecs = 6000.0f;   // 11 % slow: a loop just after an xrun, not a card
+    t = clock.block(r);
     CHECK(t.rate_ratio == before);
     clock.reset();
     CHECK(clock.ratio() == 1.0);

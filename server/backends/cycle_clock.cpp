@@ -1,0 +1,148 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "server/backends/cycle_clock.hpp"
+
+#include <cmath>
+
+namespace ameoto {
+
+CycleClock::CycleClock(double nominal_rate) : nominal_rate_(nominal_rate), ns_per_frame_(1e9 / nominal_rate) {}
+
+void CycleClock::reset() {
+    ratio_ = 1.0;
+    ratio_started_ = false;
+    started_ = false;
+}
+
+void CycleClock::update_ratio(const CycleReading& r) {
+    if (r.period_usecs <= 0.0f) return;
+    const double measured = static_cast<double>(r.frames) / (static_cast<double>(r.period_usecs) * 1e-6 * nominal_rate_);
+    if (!(measured > 0.99 && measured < 1.01)) return;
+    const double period_s = static_cast<double>(r.frames) / nominal_rate_;
+    const double alpha = period_s / kAveragingSeconds > 1.0 ? 1.0 : period_s / kAveragingSeconds;
+    ratio_ = ratio_started_ ? ratio_ + alpha * (measured - ratio_) : measured;
+    ratio_started_ = true;
+}
+
+void CycleClock::restart_envelope(const CycleReading& r) {
+    started_ = true;
+    anchor_ns_ = r.callback_mono_ns;
+    x_ = 0;
+    full_ = 0;
+    head_ = 0;
+    current_has_ = false;
+    current_count_ = 0;
+    current_high_ = 0;
+    current_end_x_ = static_cast<std::int64_t>(std::llround(kBucketSeconds * nominal_rate_));
+}
+
+// The least-squares slope through the full buckets, leaving out bucket `skip` (an index into ring_, or
+// -1), and the mean (x, r) of those it used.
+double CycleClock::fit_slope(int skip, double& mx, double& mr) const {
+    double n = 0.0;
+    mx = 0.0;
+    mr = 0.0;
+    for (int i = 0; i < full_; ++i) {
+        if (i == skip) continue;
+        n += 1.0;
+        mx += ring_[i].x;
+        mr += ring_[i].r;
+    }
+    mx /= n;
+    mr /= n;
+    double sxx = 0.0, sxr = 0.0;
+    for (int i = 0; i < full_; ++i) {
+        if (i == skip) continue;
+        sxx += (ring_[i].x - mx) * (ring_[i].x - mx);
+        sxr += (ring_[i].x - mx) * (ring_[i].r - mr);
+    }
+    return sxx > 0.0 ? sxr / sxx : 0.0;
+}
+
+double CycleClock::line_at(double x) const {
+    if (full_ >= kSlopeBuckets) {
+        // The slope: least squares through every full bucket (up to 16 s). The bucket lying highest
+        // above that first fit is left out once when it is an outlier: a half second in which every
+        // callback was late (a loaded machine) says nothing about the line.
+        double mx = 0.0, mr = 0.0;
+        double slope = fit_slope(-1, mx, mr);
+        int worst = -1;
+        double worst_residual = kOutlierNs;
+        for (int i = 0; i < full_; ++i) {
+            const double residual = ring_[i].r - (mr + slope * (ring_[i].x - mx));
+            if (residual > worst_residual) {
+                worst_residual = residual;
+                worst = i;
+            }
+        }
+        if (worst >= 0) slope = fit_slope(worst, mx, mr);
+        // The height: the newest buckets' minima (2 s), each carried to x along that slope, averaged.
+        // A short mean follows a wandering floor; the long slope keeps the carry from amplifying noise
+        // (a line fitted to the newest few minima alone, extrapolated, spread 17-19 us in the test).
+        double sum = 0.0;
+        int used = 0;
+        for (int k = 0; k < full_ && used < kHeightBuckets; ++k) {
+            const int i = ((head_ - 1 - k) % kBuckets + kBuckets) % kBuckets;
+            if (i == worst) continue;
+            sum += ring_[i].r + slope * (x - ring_[i].x);
+            ++used;
+        }
+        return sum / used;
+    }
+    // Too few buckets for a slope of its own: JACK's averaged rate carries each minimum to x, and the
+    // lowest is taken (just after a start the first callbacks run late: page faults, a new thread).
+    const double slope = ns_per_frame_ * (1.0 / ratio_ - 1.0);
+    double best = 0.0;
+    bool any = false;
+    auto consider = [&](const Bucket& b) {
+        const double at = b.r + slope * (x - b.x);
+        if (!any || at < best) best = at;
+        any = true;
+    };
+    for (int i = 0; i < full_; ++i) consider(ring_[i]);
+    if (current_has_) consider(current_);
+    return best;
+}
+
+BlockTime CycleClock::block(const CycleReading& r) {
+    update_ratio(r);
+    if (!started_ || r.xrun || r.jack_frame != next_jack_frame_) restart_envelope(r);
+
+    double reading = static_cast<double>(r.callback_mono_ns - anchor_ns_) - static_cast<double>(x_) * ns_per_frame_;
+    // Time lost with no xrun reported: half a bucket of readings, every one far above the line.
+    if (full_ > 0 || current_has_) {
+        ++current_count_;
+        if (reading - line_at(static_cast<double>(x_)) > kLostNs) ++current_high_;
+        const std::int64_t bucket_frames = static_cast<std::int64_t>(std::llround(kBucketSeconds * nominal_rate_));
+        const std::int64_t bucket_start = current_end_x_ - bucket_frames;
+        if (current_high_ == current_count_ && x_ - bucket_start >= bucket_frames / 2) {
+            restart_envelope(r);
+            reading = 0.0;
+        }
+    }
+    if (!current_has_ || reading < current_.r) {
+        current_ = {static_cast<double>(x_), reading};
+        current_has_ = true;
+    }
+
+    const double line = line_at(static_cast<double>(x_));
+    BlockTime t;
+    t.valid = true;
+    t.rate_ratio = ratio_;
+    t.unix_ns = anchor_ns_ + static_cast<std::int64_t>(std::llround(static_cast<double>(x_) * ns_per_frame_ + line)) + r.wall_minus_mono_ns;
+
+    // The next block: JACK's counter and ours move on by this block; a full bucket joins the ring.
+    next_jack_frame_ = r.jack_frame + r.frames;
+    x_ += r.frames;
+    if (x_ >= current_end_x_) {
+        ring_[head_] = current_;
+        head_ = (head_ + 1) % kBuckets;
+        if (full_ < kBuckets) ++full_;
+        current_has_ = false;
+        current_count_ = 0;
+        current_high_ = 0;
+        current_end_x_ += static_cast<std::int64_t>(std::llround(kBucketSeconds * nominal_rate_));
+    }
+    return t;
+}
+
+}  // namespace ameoto
