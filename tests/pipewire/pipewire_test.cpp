@@ -99,98 +99,108 @@ TEST_CASE("PipeWire: ameotod under pw-jack plays into a null sink, its monitor t
         return;
     }
     PipeWireServer pw;
-    const std::string report = ameoto::test::temp_path("pipewire-rt.txt");
-    const std::string recording = ameoto::test::temp_path("pipewire.wav");
-    constexpr double kSeconds = 3.0;
-    double played = 0.0;
-    std::int64_t xruns = 0;
-    {
-        ameoto::test::DaemonOptions options;
-        // The probe is preloaded into ameotod only: `env` sets LD_PRELOAD after pw-jack (a shell script)
-        // has set LD_LIBRARY_PATH, so neither the shell nor env carry it (the sanitized build's probe
-        // forwards to ASan's allocator, which only a sanitized program has).
-        options.wrapper = {"pw-jack", "env", "LD_PRELOAD=" AMEOTO_RT_INTERPOSER, "AMEOTO_RT_REPORT=" + report};
-        options.child = pw.child_options();
-        options.listen_timeout = 15s;
-        options.running_timeout = 10s;
-        // --fixed-detail: a live stream otherwise sheds detail when its measured load passes the budget,
-        // and then (rightly) differs from the offline render. The real-time probe is preloaded as in the
-        // jackd tests: PipeWire's libjack calls the same callback from its own data thread.
-        ameoto::test::DaemonProcess d({"--backend", "jack", "--jack-name", "ameoto_pw", "--seed", "11", "--autoconnect", "--fixed-detail"},
-                                      pw.env(), options);
-        // --autoconnect found the null sink's playback ports as the physical outputs.
-        const auto links = ameoto::test::run_program(pw.jack_argv({"jack_lsp", "-c"}), 10s, pw.env(), pw.child_options());
-        INFO(links.out);
-        CHECK(links.out.find("ameoto_pw:out_1\n   " + pw.sink() + ":playback_FL") != std::string::npos);
-        CHECK(links.out.find("ameoto_pw:out_2\n   " + pw.sink() + ":playback_FR") != std::string::npos);
+    for (int take = 1; take <= 3; ++take) {
+        const std::string report = ameoto::test::temp_path("pipewire-rt.txt");
+        const std::string recording = ameoto::test::temp_path("pipewire.wav");
+        constexpr double kSeconds = 3.0;
+        double played = 0.0;
+        std::int64_t xruns = 0;
+        {
+            ameoto::test::DaemonOptions options;
+            // The probe is preloaded into ameotod only: `env` sets LD_PRELOAD after pw-jack (a shell script)
+            // has set LD_LIBRARY_PATH, so neither the shell nor env carry it (the sanitized build's probe
+            // forwards to ASan's allocator, which only a sanitized program has).
+            options.wrapper = {"pw-jack", "env", "LD_PRELOAD=" AMEOTO_RT_INTERPOSER, "AMEOTO_RT_REPORT=" + report};
+            options.child = pw.child_options();
+            options.listen_timeout = 15s;
+            options.running_timeout = 10s;
+            // --fixed-detail: a live stream otherwise sheds detail when its measured load passes the budget,
+            // and then (rightly) differs from the offline render. The real-time probe is preloaded as in the
+            // jackd tests: PipeWire's libjack calls the same callback from its own data thread.
+            ameoto::test::DaemonProcess d({"--backend", "jack", "--jack-name", "ameoto_pw", "--seed", "11", "--autoconnect", "--fixed-detail"},
+                                          pw.env(), options);
+            // --autoconnect found the null sink's playback ports as the physical outputs.
+            const auto links = ameoto::test::run_program(pw.jack_argv({"jack_lsp", "-c"}), 10s, pw.env(), pw.child_options());
+            INFO(links.out);
+            CHECK(links.out.find("ameoto_pw:out_1\n   " + pw.sink() + ":playback_FL") != std::string::npos);
+            CHECK(links.out.find("ameoto_pw:out_2\n   " + pw.sink() + ":playback_FR") != std::string::npos);
 
-        OscTestClient client(d.port());
-        const auto s = ameoto::test::status_reply(client);
-        CHECK(s.args[12].text == "jack");
-        CHECK(s.args[8].number == 48000.0);
-        CHECK(s.args[9].integer == kPeriod);
+            OscTestClient client(d.port());
+            const auto s = ameoto::test::status_reply(client);
+            CHECK(s.args[12].text == "jack");
+            CHECK(s.args[8].number == 48000.0);
+            CHECK(s.args[9].integer == kPeriod);
 
-        // jack-record's ports are connected once it is there (pw-jack execs it, so its client is named
-        // after its own PID); until then it records silence, which the comparison skips.
-        ChildProcess rec(pw.jack_argv({"jack-record", "-n", "2", "-t", std::to_string(kSeconds), recording}), pw.env(), pw.child_options());
-        const std::string rec_client = "jack-record-" + std::to_string(rec.pid());
-        for (auto deadline = std::chrono::steady_clock::now() + ameoto::test::scaled(10s);;) {
-            const auto ports = ameoto::test::run_program(pw.jack_argv({"jack_lsp"}), 10s, pw.env(), pw.child_options());
-            if (ports.out.find(rec_client + ":in_2") != std::string::npos) break;
-            REQUIRE_MESSAGE(std::chrono::steady_clock::now() < deadline, "jack-record's ports did not appear:\n" << ports.out << rec.output());
-            std::this_thread::sleep_for(20ms);
+            // jack-record's ports are connected once it is there (pw-jack execs it, so its client is named
+            // after its own PID); until then it records silence, which the comparison skips.
+            ChildProcess rec(pw.jack_argv({"jack-record", "-n", "2", "-t", std::to_string(kSeconds), recording}), pw.env(), pw.child_options());
+            const std::string rec_client = "jack-record-" + std::to_string(rec.pid());
+            for (auto deadline = std::chrono::steady_clock::now() + ameoto::test::scaled(10s);;) {
+                const auto ports = ameoto::test::run_program(pw.jack_argv({"jack_lsp"}), 10s, pw.env(), pw.child_options());
+                if (ports.out.find(rec_client + ":in_2") != std::string::npos) break;
+                REQUIRE_MESSAGE(std::chrono::steady_clock::now() < deadline, "jack-record's ports did not appear:\n" << ports.out << rec.output());
+                std::this_thread::sleep_for(20ms);
+            }
+            for (const auto& [from, to] : {std::pair{"monitor_FL", "in_1"}, std::pair{"monitor_FR", "in_2"}}) {
+                const auto c = ameoto::test::run_program(pw.jack_argv({"jack_connect", pw.sink() + ":" + from, rec_client + ":" + to}), 10s,
+                                                         pw.env(), pw.child_options());
+                REQUIRE_MESSAGE(c.exit_code == 0, c.out);
+            }
+            REQUIRE_MESSAGE(rec.wait(ameoto::test::scaled(std::chrono::milliseconds(static_cast<int>(kSeconds * 1000) + 15000))) == 0, rec.output());
+
+            const auto after = ameoto::test::status_reply(client);
+            played = after.args[10].number;
+            xruns = after.args[6].integer;
+            const int status = d.process().stop(SIGTERM, 5s);
+            INFO("ameotod printed:\n" << d.process().output());
+            CHECK(status == 0);
         }
-        for (const auto& [from, to] : {std::pair{"monitor_FL", "in_1"}, std::pair{"monitor_FR", "in_2"}}) {
-            const auto c = ameoto::test::run_program(pw.jack_argv({"jack_connect", pw.sink() + ":" + from, rec_client + ":" + to}), 10s,
-                                                     pw.env(), pw.child_options());
-            REQUIRE_MESSAGE(c.exit_code == 0, c.out);
-        }
-        REQUIRE_MESSAGE(rec.wait(ameoto::test::scaled(std::chrono::milliseconds(static_cast<int>(kSeconds * 1000) + 15000))) == 0, rec.output());
+        const auto recorded = ameoto::test::read_wav(recording);
+        REQUIRE_MESSAGE(recorded.ok, recorded.error);
+        REQUIRE(recorded.channels == 2);
+        // jack-record stops at the end of the period in which its timer ran out (jackd's dummy driver ends it
+        // on the frame; under PipeWire 144 128 frames for 3 s were seen): at most one period more.
+        CHECK(recorded.frames >= static_cast<long long>(kSeconds * 48000));
+        CHECK(recorded.frames < static_cast<long long>(kSeconds * 48000) + kPeriod);
 
-        const auto after = ameoto::test::status_reply(client);
-        played = after.args[10].number;
-        xruns = after.args[6].integer;
-        const int status = d.process().stop(SIGTERM, 5s);
-        INFO("ameotod printed:\n" << d.process().output());
-        CHECK(status == 0);
+        // The audio thread under PipeWire's libjack: the probe was live in every cycle and saw nothing forbidden.
+        std::ifstream in(report);
+        const std::string rt((std::istreambuf_iterator<char>(in)), {});
+        INFO(rt);
+        CHECK(rt.find("violations 0\n") != std::string::npos);
+        CHECK(rt.find("entries 0\n") == std::string::npos);
+
+        // The same seed offline, `ameoto render scene` (the renderer ameotod runs, at full detail), as long as
+        // ameotod played: the recording lies somewhere inside it.
+        const std::string rendered_path = ameoto::test::temp_path("pipewire-offline.wav");
+        char seconds[32];
+        std::snprintf(seconds, sizeof seconds, "%.3f", played + 0.5);
+        const auto offline = ameoto::test::run_program({ameoto::test::ameoto_bin, "render", "scene", "--seed", "11", "--seconds", seconds, "--quiet",
+                                                        "--level", "physical",   // as the harness starts ameotod
+                                                        "-o", rendered_path},
+                                                       120s);
+        REQUIRE_MESSAGE(offline.exit_code == 0, offline.out);
+        const auto rendered = ameoto::test::read_wav(rendered_path);
+        REQUIRE(rendered.ok);
+
+        const Alignment a = align(recorded, rendered, 48000);
+        INFO("recording from frame " << a.recorded_start << " found in the render at frame " << a.rendered_start << "; " << a.identical << " of "
+                                     << a.periods << " periods identical in order, " << a.relocated << " more found elsewhere; first difference at recorded frame " << a.first_difference
+                                     << "; xruns reported to ameotod: " << xruns << "; played " << played << " s");
+        REQUIRE(a.recorded_start >= 0);
+        CHECK(a.periods * kPeriod >= static_cast<long long>((kSeconds - 1.0) * 48000));
+        // Every period, in order. PipeWire's driver keeps its own clock and does not wait for a late client
+        // (jackd's dummy driver does): a cycle ameotod misses is lost from the recording, so under the
+        // sanitizers (the audio thread several times slower) this is printed, not asserted; the periods
+        // found there are still the render's samples exactly.
+        // A take in which the graph lost cycles (the machine loaded by the suite's other tests) is played
+        // again, at most 3 times, as the JACK clock test does; a cycle ameotod rendered wrongly would
+        // show in every take.
+        if (a.identical != a.periods && take < 3 && !ameoto::test::sanitized_build()) {
+            MESSAGE("take " << take << ": " << a.periods - a.identical << " periods lost or out of place; again");
+            continue;
+        }
+        AMEOTO_CHECK_UNLESS_SANITIZED(a.identical == a.periods);
+        break;
     }
-    const auto recorded = ameoto::test::read_wav(recording);
-    REQUIRE_MESSAGE(recorded.ok, recorded.error);
-    REQUIRE(recorded.channels == 2);
-    // jack-record stops at the end of the period in which its timer ran out (jackd's dummy driver ends it
-    // on the frame; under PipeWire 144 128 frames for 3 s were seen): at most one period more.
-    CHECK(recorded.frames >= static_cast<long long>(kSeconds * 48000));
-    CHECK(recorded.frames < static_cast<long long>(kSeconds * 48000) + kPeriod);
-
-    // The audio thread under PipeWire's libjack: the probe was live in every cycle and saw nothing forbidden.
-    std::ifstream in(report);
-    const std::string rt((std::istreambuf_iterator<char>(in)), {});
-    INFO(rt);
-    CHECK(rt.find("violations 0\n") != std::string::npos);
-    CHECK(rt.find("entries 0\n") == std::string::npos);
-
-    // The same seed offline, `ameoto render scene` (the renderer ameotod runs, at full detail), as long as
-    // ameotod played: the recording lies somewhere inside it.
-    const std::string rendered_path = ameoto::test::temp_path("pipewire-offline.wav");
-    char seconds[32];
-    std::snprintf(seconds, sizeof seconds, "%.3f", played + 0.5);
-    const auto offline = ameoto::test::run_program({ameoto::test::ameoto_bin, "render", "scene", "--seed", "11", "--seconds", seconds, "--quiet",
-                                                    "--level", "physical",   // as the harness starts ameotod
-                                                    "-o", rendered_path},
-                                                   120s);
-    REQUIRE_MESSAGE(offline.exit_code == 0, offline.out);
-    const auto rendered = ameoto::test::read_wav(rendered_path);
-    REQUIRE(rendered.ok);
-
-    const Alignment a = align(recorded, rendered, 48000);
-    INFO("recording from frame " << a.recorded_start << " found in the render at frame " << a.rendered_start << "; " << a.identical << " of "
-                                 << a.periods << " periods identical in order, " << a.relocated << " more found elsewhere; first difference at recorded frame " << a.first_difference
-                                 << "; xruns reported to ameotod: " << xruns << "; played " << played << " s");
-    REQUIRE(a.recorded_start >= 0);
-    CHECK(a.periods * kPeriod >= static_cast<long long>((kSeconds - 1.0) * 48000));
-    // Every period, in order. PipeWire's driver keeps its own clock and does not wait for a late client
-    // (jackd's dummy driver does): a cycle ameotod misses is lost from the recording, so under the
-    // sanitizers (the audio thread several times slower) this is printed, not asserted; the periods
-    // found there are still the render's samples exactly.
-    AMEOTO_CHECK_UNLESS_SANITIZED(a.identical == a.periods);
 }
