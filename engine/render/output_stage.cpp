@@ -22,6 +22,27 @@ OutputStage::OutputStage(const OutputStageConfig& config) : config_(config), cha
     ceiling_ = static_cast<float>(std::pow(10.0, config.ceiling_dbfs / 20.0));
     release_coefficient_ = 1.0 - std::exp(-1.0 / std::max(1.0, config.release_seconds * config.sample_rate));
     if (config_.limiter) {
+        history_.assign(static_cast<std::size_t>(history_frames * channels_), 0.0f);
+        // The interpolator: x(m + phase) = sum_j x[m + j] h(phase - j), j = -5..6, h a sinc under a Hann
+        // window 13 samples wide, each phase's taps scaled to sum to 1 (a DC at the ceiling stays there).
+        constexpr double pi = 3.14159265358979323846;
+        for (int p = 0; p < 3; ++p) {
+            const double phase = 0.25 * (p + 1);
+            double sum = 0.0, magnitude = 0.0;
+            double h[taps];
+            for (int k = 0; k < taps; ++k) {
+                const double t = phase - (k - (taps / 2 - 1));
+                const double sinc = std::sin(pi * t) / (pi * t);
+                const double window = std::cos(pi * t / taps) * std::cos(pi * t / taps);
+                h[k] = sinc * window;
+                sum += h[k];
+            }
+            for (int k = 0; k < taps; ++k) {
+                interpolate_[p][k] = static_cast<float>(h[k] / sum);
+                magnitude += std::fabs(h[k] / sum);
+            }
+            tap_gain_ = std::max(tap_gain_, static_cast<float>(magnitude));
+        }
         delay_.assign(static_cast<std::size_t>(lookahead_ * channels_), 0.0f);
         hold_value_.assign(static_cast<std::size_t>(lookahead_), 1.0f);
         hold_frame_.assign(static_cast<std::size_t>(lookahead_), 0);
@@ -46,9 +67,45 @@ void OutputStage::set_gain_db(double db) {
     ramp_left_ = ramp_frames_;
 }
 
+// Writes `frame` into the history (it becomes the newest, n) and returns the true peak around frame
+// m = n - 6 over every channel: its sample, and the interpolated points of the intervals (m-1, m) and
+// (m, m+1); the latter needs x[m-5..m+6], the newest six frames after m. `frame` is then overwritten
+// with x[m], the frame the limiter goes on with.
+float OutputStage::true_peak_need(const float* frame) {
+    constexpr int mask = history_frames - 1;
+    const std::size_t C = static_cast<std::size_t>(channels_);
+    const int n = static_cast<int>(input_frame_ & mask);
+    for (std::size_t c = 0; c < C; ++c) history_[static_cast<std::size_t>(n) * C + c] = frame[c];
+    ++input_frame_;
+    const int m = (n - true_peak_lag) & mask;
+    auto at = [&](int offset, std::size_t c) { return history_[static_cast<std::size_t>((m + offset) & mask) * C + c]; };
+    float sample = 0.0f, window = 0.0f;
+    for (std::size_t c = 0; c < C; ++c) {
+        sample = std::max(sample, std::fabs(at(0, c)));
+        for (int j = 1 - taps / 2; j <= taps / 2; ++j) window = std::max(window, std::fabs(at(j, c)));
+    }
+    // No point between can pass the ceiling when every tap's sample is small enough: skip the sums.
+    float interval = 0.0f;
+    if (window * tap_gain_ > ceiling_) {
+        for (std::size_t c = 0; c < C; ++c)
+            for (int p = 0; p < 3; ++p) {
+                float v = 0.0f;
+                for (int k = 0; k < taps; ++k) v += interpolate_[p][k] * at(k - (taps / 2 - 1), c);
+                interval = std::max(interval, std::fabs(v));
+            }
+    }
+    const float peak = std::max({sample, interval, previous_interval_});
+    previous_interval_ = interval;
+    return peak;
+}
+
 float OutputStage::limit(float* frame) {
-    float peak = 0.0f;
-    for (int c = 0; c < channels_; ++c) peak = std::max(peak, std::fabs(frame[c]));
+    const float peak = true_peak_need(frame);
+    {
+        constexpr int mask = history_frames - 1;
+        const int m = static_cast<int>((input_frame_ - 1 - true_peak_lag) & mask);
+        for (int c = 0; c < channels_; ++c) frame[c] = history_[static_cast<std::size_t>(m * channels_ + c)];
+    }
     // The gain this frame needs, a millionth under (0.00001 dB) so that float rounding of x g cannot carry a
     // sample past the ceiling.
     const float need = peak > ceiling_ ? static_cast<float>(static_cast<double>(ceiling_) / peak * (1.0 - 1e-6)) : 1.0f;
