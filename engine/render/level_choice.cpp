@@ -16,6 +16,7 @@ LevelChoice choose_level(const RendererConfig& config, double target_lufs, doubl
     c.limiter = false;
     c.adaptive_lod = false;   // the same samples on any machine load
     c.rain_rate_mm_per_h = c.scene.rain.rate_mm_per_h;
+    c.node = 0;   // the whole scene on every node: each node plays with the same gain, so the nodes sum to it
     LevelChoice choice;
     choice.seconds = seconds;
     if (!(c.rain_rate_mm_per_h > 0.0)) {

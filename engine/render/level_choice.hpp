@@ -12,6 +12,8 @@
 // plays: it is not an automatic gain control, so heavier rain stays louder by the physical amount (the slope
 // of level against rain rate is the physical one; tests/engine/render/level_choice_test.cpp).
 // A scene whose default rain is silent (rate 0, or nothing to strike) gets 0 dB: the physical level.
+// A node (config.node, ameotod --node K) measures the whole scene, not its own part: every node of a
+// scene then plays with one gain, and their outputs still sum to the whole scene's.
 
 #include "engine/render/renderer.hpp"
 

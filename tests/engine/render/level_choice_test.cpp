@@ -83,3 +83,22 @@ TEST_CASE("level auto is chosen from the scene's default rain, not the rain play
     MESSAGE("umbrella at 50 mm/h with the 2 mm/h gain: " << loud << " LUFS");
     CHECK(loud - default_target_lufs >= 20.0);
 }
+
+TEST_CASE("level auto on a node measures the whole scene: every node gets the whole scene's gain") {
+    // The street with the car and the window on node 2 (as renderer_nodes_test.cpp splits it). Were each
+    // node measured alone, node 2 (two small surfaces) would be turned up more than node 1, and the
+    // nodes' outputs would no longer sum to the whole scene's.
+    SceneDescription scene = *builtin_scene("street");
+    for (auto& s : scene.surfaces)
+        if (s.name == "car" || s.name == "window") s.node = 2;
+    RendererConfig base;
+    base.seed = 1;
+    RendererConfig whole = configure_for_scene(base, scene);
+    const LevelChoice all = choose_level(whole, default_target_lufs, 0.5);
+    REQUIRE(std::isfinite(all.measured_lufs));
+    for (int node : {1, 2}) {
+        RendererConfig part = whole;
+        part.node = node;
+        CHECK(choose_level(part, default_target_lufs, 0.5).gain_db == all.gain_db);
+    }
+}
