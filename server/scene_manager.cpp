@@ -188,6 +188,7 @@ void SceneManager::build_and_load(const Peer& sender, const std::string& address
         SceneDescription scene;
         RendererConfig config;
         std::optional<LevelChoice> level;
+        double target_lufs = 0.0;   // the target the level was chosen for
     };
     const bool measure = choose && level_.automatic;
     worker_.submit<std::shared_ptr<Built>>(
@@ -202,6 +203,7 @@ void SceneManager::build_and_load(const Peer& sender, const std::string& address
             // second or so of CPU), never on the audio thread.
             if (measure) {
                 built->level = choose_level(c, target);
+                built->target_lufs = target;
                 c.level_gain_db = built->level->gain_db;
             }
             if (has_umbrella(built->scene)) {
@@ -229,6 +231,16 @@ void SceneManager::build_and_load(const Peer& sender, const std::string& address
             if (built->level) {
                 level_.measured_lufs = built->level->measured_lufs;
                 level_.level_gain_db = built->level->gain_db;
+                // A /loudness that came while the worker measured: the new scene plays at the target in
+                // force now, not the one it was measured for (it glides there from its first 50 ms).
+                if (level_.target_lufs != built->target_lufs && std::isfinite(level_.measured_lufs)) {
+                    Command retarget;
+                    retarget.kind = CommandKind::level;
+                    retarget.values[0] = std::clamp(level_.target_lufs - level_.measured_lufs, min_level_gain_db, max_level_gain_db);
+                    retarget.reply_to = reply_to;
+                    if (bridge_.send(retarget)) level_.level_gain_db = retarget.values[0];
+                    else ++traffic_.busy;
+                }
                 say(describe_level(level_, built->scene.name, built->scene.rain.rate_mm_per_h, built->scene.gain_db));
             }
             use_geometry(built->config, has_umbrella(record_.scene()));

@@ -90,6 +90,20 @@ TEST_CASE("/gain and /loudness: set, queried, refused out of range with nothing 
     CHECK(rt.find("entries 0\n") == std::string::npos);
 }
 
+TEST_CASE("/loudness while a scene load is measured: the new scene plays at the new target") {
+    Daemon d({"--backend", "null", "--output", "-", "--realtime", "--rain", "0", "--level", "auto"});
+    OscTestClient c(d.port());
+    // The worker renders 3 s of the pond to measure it (about a second of CPU): the target changes meanwhile.
+    c.send("/scene/load", {s("pond")});
+    c.send("/loudness", {f(-30.0)});
+    REQUIRE(c.wait_for("/done", 60s));
+    const auto l = ask_level(c, "/loudness");
+    CHECK(l.args[1].number == -30.0f);
+    CHECK(l.args[2].number < -90.0);   // the pond's 1.5 mm/h at 1.0 = 100 Pa (about -105 LUFS)
+    CHECK(l.args[3].number == doctest::Approx(-30.0 - l.args[2].number).epsilon(1e-5));   // not -23 - measured
+    CHECK(d.process().stop(SIGTERM, 5s) == 0);
+}
+
 TEST_CASE("--level physical: 1.0 = 100 Pa, no loudness target; --gain sets the gain") {
     Daemon d({"--backend", "null", "--output", "-", "--level", "physical", "--gain", "20"});
     OscTestClient c(d.port());
