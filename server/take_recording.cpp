@@ -135,7 +135,8 @@ void TakeRecording::finish() {
     }
     ::close(fd_);
     fd_ = -1;
-    std::string line = "take: " + std::to_string(commands_) + " commands and " + std::to_string(scenes_) + " scene changes in " +
+    std::string line = "take: " + std::to_string(commands_) + (commands_ == 1 ? " command and " : " commands and ") +
+                       std::to_string(scenes_) + (scenes_ == 1 ? " scene change in " : " scene changes in ") +
                        path_ + " (" + std::to_string(frames_written_) + " frames)";
     if (bridge_->take_lost() > 0) line += "; " + std::to_string(bridge_->take_lost()) + " commands lost (the queue was full): it is not the stream";
     say(line);
