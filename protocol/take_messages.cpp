@@ -6,30 +6,30 @@
 namespace ameoto::protocol {
 namespace {
 
-OscArgument real(double v) {
+OscArgument take_real(double v) {
     OscArgument a;
     a.type = 'd';
     a.number = v;
     return a;
 }
 
-OscArgument frame_argument(std::uint64_t frame) { return OscArgument::from_int64(static_cast<std::int64_t>(frame)); }
+OscArgument take_frame_argument(std::uint64_t frame) { return OscArgument::from_int64(static_cast<std::int64_t>(frame)); }
 
-void add_material(std::vector<OscArgument>& args, const MembraneMaterial& m) {
+void add_take_material(std::vector<OscArgument>& args, const MembraneMaterial& m) {
     args.push_back(OscArgument::from_string(m.name));
     for (double v : {m.areal_density, m.tension, m.mass_damping, m.stiffness_damping, m.link_stiffness, m.total_mass, m.link_damping})
-        args.push_back(real(v));
+        args.push_back(take_real(v));
 }
 
-void add_liquid(std::vector<OscArgument>& args, const Liquid& l) {
+void add_take_liquid(std::vector<OscArgument>& args, const Liquid& l) {
     args.push_back(OscArgument::from_string(l.name));
-    for (double v : {l.density, l.surface_tension, l.viscosity}) args.push_back(real(v));
+    for (double v : {l.density, l.surface_tension, l.viscosity}) args.push_back(take_real(v));
 }
 
 // Reads the arguments in order against a type string ('d' any number, 'i'/'h' integers, 's' a string).
-class Reader {
+class TakeArgumentReader {
 public:
-    Reader(const DecodedMessage& m, const char* types) : m_(m) {
+    TakeArgumentReader(const DecodedMessage& m, const char* types) : m_(m) {
         const std::string want(types);
         if (m.args.size() != want.size()) {
             error_ = std::to_string(m.args.size()) + " arguments, not the " + std::to_string(want.size()) + " of take format " +
@@ -68,8 +68,8 @@ private:
     std::string error_;
 };
 
-constexpr const char* material_types = "sddddddd";
-constexpr const char* liquid_types = "sddd";
+constexpr const char* take_material_types = "sddddddd";
+constexpr const char* take_liquid_types = "sddd";
 
 }  // namespace
 
@@ -94,38 +94,38 @@ std::vector<unsigned char> take_element(std::uint64_t frame, double rate_hz, con
 
 std::vector<OscArgument> take_start_arguments(const TakeStart& s) {
     return {OscArgument::from_int(take_format_version),
-            real(s.rate_hz),
+            take_real(s.rate_hz),
             OscArgument::from_int(s.channels),
             OscArgument::from_int64(static_cast<std::int64_t>(s.seed)),
             OscArgument::from_int(s.node),
             OscArgument::from_int(s.limiter ? 1 : 0),
-            real(s.full_scale_pa),
-            real(s.level_gain_db),
+            take_real(s.full_scale_pa),
+            take_real(s.level_gain_db),
             OscArgument::from_int(s.adaptive_detail ? 1 : 0),
             OscArgument::from_string(s.scene)};
 }
 
 std::vector<OscArgument> take_command_arguments(std::uint64_t frame, const Command& c) {
-    return {frame_argument(frame), OscArgument::from_int(static_cast<int>(c.kind)), real(c.values[0]), real(c.values[1]),
-            real(c.values[2]), real(c.values[3])};
+    return {take_frame_argument(frame), OscArgument::from_int(static_cast<int>(c.kind)), take_real(c.values[0]), take_real(c.values[1]),
+            take_real(c.values[2]), take_real(c.values[3])};
 }
 
 std::vector<OscArgument> take_scene_arguments(const TakeSceneChange& change) {
-    std::vector<OscArgument> args{frame_argument(change.frame), OscArgument::from_int(static_cast<int>(change.kind)),
-                                  real(change.level_gain_db), OscArgument::from_string(change.scene)};
-    add_material(args, change.material);
-    add_liquid(args, change.liquid);
+    std::vector<OscArgument> args{take_frame_argument(change.frame), OscArgument::from_int(static_cast<int>(change.kind)),
+                                  take_real(change.level_gain_db), OscArgument::from_string(change.scene)};
+    add_take_material(args, change.material);
+    add_take_liquid(args, change.liquid);
     return args;
 }
 
 std::vector<OscArgument> take_frames_arguments(std::uint64_t frames, std::uint64_t lost) {
-    return {frame_argument(frames), OscArgument::from_int64(static_cast<std::int64_t>(lost))};
+    return {take_frame_argument(frames), OscArgument::from_int64(static_cast<std::int64_t>(lost))};
 }
 
 std::string read_take_start(const DecodedMessage& m, TakeStart& s) {
     if (!m.args.empty() && (m.args[0].type == 'i' || m.args[0].type == 'h') && m.args[0].integer != take_format_version)
         return "take format " + std::to_string(m.args[0].integer) + ": this ameoto reads format " + std::to_string(take_format_version);
-    Reader r(m, "idihiiddis");
+    TakeArgumentReader r(m, "idihiiddis");
     if (!r.error().empty()) return r.error();
     (void)r.integer();
     s.rate_hz = r.number();
@@ -145,7 +145,7 @@ std::string read_take_start(const DecodedMessage& m, TakeStart& s) {
 }
 
 std::string read_take_command(const DecodedMessage& m, std::uint64_t& frame, Command& c) {
-    Reader r(m, "hidddd");
+    TakeArgumentReader r(m, "hidddd");
     if (!r.error().empty()) return r.error();
     const std::int64_t f = r.integer();
     const std::int64_t kind = r.integer();
@@ -163,7 +163,7 @@ std::string read_take_command(const DecodedMessage& m, std::uint64_t& frame, Com
 }
 
 std::string read_take_scene(const DecodedMessage& m, TakeSceneChange& change) {
-    Reader r(m, (std::string("hids") + material_types + liquid_types).c_str());
+    TakeArgumentReader r(m, (std::string("hids") + take_material_types + take_liquid_types).c_str());
     if (!r.error().empty()) return r.error();
     const std::int64_t f = r.integer();
     const std::int64_t kind = r.integer();
@@ -183,7 +183,7 @@ std::string read_take_scene(const DecodedMessage& m, TakeSceneChange& change) {
 }
 
 std::string read_take_frames(const DecodedMessage& m, std::uint64_t& frames, std::uint64_t& lost) {
-    Reader r(m, "hh");
+    TakeArgumentReader r(m, "hh");
     if (!r.error().empty()) return r.error();
     const std::int64_t f = r.integer(), l = r.integer();
     if (f < 0 || l < 0) return "a negative count";

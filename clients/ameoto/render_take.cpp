@@ -35,7 +35,7 @@ std::optional<MembraneMaterial> recorded_material(const std::string& name, const
     return m.name == name ? std::optional<MembraneMaterial>(m) : std::nullopt;
 }
 
-void free_retired(const RendererEvent& e) {
+void free_take_retired(const RendererEvent& e) {
     if (e.kind != RendererEventKind::retired) return;
     if (e.object_type == RetiredObject::scene_surfaces) delete static_cast<SceneSurfaces*>(e.object);
     else if (e.object_type == RetiredObject::loaded_scene) delete static_cast<LoadedScene*>(e.object);
@@ -43,7 +43,7 @@ void free_retired(const RendererEvent& e) {
 }
 
 // The object ameotod's worker built for this change (scene_manager.cpp: build_and_load, rebuild).
-Command build_change(const protocol::TakeSceneChange& change, const RendererConfig& base, const Renderer& renderer,
+Command build_take_change(const protocol::TakeSceneChange& change, const RendererConfig& base, const Renderer& renderer,
                      const std::string& where) {
     Command c;
     c.kind = change.kind;
@@ -179,7 +179,7 @@ int run_render_take(const RenderScoreOptions& o, const ScoreFile& score, const C
             Command c = e.command;
             if (e.scene) {
                 try {
-                    c = build_change(*e.scene, base, *renderer, e.where);
+                    c = build_take_change(*e.scene, base, *renderer, e.where);
                 } catch (const std::exception& x) {
                     return give_up(e.where + ": the scene change at frame " + std::to_string(e.frame) + ": " + x.what());
                 }
@@ -194,7 +194,7 @@ int run_render_take(const RenderScoreOptions& o, const ScoreFile& score, const C
         }
         renderer->process(static_cast<int>(n), out.data());
         RendererEvent event;
-        while (renderer->poll_event(event)) free_retired(event);
+        while (renderer->poll_event(event)) free_take_retired(event);
         for (long i = 0; i < n; ++i)
             for (int c = 0; c < channels; ++c)
                 interleaved[static_cast<std::size_t>(i * channels + c)] = planar[static_cast<std::size_t>(c)][static_cast<std::size_t>(i)];
