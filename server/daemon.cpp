@@ -24,6 +24,7 @@
 #include "server/status.hpp"
 #include "server/subscriptions.hpp"
 #include "server/systemd_notify.hpp"
+#include "server/take_recording.hpp"
 #include "server/watchdog.hpp"
 
 namespace ameoto {
@@ -48,6 +49,10 @@ int Daemon::run() {
     if (!intake.bind()) return 1;
     replies.send_through(intake.udp(), intake.tcp());
 
+    // The take's file (--record-score), so an unwritable one is said before the scene's seconds of building.
+    TakeRecording take;
+    if (!take.open(options_)) return 1;
+
     // The scene, and the bridge the audio thread plays it through.
     const std::optional<FirstScene> first = read_first_scene(options_, life->backend().sample_rate(), life->live());
     if (!first) return 1;
@@ -56,6 +61,8 @@ int Daemon::run() {
     if (!tracing.open(options_, life->backend().sample_rate())) return 1;
     SceneRecord record(first->scene, first->config.liquid, first->config.material);
     SceneManager scenes(loop.io(), *first, bridge, record, replies, traffic);
+    if (!take.begin(*first, bridge)) return 1;
+    if (take.on()) scenes.record_take(&take);
     say("scene " + record.scene().name);
     const std::string level = describe_level(first->level, first->scene.name, first->default_rain_mm_per_h, first->scene.gain_db);
     say(level);
@@ -100,6 +107,7 @@ int Daemon::run() {
         }
     });
     loop.every(1s, [&] { subscriptions.send_status(); });
+    if (take.on()) loop.every(100ms, [&] { take.drain(); });
     if (watchdog.interval().count() > 0) loop.every(watchdog.interval(), [&] { watchdog.feed(bridge.snapshot().frames); });
     loop.run();
 
@@ -108,6 +116,7 @@ int Daemon::run() {
     intake.close();
     life->stop();
     tracing.finish();
+    take.finish();
     if (traffic.busy > 0 || traffic.refused_senders > 0) say(traffic.report());
     life->report_written();
     say("stopped");

@@ -84,6 +84,13 @@ Options:
                       depends only on the seed and the commands, sample for sample as
                       an offline render (by default a live stream sheds detail before
                       it would miss a deadline; /lod sets the budget)
+  --record-score FILE
+                      write the take to FILE as it plays: every command the engine
+                      applied, at its sample, with the scene, seed, rate, channels and
+                      level it started from (scsynth's binary score format, written
+                      every 0.1 s, so it reads back after a crash); `ameoto render score
+                      FILE` renders it again (sample for sample with --fixed-detail;
+                      else at the full detail the live stream may have shed)
   --block-trace FILE  write every slow (or late-started) audio callback to FILE, a line
                       each: its wall and thread CPU time, faults, preemptions, what it did
                       (lattice drops, templates, commands), and whether the time was
@@ -216,6 +223,9 @@ ParsedOptions parse_options(int argc, const char* const* argv) {
             if (!is_scene_name(v) && !v.ends_with(".scene"))
                 return fail("--scene: '" + v + "' is neither a scene name (1-32 of A-Z a-z 0-9 - _) nor a file ending in .scene");
             o.scene = v;
+        } else if (arg == "--record-score") {
+            if (!value(v) || v.empty()) return fail("--record-score needs a file name");
+            o.record_score = v;
         } else if (arg == "--block-trace") {
             if (!value(v) || v.empty()) return fail("--block-trace needs a file name");
             o.block_trace = v;

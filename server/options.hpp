@@ -40,6 +40,7 @@ struct DaemonOptions {
     std::optional<double> rain_mm_per_h;   // starting rain rate; default: the scene's
     bool fixed_detail = false;            // never shed detail by measured load (output as offline)
     std::optional<std::string> block_trace;   // write the slow audio callbacks here (block_trace.hpp)
+    std::optional<std::string> record_score;  // write every command applied here, a score (take_recording.hpp)
     double block_trace_threshold = 0.5;   // a callback is slow past this fraction of its period
     // Level (docs/loudness.md): auto chooses each scene's level gain so its default rain plays at
     // target_lufs; physical keeps 1.0 = 100 Pa. The listening gain goes on top; the limiter before the output.

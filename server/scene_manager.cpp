@@ -220,7 +220,9 @@ void SceneManager::build_and_load(const Peer& sender, const std::string& address
             c.kind = CommandKind::load_scene;
             c.object = built->loaded.get();
             c.reply_to = reply_to;
+            if (take_) take_->note_load(c.object, built->scene, built->config);
             if (!bridge_.send(c)) {
+                if (take_) take_->forget(c.object);
                 ++traffic_.busy;
                 fail(reply_to, address, "busy: command queue full");
                 return;
@@ -315,7 +317,11 @@ void SceneManager::rebuild(const Peer& sender, const std::string& address, std::
                            std::optional<Liquid> liquid) {
     const std::uint16_t reply_to = replies_.know(sender);
     const CommandKind kind = material ? CommandKind::swap_surface : CommandKind::swap_liquid;
-    worker_.submit<std::unique_ptr<UmbrellaScene>>(
+    struct Rebuilt {
+        std::unique_ptr<UmbrellaScene> scene;
+        RendererConfig config;   // what it was built from (a take records its material and liquid)
+    };
+    worker_.submit<std::shared_ptr<Rebuilt>>(
         [config = bridge_.config(), settings = worker_settings_, material, liquid] {
             RendererConfig c = config;
             c.material = material ? *material : settings->material;
@@ -324,22 +330,26 @@ void SceneManager::rebuild(const Peer& sender, const std::string& address, std::
                 const Canopy probe(c.canopy, *material, 1.0 / c.sample_rate);
                 check_live_cost(probe, *material, c.sample_rate);
             }
-            auto scene = Renderer::make_scene(c);
+            auto rebuilt = std::make_shared<Rebuilt>();
+            rebuilt->scene = Renderer::make_scene(c);
+            rebuilt->config = c;
             settings->material = c.material;   // only once the scene is built: a refusal changes nothing
             settings->liquid = c.liquid;
-            return scene;
+            return rebuilt;
         },
-        [this, reply_to, address, kind, material, liquid](std::unique_ptr<UmbrellaScene> scene) {
+        [this, reply_to, address, kind, material, liquid](std::shared_ptr<Rebuilt> rebuilt) {
             Command c;
             c.kind = kind;
-            c.object = scene.get();
+            c.object = rebuilt->scene.get();
             c.reply_to = reply_to;
+            if (take_) take_->note_swap(c.object, kind, rebuilt->config);
             if (bridge_.send(c)) {
-                scene.release();   // the audio thread owns it now
+                rebuilt->scene.release();   // the audio thread owns it now
                 // Only now is it in effect (a refused material changed nothing).
                 if (material) record_.material_changed(*material);
                 if (liquid) record_.liquid_changed(*liquid);
             } else {
+                if (take_) take_->forget(c.object);
                 ++traffic_.busy;
                 fail(reply_to, address, "busy: command queue full");
             }

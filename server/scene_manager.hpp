@@ -20,6 +20,7 @@
 //   scenes.done_address(reply_to)             // a load's /done: the address it answers, in order per client
 //   scenes.set_loudness(peer, "/loudness", lufs)   // --level auto's target
 //   scenes.level()                            // the level in effect (/loudness's query)
+//   scenes.record_take(&take)                 // --record-score: each scene change noted before it is sent
 //
 // Threads: every call on the control thread. The build and file jobs run on the worker (worker.hpp),
 // one at a time in order, and see only what they were given by value, plus the scene settings that
@@ -46,6 +47,7 @@
 #include "server/realtime/audio_bridge.hpp"
 #include "server/replies.hpp"
 #include "server/scene_record.hpp"
+#include "server/take_recording.hpp"
 #include "server/worker.hpp"
 
 namespace ameoto {
@@ -83,6 +85,7 @@ public:
     // /loudness: --level auto's target; the scene playing moves to it (ramped), later loads are set to it.
     void set_loudness(const Peer& sender, const std::string& address, double target_lufs);
     const LevelState& level() const { return level_; }
+    void record_take(TakeRecording* take) { take_ = take; }
 
     // What the audio thread's scene is made of, as the worker last built it: only the worker's jobs
     // touch it, one at a time in order, so a refused change leaves it as it was.
@@ -113,6 +116,7 @@ private:
     std::map<std::uint16_t, std::deque<std::string>> pending_done_;   // per client: scene rebuilds sent, in order
     std::shared_ptr<WorkerSettings> worker_settings_;
     LevelState level_;
+    TakeRecording* take_ = nullptr;   // --record-score, else null
     Worker worker_;   // last: joined first, before anything a job's result would touch goes
 };
 

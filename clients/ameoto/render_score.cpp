@@ -17,6 +17,7 @@
 #include "clients/ameoto/number_text.hpp"
 #include "clients/ameoto/option_reader.hpp"
 #include "clients/ameoto/progress_line.hpp"
+#include "clients/ameoto/render_take.hpp"
 #include "clients/ameoto/score_file.hpp"
 #include "engine/models/canopy.hpp"
 #include "engine/render/renderer.hpp"
@@ -90,12 +91,19 @@ std::string render_score_usage() {
            "  --quiet             no progress on stderr\n"
            "  -o FILE.wav         the output (32-bit float WAV)\n"
            "\n"
+           "A take recorded by `ameotod --record-score FILE` renders again from the state it names (its\n"
+           "scene, seed, rate, channels and level; these options are then refused), every command and\n"
+           "scene change at the sample the live engine applied it, for the take's length (--seconds\n"
+           "changes it): sample for sample the live stream when it ran with --fixed-detail, else at\n"
+           "full detail. A take cut short by a crash renders up to its last whole record.\n"
+           "\n"
            "Exit status: 0 rendered; 1 the score, the scene or the file was refused; 2 usage error.\n"
            "\n"
            "Examples:\n"
            "  printf '0.5 /drop 3 0 0.15 0.05\\n1.0 /rain/rate 20\\n' > s.txt\n"
            "  ameoto render score s.txt --seconds 4 -o s.wav\n"
-           "  ameoto render score rain.osc --rate 96000 -o rain.wav    # from Score.write\n";
+           "  ameoto render score rain.osc --rate 96000 -o rain.wav    # from Score.write\n"
+           "  ameoto render score take.osc -o take-again.wav           # from ameotod --record-score\n";
 }
 
 RenderParse parse_render_score_options(const CommandWords& words, RenderScoreOptions& o, std::string& error) {
@@ -110,6 +118,8 @@ RenderParse parse_render_score_options(const CommandWords& words, RenderScoreOpt
             continue;
         }
         const std::string& name = reader.name();
+        if (o.setup_option.empty() && (name == "--scene" || name == "--rain" || name == "--rate" || name == "--seed" || name == "--channels"))
+            o.setup_option = name;
         std::string value;
         auto take_value = [&] { return reader.value_into(value, error); };
         if (name == "--help" || name == "-h") return RenderParse::help;
@@ -189,6 +199,14 @@ int run_render_score(const RenderScoreOptions& o, const CommandIo& io) {
     if (!score.error.empty()) {
         io.err << me << score.error << "\n";
         return exit_status::refused;
+    }
+    if (is_take(score)) {
+        if (!o.setup_option.empty()) {
+            io.err << me << o.score_path << " is a recorded take: it names its own scene, rain, rate, seed and channels ("
+                   << o.setup_option << " cannot change them)\n";
+            return exit_status::usage;
+        }
+        return run_render_take(o, score, io);
     }
     SceneDescription scene;
     std::string error;

@@ -19,6 +19,8 @@
 // this version: give the render the scene (--scene FILE.scene) instead. Of scsynth's own messages that
 // SuperCollider's Score writes, /g_new (the default group, added at time 0) is ignored and /c_set (the
 // conventional end marker) sets the render's length when --seconds is not given.
+// A take recorded by `ameotod --record-score` (its first message /take/start) is rendered by
+// render_take.hpp: the live stream again, from the state it names.
 // Reproducible to the sample: the same score, scene, seed and rate give the same samples whatever the
 // block size (--block), since the renderer applies each command at its sample within a block.
 
@@ -42,6 +44,8 @@ struct RenderScoreOptions {
     int channels = 2;
     int block = 512;                       // frames per renderer call, 1..8192 (changes nothing in the samples)
     bool quiet = false;
+    std::string setup_option;              // the first of --scene, --rain, --rate, --seed, --channels given
+                                           // (a recorded take names its own: render_take.hpp)
 };
 
 RenderParse parse_render_score_options(const CommandWords& words, RenderScoreOptions& options, std::string& error);

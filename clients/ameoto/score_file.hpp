@@ -35,6 +35,9 @@ struct ScoreFile {
     bool binary = false;
     std::vector<ScoreMessage> messages;   // sorted by time, stable
     std::string error;                    // empty when the whole file was read
+    // A recorded take (its first message /take/start: protocol/take_messages.hpp) cut short by a crash
+    // mid-write: the bytes of the last, incomplete bundle, left out; every whole bundle before it is read.
+    std::size_t cut_bytes = 0;
 };
 
 ScoreFile parse_score(std::string_view bytes, const std::string& name);

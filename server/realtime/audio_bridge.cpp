@@ -107,7 +107,17 @@ void AudioBridge::process(int frames, float* const* outputs, const BlockTime& ti
     clock_sequence_.store(seq + 2, std::memory_order_release);
 
     Command command;
-    while (commands_.try_pop(command)) renderer_->schedule(command);
+    while (commands_.try_pop(command)) {
+        const std::uint64_t busy_before = renderer_->stats().busy_commands;
+        renderer_->schedule(command);
+        // --record-score: what the renderer accepted, at the sample it applies it (Renderer::schedule: an
+        // untimed or late command at the block's first sample). Written before frames_ is published, so a
+        // reader that saw frames_ reach F has every command applied before F.
+        if (take_ && command.kind != CommandKind::sync && renderer_->stats().busy_commands == busy_before) {
+            const std::uint64_t at = command.timed ? std::max(command.frame, first_frame) : first_frame;
+            if (!take_->try_push(AppliedCommand{at, command})) take_lost_.fetch_add(1, std::memory_order_relaxed);
+        }
+    }
     renderer_->process(frames, outputs);
     meter_.measure(frames, outputs, renderer_->frame());
     loudness_.feed(frames, outputs);

@@ -16,6 +16,9 @@
 //                    bridge.loudness_tap() -> the output's samples for /meter's loudness (loudness_tap.hpp)
 //                    bridge.enable_block_trace(n) -> before audio starts: record every block (block_trace.hpp)
 //                    bridge.block_trace()  -> that record's ring (null when off), read by one thread
+//                    bridge.enable_take(n)  -> before audio starts: record every command applied (--record-score)
+//                    bridge.take()         -> that record's queue (null when off), read by one thread
+//                    bridge.take_lost()    -> commands applied that found the queue full (the take is incomplete)
 //   audio thread:    bridge.process(frames, outputs, time)   // never allocates, frees, locks, blocks or logs
 //                    time: the backend's filtered clock for this block (BlockTime), or {} for none
 //
@@ -34,6 +37,7 @@
 #include <atomic>
 #include <cstdint>
 #include <memory>
+#include <type_traits>
 
 #include "engine/render/renderer.hpp"
 #include "server/realtime/block_trace.hpp"
@@ -63,6 +67,16 @@ struct AudioSnapshot {
 };
 
 // When a block plays, as the backend's clock filter sees it (audio thread, given to process()).
+// One command as the engine applied it, for --record-score (server/take_recording.hpp): the sample it
+// took effect at (its timetag's, or the block's first when it was untimed or late: max(frame, block
+// start), which is exactly when the renderer applies it) and the command with its SI values as the
+// engine got them, so an offline render of the take schedules the same commands at the same samples.
+struct AppliedCommand {
+    std::uint64_t frame = 0;
+    Command command;
+};
+static_assert(std::is_trivially_copyable_v<AppliedCommand>);
+
 struct BlockTime {
     bool valid = false;          // false: no filtered clock; the callback's own wall-clock reading is used
     std::int64_t unix_ns = 0;    // CLOCK_REALTIME (ns since 1970) at which the block's first frame plays
@@ -102,6 +116,11 @@ public:
     // and CPU time, page faults and work go into it, for --block-trace.
     void enable_block_trace(std::size_t capacity) { trace_ = std::make_unique<BlockTrace>(capacity); }
     BlockTrace* block_trace() { return trace_.get(); }
+    // Before the backend starts (allocates a queue of `capacity` records): from then on every command the
+    // renderer accepted (all but /sync's, whose only effect is a reply, and those refused busy) goes into it.
+    void enable_take(std::size_t capacity) { take_ = std::make_unique<SpscQueue<AppliedCommand>>(capacity); }
+    SpscQueue<AppliedCommand>* take() { return take_.get(); }
+    std::uint64_t take_lost() const { return take_lost_.load(std::memory_order_relaxed); }
 
     // audio thread
     void process(int frames, float* const* outputs, const BlockTime& time = {});
@@ -115,6 +134,8 @@ private:
     LevelMeter meter_;
     LoudnessTap loudness_;
     std::unique_ptr<BlockTrace> trace_;   // null unless --block-trace
+    std::unique_ptr<SpscQueue<AppliedCommand>> take_;   // null unless --record-score
+    std::atomic<std::uint64_t> take_lost_{0};
 
     // published by the audio thread
     std::atomic<std::uint64_t> clock_sequence_{0};

@@ -85,6 +85,7 @@ TEST_CASE_FIXTURE(ProbeFixture, "AudioBridge::process never allocates, frees, lo
     config.level_gain_db = 30.0;          // loud enough that the limiter works in every block
     ameoto::AudioBridge bridge(std::make_unique<ameoto::Renderer>(config), 256);
     bridge.loudness_tap().set_wanted(true);   // /meter's loudness: the samples handed over (drained below)
+    bridge.enable_take(1024);                 // --record-score: every applied command into its queue (drained below)
     constexpr int block = 256;
     std::vector<std::vector<float>> planes(4, std::vector<float>(block));
     std::vector<float*> outputs{planes[0].data(), planes[1].data(), planes[2].data(), planes[3].data()};
@@ -94,6 +95,7 @@ TEST_CASE_FIXTURE(ProbeFixture, "AudioBridge::process never allocates, frees, lo
     // renders, and drains the loudness tap into a libebur128 meter as the daemon's /meter does.
     ameoto::LoudnessMeter loudness(4, config.sample_rate, ameoto::LoudnessMeter::short_term | ameoto::LoudnessMeter::peaks);
     std::atomic<bool> done{false};
+    std::atomic<long> recorded{0};
     std::thread control([&] {
         int i = 0;
         while (!done.load()) {
@@ -109,6 +111,8 @@ TEST_CASE_FIXTURE(ProbeFixture, "AudioBridge::process never allocates, frees, lo
             (void)bridge.send(c);
             ameoto::RendererEvent e;
             while (bridge.poll_event(e)) {}
+            ameoto::AppliedCommand applied;
+            while (bridge.take()->try_pop(applied)) recorded.fetch_add(1, std::memory_order_relaxed);
             if (i % 64 == 0) bridge.loudness_tap().drain(loudness);
             ++i;
             if (i % 64 == 0) std::this_thread::yield();
@@ -124,6 +128,7 @@ TEST_CASE_FIXTURE(ProbeFixture, "AudioBridge::process never allocates, frees, lo
     const ameoto::AudioSnapshot s = bridge.snapshot();
     CHECK(s.drops > 1000);            // the workload really ran
     CHECK(s.busy_commands > 0);       // including the overflow path
+    CHECK(recorded.load() > 1000);    // and the take's path (a full queue counted in take_lost)
     CHECK(s.clipped_samples == 0);    // the limiter held the ceiling through every gain change
     CHECK(ameoto_rt_probe_entries() == 2000);
     INFO("first violation: " << std::string(ameoto_rt_probe_first_violation()));
