@@ -55,9 +55,8 @@
 // the momentum: twice a real drop's impulse). Wet masses touch up to their reach (their parcel's
 // radius, at most 1 mm) above the membrane, so the broad phase below adds that reach to its bounds.
 //
-// Settling (config.settle; off by default: with it, a drop's coarse steps depend on the other drops in the
-// pool through their shared floor (below), so one drop's samples change with another's timing, which
-// breaks the cross-packet timing tests; to be made per drop): every 32 of a drop's own samples each piece of a
+// Settling (config.settle; off by default, until the suites that compare streams pass with it; each
+// drop's coarse floor is its own: drop_on_canopy.cpp, set_drop_floors): every 32 of a drop's own samples each piece of a
 // drop whose masses are all done is parked (DropPool, "Parking": taken out of the motion, its mass
 // kept), and a drop whose pieces are all parked retires. A mass is done (settle_predicate()) when it can
 // no longer be heard: gone past the rim (outside the rim's circle by 1 cm, moving outwards: only
@@ -218,6 +217,7 @@ private:
     struct Built {};   // the delegated constructor's tag: config already checked, canopy given
     DropOnCanopy(Built, const DropOnCanopyConfig& config, Canopy&& canopy);
     void collide();
+    void set_drop_floors(bool have_u, double above, double skin, double per_normal);
     DropOnCanopyConfig config_;
     double dt_;
     Canopy canopy_;
