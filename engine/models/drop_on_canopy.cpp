@@ -327,30 +327,17 @@ void DropOnCanopy::collide() {
         have_u = true;
     }
     const double band_top = top_ + reach_;
-    // Coarse steps (drop_pool.hpp) this sample for a drop wholly above: the membrane's highest point read
-    // now, with 2 mm for what it can rise in the few samples of a coarse step (0.1 mm at 1 m/s over
-    // 4 samples at 48 kHz) and the collider's skin; unread, the band, which it never reaches.
-    // Settling: with the membrane's fastest node read as well (another pass over the nodes, only while
-    // a drop could step coarsely), the floor is what the membrane can reach within a coarse step: its
-    // highest point (with the reach, in `above`) plus 1.5 times that speed and 0.5 m/s over the longest
-    // coarse step (0.25 mm for a 5 mm drop on nylon, 1.7 m/s at most; 1.9 mm for 8 mm at 30 m/s on
-    // vinyl, 14.5 m/s), instead of a fixed 3-4 mm: a wet splash's sheet flies 3-5 mm over the membrane
-    // for its first 50 ms. (A mass that touched during a coarse step would end it: counted in
-    // DropPoolStats::coarse_interrupted, never seen.)
-    double floor = have_u ? above + 2e-3 + skin : band_top;
-    bool between = false;   // an awake drop's lowest mass between `above` and that floor: the speed matters
-    if (have_u && coarse_wanted)
-        for (const int d : pool_.active()) {
-            const double lowest = pool_.lowest_z(d);
-            if (!pool_.dormant(d) && lowest > above && lowest <= floor + 1e-3) between = true;
-        }
-    if (between) {
-        canopy_.velocities(node_velocities_.data());
-        double fastest = 0.0;
-        for (const double v : node_velocities_) fastest = std::max(fastest, std::fabs(v));
-        if (std::isfinite(fastest)) floor = above + (1.5 * fastest + 0.5) * config_.coarse_steps * dt_ * per_normal + 1e-12;
+    // Coarse steps (drop_pool.hpp) this sample for a drop wholly above the floor. Without settling: the
+    // membrane's highest point read now, with 2 mm for what it can rise in the few samples of a coarse
+    // step and the collider's skin; unread, the band, which it never reaches. With settling: each drop's
+    // own floor (set_drop_floors).
+    if (config_.settle) {
+        set_drop_floors(have_u, above, skin, per_normal);
+    } else {
+        // Without settling (the model before it): one floor for the pool, from whatever was read this
+        // sample for any drop.
+        pool_.set_coarse_floor(have_u ? above + 2e-3 + skin : band_top);
     }
-    pool_.set_coarse_floor(floor);
     // A mass higher than this is neither looked up (it is over `above`) nor counted as near (over the
     // band): one comparison for most of a splash's masses in flight; a drop whose lowest mass is over it
     // is skipped whole.
@@ -417,6 +404,47 @@ void DropOnCanopy::collide() {
     }
     near_masses_ = near;
     unread_steps_ = have_u ? 0 : std::min(unread_steps_ + 1, 255);
+}
+
+// Settling's coarse floors, each drop's own: a function of the drop's lowest mass and of the membrane as
+// it is this sample, never of the other drops, so that a drop's steps (and its samples) are the same
+// whenever, and among whatever, it falls. (One floor for the pool, read when any drop wanted it, let a
+// drop's coarse steps change with another's presence: drop_settle_independence_test.) For an awake drop
+// whose lowest mass clears the rest cap's top by the reach but lies in the band (coarse_wanted in
+// collide(), which has then read the membrane's extremes: have_u):
+//   - the membrane's highest point (with the reach, `above`) plus 2 mm for what it can rise in the few
+//     samples of a coarse step (0.1 mm at 1 m/s over 4 samples at 48 kHz) and the collider's skin;
+//   - when its lowest mass lies between `above` and 1 mm over that, the membrane's fastest node read as
+//     well (a pass over the nodes, made once a sample however many drops need it): its highest point
+//     plus 1.5 times that speed and 0.5 m/s over the longest coarse step (0.25 mm for a 5 mm drop on
+//     nylon, 1.7 m/s at most; 1.9 mm for 8 mm at 30 m/s on vinyl, 14.5 m/s), instead of a fixed
+//     3-4 mm: a wet splash's sheet flies 3-5 mm over the membrane for its first 50 ms.
+// Any other drop's floor is the band's top, which the membrane never reaches: over it the drop is clear
+// of the membrane; under the cap's top by the reach (a piece on the membrane) or dormant, it takes no
+// coarse step whatever the floor. (A mass that touched during a coarse step would end it: counted in
+// DropPoolStats::coarse_interrupted, never seen.)
+void DropOnCanopy::set_drop_floors(bool have_u, double above, double skin, double per_normal) {
+    const double band_top = top_ + reach_;
+    const double fixed = above + 2e-3 + skin;
+    bool fastest_read = false;
+    double fastest = 0.0;
+    for (const int d : pool_.active()) {
+        const double lowest = pool_.lowest_z(d);
+        double floor = band_top;
+        if (have_u && !pool_.dormant(d) && lowest > top_ + touch_ && lowest <= band_top) {
+            floor = fixed;
+            if (lowest > above && lowest <= fixed + 1e-3) {
+                if (!fastest_read) {
+                    canopy_.velocities(node_velocities_.data());
+                    for (const double v : node_velocities_) fastest = std::max(fastest, std::fabs(v));
+                    fastest_read = true;
+                }
+                if (std::isfinite(fastest))
+                    floor = above + (1.5 * fastest + 0.5) * config_.coarse_steps * dt_ * per_normal + 1e-12;
+            }
+        }
+        pool_.set_coarse_floor(d, floor);
+    }
 }
 
 double DropOnCanopy::acoustic_delay_samples(double x_m, double y_m) const {

@@ -44,9 +44,11 @@
 // (drop_on_canopy.cpp, collide(), gives the argument); a whole drop whose lowest mass is above is passed
 // over at once (DropPool::lowest_z).
 //
-// Coarse steps (drop_pool.hpp): collide() sets the pool's floor each sample to the membrane's highest
-// point read that sample plus 2 mm and the collider's skin (unread: the band's top), so a splash wholly
-// in the air above it steps up to coarse_steps samples at once. Nothing can touch it meanwhile: the
+// Coarse steps (drop_pool.hpp): collide() sets each drop's floor each sample (with settling, from that
+// drop's own lowest mass: the membrane's highest point plus 2 mm and the collider's skin while the drop
+// hangs in the band over the membrane, the band's top otherwise; "Settling" below; without it one floor
+// for the pool, the membrane's highest point when read that sample), so a splash wholly in the air
+// above it steps up to coarse_steps samples at once. Nothing can touch it meanwhile: the
 // sound is what stepping every sample gives, bit for bit, until a piece comes down again (tested).
 //
 // Impact (config.impact): wet, the default, stops each drop mass as its parcel of liquid arrives and
@@ -55,9 +57,7 @@
 // the momentum: twice a real drop's impulse). Wet masses touch up to their reach (their parcel's
 // radius, at most 1 mm) above the membrane, so the broad phase below adds that reach to its bounds.
 //
-// Settling (config.settle; off by default: with it, a drop's coarse steps depend on the other drops in the
-// pool through their shared floor (below), so one drop's samples change with another's timing, which
-// breaks the cross-packet timing tests; to be made per drop): every 32 of a drop's own samples each piece of a
+// Settling (config.settle, the default): every 32 of a drop's own samples each piece of a
 // drop whose masses are all done is parked (DropPool, "Parking": taken out of the motion, its mass
 // kept), and a drop whose pieces are all parked retires. A mass is done (settle_predicate()) when it can
 // no longer be heard: gone past the rim (outside the rim's circle by 1 cm, moving outwards: only
@@ -70,7 +70,10 @@
 // every sample, since a piece at rest holds the drop's coarse steps down (the splash's flying pieces
 // could not be stepped coarsely while any piece lay on the membrane). What it changes in the sound is
 // bounded by a test (drop_on_canopy_test: band levels of a render with and without, docs/drop.md).
-// settle = false is the model before it, and the default (ameoto bench drop times both).
+// Each drop's coarse steps take their floor from its own lowest mass and the membrane (set_drop_floors in
+// drop_on_canopy.cpp), and its checks come every 32 of its own samples: a drop's samples depend on its
+// own history and the canopy, never on when another drop was spawned (drop_settle_independence_test).
+// settle = false is the model before it (ameoto bench drop and bench scene time both).
 //
 // Placement: drop() puts the drop's lowest mass gap_m (0.5 mm) above the rest surface at (x, y)
 // (DropPool::underside; wet: its parcel's underside, the mass's reach lower), moving straight down at `speed`, so it reaches the membrane within a few
@@ -137,8 +140,8 @@ struct DropOnCanopyConfig {
     double max_lifetime_s = 30.0;                  // s (0: never)
     int coarse_steps = 4;                          // 1..64: samples a drop wholly over the band may take
                                                    // as one (drop_pool.hpp, "Coarse steps"; 1: never)
-    bool settle = false;                           // park liquid that is done (below, "Settling"); false
-                                                   // (the default): every mass is stepped until its drop retires
+    bool settle = true;                            // park liquid that is done (above, "Settling"); false:
+                                                   // every mass is stepped until its drop retires (the model before)
     double rest_speed_m_per_s = 0.05;              // m/s: slower along the normal, a mass in touch is at rest
     int guard_interval = 256;                      // samples between runs of the canopy's guard (0: only
                                                    // when the caller calls guard())
@@ -218,6 +221,7 @@ private:
     struct Built {};   // the delegated constructor's tag: config already checked, canopy given
     DropOnCanopy(Built, const DropOnCanopyConfig& config, Canopy&& canopy);
     void collide();
+    void set_drop_floors(bool have_u, double above, double skin, double per_normal);
     DropOnCanopyConfig config_;
     double dt_;
     Canopy canopy_;

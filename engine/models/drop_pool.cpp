@@ -194,6 +194,7 @@ bool DropPool::spawn(double diameter, int liquid, Vec3 centre, Vec3 velocity, Dr
     s.pieces = s.components.compute(s.body);
     s.steps = 0;
     s.coarse_left = 0;
+    s.coarse_floor = coarse_floor_;
     s.serial = next_serial_++;
     active_.push_back(index);
     ++stats_.spawned;
@@ -295,6 +296,11 @@ void DropPool::release(std::size_t active_index) {
     ++stats_.retired;
 }
 
+void DropPool::set_coarse_floor(double z) {
+    coarse_floor_ = z;
+    for (const int d : active_) slot(d).coarse_floor = z;
+}
+
 void DropPool::retire(int drop) {
     for (std::size_t i = 0; i < active_.size(); ++i)
         if (active_[i] == drop) {
@@ -349,7 +355,7 @@ void DropPool::step() {
             if (finished(s)) release(i);
             continue;
         }
-        const int multiple = config_.coarse_max > 1 ? s.body.coarse_factor(config_.coarse_max, coarse_floor_) : 1;
+        const int multiple = config_.coarse_max > 1 ? s.body.coarse_factor(config_.coarse_max, s.coarse_floor) : 1;
         if (multiple > 1) {
             ++stats_.coarse_steps;
             s.coarse_left = multiple - 1;

@@ -26,6 +26,7 @@
 //   pool.body(d); pool.calibration(d); pool.serial(d); // its Body3D (wakes it), calibration, spawn number
 //   pool.retire(d); pool.clear();
 //   pool.set_coarse_floor(z);                         // m: drops wholly above may take coarse steps (below)
+//   pool.set_coarse_floor(d, z);                      // m: the same for drop d alone (per-drop floors)
 //   pool.stats();                                     // spawned, refused, rejected, retired, breaks, breakups
 //   pool.underside(D);                                // m, centre to lowest mass (placing a drop on a surface)
 //
@@ -75,8 +76,11 @@
 // step meanwhile (at most k - 1 steps ahead). The caller sets the floor where nothing can touch a drop
 // above it (drop_on_canopy.cpp, each sample: the membrane's highest point read that sample plus 2 mm and
 // the collider's skin, or the top of the 5 cm band the membrane never reaches): a splash's pieces in
-// flight, most of a shattered drop's life, then cost a third or a quarter. apply_force, set_position and set_velocity during the steps sat out end them (counted
-// in stats().coarse_interrupted; the floor's margin means a collision never does). Default: off
+// flight, most of a shattered drop's life, then cost a third or a quarter. The floor is held per drop:
+// set_coarse_floor(z) sets every drop's, set_coarse_floor(d, z) one drop's (DropOnCanopy with settling
+// sets each drop's from its own lowest mass, so that no drop's steps depend on another's).
+// apply_force, set_position and set_velocity during the steps sat out end them (counted in
+// stats().coarse_interrupted; the floor's margin means a collision never does). Default: off
 // (coarse_max 1, floor +infinity).
 //
 // Cost: one Body3D step per active drop; measured in docs/drop.md ("Cost of a step").
@@ -153,8 +157,13 @@ public:
     void apply_force(int drop, int mass, Vec3 force) { touched(drop).apply_force(mass, force); }
     void set_position(int drop, int mass, Vec3 p) { touched(drop).set_position(mass, p); }
     void set_velocity(int drop, int mass, Vec3 v) { touched(drop).set_velocity(mass, v); }
-    void set_coarse_floor(double z) { coarse_floor_ = z; }   // m (+infinity: no coarse steps)
+    // m (+infinity: no coarse steps): every active drop's floor, and the floor a drop spawned later starts with.
+    void set_coarse_floor(double z);
+    // m: drop d's own floor, until it is set again (a caller whose floor differs by drop: each drop's coarse
+    // steps then depend on its own state and on what the caller reads for it, never on the other drops).
+    void set_coarse_floor(int drop, double z) { slot(drop).coarse_floor = z; }
     double coarse_floor() const { return coarse_floor_; }
+    double coarse_floor(int drop) const { return slot(drop).coarse_floor; }
     Body3D& body(int drop) { return awake(drop); }
     const Body3D& body(int drop) const { return awake(drop); }
     bool dormant(int drop) const { return slot(drop).dormant; }
@@ -207,6 +216,7 @@ private:
         long steps = 0;
         std::uint64_t serial = 0;
         int coarse_left = 0;   // step() calls to sit out after a coarse step
+        double coarse_floor = std::numeric_limits<double>::infinity();   // m: its coarse steps' floor
         std::vector<std::uint8_t> piece_live;   // parking's scratch: per piece, a mass not done
     };
     Slot& slot(int drop) const { return slots_[static_cast<std::size_t>(drop)]; }

@@ -99,8 +99,8 @@ struct RendererConfig {
     double level_gain_db = 0.0;
     double gain_db = 0.0;
     bool limiter = false;
-    bool settle = false;                  // the lattice drops' settling (drop_on_canopy.hpp; off by
-                                          // default there, and why); ameoto bench drop/scene time both
+    bool settle = true;                   // the lattice drops' settling (drop_on_canopy.hpp, "Settling");
+                                          // false: the model before it (ameoto bench drop/scene time both)
     NetworkOptions canopy_network{};      // the canopy panels' method; configure_for_scene sets it from the
                                           // scene's accuracy budget (core/method_choice.hpp)
     int node = 0;                         // 1..16: render only the surfaces the scene gives this node (its
