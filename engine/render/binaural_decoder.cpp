@@ -18,13 +18,13 @@ namespace ameoto {
 
 namespace {
 
-constexpr double min_rate_hz = 8000.0, max_rate_hz = 384000.0;
-constexpr int max_block = 8192;
+constexpr double binaural_min_rate_hz = 8000.0, binaural_max_rate_hz = 384000.0;
+constexpr int binaural_max_block = 8192;
 // The crossover's responses are cut where both stay under 1e-6 of their peak (-120 dB, below float's
 // resolution of a full-scale sample).
-constexpr double crossover_tail_eps = 1e-6;
+constexpr double binaural_crossover_tail_eps = 1e-6;
 
-std::string number(double v) {
+std::string sofa_number_text(double v) {
     char text[32];
     std::snprintf(text, sizeof text, "%g", v);
     return text;
@@ -61,8 +61,8 @@ struct SofaCloser {
 // stream restart or a test's second decoder should not pay it again. A file changed on disk under the same
 // path is therefore not read again until the program restarts.
 std::mutex& sofa_cache_mutex() {
-    static std::mutex m;
-    return m;
+    static std::mutex* const m = new std::mutex;   // never destroyed (as fftw_planner_mutex)
+    return *m;
 }
 
 }  // namespace
@@ -74,14 +74,14 @@ BinauralDecoder::Made BinauralDecoder::create(const std::string& sofa_path, int 
         made.error = "binaural decoder: order " + std::to_string(order) + " (1..3)";
         return made;
     }
-    if (!std::isfinite(rate_hz) || rate_hz < min_rate_hz || rate_hz > max_rate_hz) {
-        made.error = "binaural decoder: sample rate " + number(rate_hz) + " Hz (" + number(min_rate_hz) + ".." +
-                     number(max_rate_hz) + ")";
+    if (!std::isfinite(rate_hz) || rate_hz < binaural_min_rate_hz || rate_hz > binaural_max_rate_hz) {
+        made.error = "binaural decoder: sample rate " + sofa_number_text(rate_hz) + " Hz (" + sofa_number_text(binaural_min_rate_hz) + ".." +
+                     sofa_number_text(binaural_max_rate_hz) + ")";
         return made;
     }
-    if (block_frames < 1 || block_frames > max_block) {
+    if (block_frames < 1 || block_frames > binaural_max_block) {
         made.error = "binaural decoder: block of " + std::to_string(block_frames) + " frames (1.." +
-                     std::to_string(max_block) + ")";
+                     std::to_string(binaural_max_block) + ")";
         return made;
     }
     // libmysofa reports a missing file as errno; say it in words, before it is asked.
@@ -109,8 +109,8 @@ BinauralDecoder::Made BinauralDecoder::create(const std::string& sofa_path, int 
     if (!hrtf || hrtf->DataSamplingRate.elements < 1 ||
         std::abs(hrtf->DataSamplingRate.values[0] - rate_hz) > 0.5) {
         made.error = sofa_path + ": libmysofa gave responses at " +
-                     (hrtf && hrtf->DataSamplingRate.elements ? number(hrtf->DataSamplingRate.values[0]) : std::string("?")) +
-                     " Hz, not the stream's " + number(rate_hz) + " Hz";
+                     (hrtf && hrtf->DataSamplingRate.elements ? sofa_number_text(hrtf->DataSamplingRate.values[0]) : std::string("?")) +
+                     " Hz, not the stream's " + sofa_number_text(rate_hz) + " Hz";
         return made;
     }
     if (hrtf->R != 2 || filter_length < 1 || hrtf->M < 1) {
@@ -156,7 +156,7 @@ BinauralDecoder::Made BinauralDecoder::create(const std::string& sofa_path, int 
         const float delays[2] = {delay_left, delay_right};
         for (int e = 0; e < 2; ++e) {
             if (!std::isfinite(delays[e]) || delays[e] < 0.0f || delays[e] > 0.1f) {
-                made.error = sofa_path + ": a delay of " + number(delays[e]) + " s (0..0.1 s expected)";
+                made.error = sofa_path + ": a delay of " + sofa_number_text(delays[e]) + " s (0..0.1 s expected)";
                 return made;
             }
             pairs[i].delay[e] = static_cast<int>(std::lround(delays[e] * rate_hz));
@@ -175,7 +175,7 @@ BinauralDecoder::Made BinauralDecoder::create(const std::string& sofa_path, int 
     // The basic (g_n = 1) sampling decode folded into the responses, per ACN and ear, in double.
     const std::size_t basic_length = L + static_cast<std::size_t>(longest_delay);
     const double crossover = order * constants::speed_of_sound_air / (2.0 * constants::pi * head_radius_m);
-    const auto tail = static_cast<std::size_t>(binaural_design::linkwitz_riley_4_tail(crossover, rate_hz, crossover_tail_eps));
+    const auto tail = static_cast<std::size_t>(binaural_design::linkwitz_riley_4_tail(crossover, rate_hz, binaural_crossover_tail_eps));
     const std::size_t length = basic_length + tail;
     std::vector<double> sh(static_cast<std::size_t>(channels));
     std::vector<std::vector<std::vector<double>>> basic(

@@ -12,7 +12,7 @@ namespace ameoto::binaural_design {
 namespace {
 
 // Every signed permutation of (a, a, b) (Lebedev's orbit b_k), or of (a, a, a), (0, a, a), (1, 0, 0).
-void add_orbit(std::vector<SpherePoint>& out, double a, double b, int kind, double weight) {
+void lebedev_add_orbit(std::vector<SpherePoint>& out, double a, double b, int kind, double weight) {
     std::vector<std::array<double, 3>> pts;
     auto signs = [&](std::array<double, 3> p) {
         for (int s = 0; s < 8; ++s) {
@@ -33,7 +33,7 @@ void add_orbit(std::vector<SpherePoint>& out, double a, double b, int kind, doub
 }
 
 // Legendre polynomial P_n(x) by the three-term recurrence.
-double legendre(int n, double x) {
+double binaural_legendre(int n, double x) {
     double p0 = 1.0, p1 = x;
     if (n == 0) return p0;
     for (int k = 2; k <= n; ++k) {
@@ -44,16 +44,16 @@ double legendre(int n, double x) {
     return p1;
 }
 
-struct Biquad {
+struct CrossoverBiquad {
     double b0, b1, b2, a1, a2;   // a0 normalised to 1
 };
 
 // RBJ cookbook low-pass / high-pass, Q = 1/sqrt(2) (Butterworth).
-Biquad butterworth(bool high, double fc, double rate) {
+CrossoverBiquad crossover_butterworth(bool high, double fc, double rate) {
     const double w0 = 2.0 * constants::pi * fc / rate;
     const double cw = std::cos(w0), alpha = std::sin(w0) / (2.0 * (1.0 / std::sqrt(2.0)));
     const double a0 = 1.0 + alpha;
-    Biquad q{};
+    CrossoverBiquad q{};
     if (high) {
         q.b0 = (1.0 + cw) / 2.0 / a0; q.b1 = -(1.0 + cw) / a0; q.b2 = q.b0;
     } else {
@@ -64,7 +64,7 @@ Biquad butterworth(bool high, double fc, double rate) {
     return q;
 }
 
-void run(const Biquad& q, std::vector<double>& x) {   // direct form I, in place
+void crossover_run(const CrossoverBiquad& q, std::vector<double>& x) {   // direct form I, in place
     double x1 = 0, x2 = 0, y1 = 0, y2 = 0;
     for (double& v : x) {
         const double y = q.b0 * v + q.b1 * x1 + q.b2 * x2 - q.a1 * y1 - q.a2 * y2;
@@ -79,10 +79,10 @@ std::vector<SpherePoint> lebedev_50() {
     // Weights and the b1 orbit's coordinates: Lebedev & Laikov (1999), the 50-point rule (as in their
     // published Fortran/C generator, LD0050).
     std::vector<SpherePoint> out;
-    add_orbit(out, 0, 0, 1, 0.1269841269841270e-1);
-    add_orbit(out, 1.0 / std::sqrt(2.0), 0, 2, 0.2257495590828924e-1);
-    add_orbit(out, 1.0 / std::sqrt(3.0), 0, 3, 0.2109375000000000e-1);
-    add_orbit(out, 1.0 / std::sqrt(11.0), 3.0 / std::sqrt(11.0), 4, 0.2017333553791887e-1);
+    lebedev_add_orbit(out, 0, 0, 1, 0.1269841269841270e-1);
+    lebedev_add_orbit(out, 1.0 / std::sqrt(2.0), 0, 2, 0.2257495590828924e-1);
+    lebedev_add_orbit(out, 1.0 / std::sqrt(3.0), 0, 3, 0.2109375000000000e-1);
+    lebedev_add_orbit(out, 1.0 / std::sqrt(11.0), 3.0 / std::sqrt(11.0), 4, 0.2017333553791887e-1);
     return out;
 }
 
@@ -116,7 +116,7 @@ std::vector<double> max_re_weights(int order) {
     std::vector<double> g(static_cast<std::size_t>(order + 1));
     double energy = 0.0;
     for (int n = 0; n <= order; ++n) {
-        g[static_cast<std::size_t>(n)] = legendre(n, std::cos(angle));
+        g[static_cast<std::size_t>(n)] = binaural_legendre(n, std::cos(angle));
         energy += (2.0 * n + 1.0) * g[static_cast<std::size_t>(n)] * g[static_cast<std::size_t>(n)];
     }
     const double scale = std::sqrt((order + 1.0) * (order + 1.0) / energy);
@@ -126,13 +126,13 @@ std::vector<double> max_re_weights(int order) {
 
 void linkwitz_riley_4(const std::vector<double>& x, double fc_hz, double rate_hz, std::vector<double>& lp,
                       std::vector<double>& hp) {
-    const Biquad l = butterworth(false, fc_hz, rate_hz), h = butterworth(true, fc_hz, rate_hz);
+    const CrossoverBiquad l = crossover_butterworth(false, fc_hz, rate_hz), h = crossover_butterworth(true, fc_hz, rate_hz);
     lp = x;
-    run(l, lp);
-    run(l, lp);
+    crossover_run(l, lp);
+    crossover_run(l, lp);
     hp = x;
-    run(h, hp);
-    run(h, hp);
+    crossover_run(h, hp);
+    crossover_run(h, hp);
 }
 
 int linkwitz_riley_4_tail(double fc_hz, double rate_hz, double eps) {

@@ -14,25 +14,26 @@ namespace ameoto {
 namespace {
 
 // FFTW's planner (plan creation and destruction) is not thread-safe; execution is (FFTW 3.3 manual,
-// section 5.4). Every plan this program makes goes through this lock, off the audio thread.
+// section 5.4). Every plan this program makes goes through this lock, off the audio thread. Never destroyed,
+// so a convolver held in a static (a test's, a program's) may still take it while statics are torn down.
 std::mutex& fftw_planner_mutex() {
-    static std::mutex m;
-    return m;
+    static std::mutex* const m = new std::mutex;
+    return *m;
 }
 
-constexpr int max_block_frames = 8192;
-constexpr int max_channels = 64;
+constexpr int convolver_max_block_frames = 8192;
+constexpr int convolver_max_channels = 64;
 
 }  // namespace
 
 PartitionedConvolver::PartitionedConvolver(int inputs, int outputs, int block_frames,
                                            const std::vector<std::vector<std::vector<float>>>& filters)
     : inputs_(inputs), outputs_(outputs), block_(block_frames) {
-    if (inputs < 1 || inputs > max_channels || outputs < 1 || outputs > max_channels)
-        throw std::invalid_argument("partitioned convolver: inputs and outputs must be 1.." + std::to_string(max_channels));
-    if (block_frames < 1 || block_frames > max_block_frames)
+    if (inputs < 1 || inputs > convolver_max_channels || outputs < 1 || outputs > convolver_max_channels)
+        throw std::invalid_argument("partitioned convolver: inputs and outputs must be 1.." + std::to_string(convolver_max_channels));
+    if (block_frames < 1 || block_frames > convolver_max_block_frames)
         throw std::invalid_argument("partitioned convolver: block of " + std::to_string(block_frames) +
-                                    " frames (1.." + std::to_string(max_block_frames) + ")");
+                                    " frames (1.." + std::to_string(convolver_max_block_frames) + ")");
     if (static_cast<int>(filters.size()) != inputs)
         throw std::invalid_argument("partitioned convolver: one filter row per input expected");
     std::size_t longest = 1;

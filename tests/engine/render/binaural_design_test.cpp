@@ -13,7 +13,7 @@ using namespace ameoto::binaural_design;
 
 namespace {
 
-double double_factorial(int n) {   // n!! for odd n >= -1
+double lebedev_double_factorial(int n) {   // n!! for odd n >= -1
     double r = 1.0;
     for (int k = n; k > 1; k -= 2) r *= k;
     return r;
@@ -39,8 +39,8 @@ TEST_CASE("lebedev_50: 50 unit vectors whose rule integrates every monomial up t
                 for (const auto& p : grid) sum += p.weight * std::pow(p.x, i) * std::pow(p.y, j) * std::pow(p.z, k);
                 double exact = 0.0;
                 if (i % 2 == 0 && j % 2 == 0 && k % 2 == 0)
-                    exact = double_factorial(i - 1) * double_factorial(j - 1) * double_factorial(k - 1) /
-                            double_factorial(i + j + k + 1);
+                    exact = lebedev_double_factorial(i - 1) * lebedev_double_factorial(j - 1) * lebedev_double_factorial(k - 1) /
+                            lebedev_double_factorial(i + j + k + 1);
                 INFO("x^" << i << " y^" << j << " z^" << k);
                 CHECK(std::abs(sum - exact) < 1e-14);
             }
