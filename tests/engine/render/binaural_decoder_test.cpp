@@ -174,6 +174,26 @@ TEST_CASE("binaural decoder: a plane wave from the front, orders 1 and 3: ears w
     }
 }
 
+TEST_CASE("binaural decoder: a plane wave from straight below, where KEMAR has no measurement: finite, ears equal") {
+    // The set stops at -40 degrees; the grid's 9 lower speakers take the -40 degree responses at their azimuths
+    // (docs/binaural.md). A source from below must still come out, finite, symmetric (the grid mirrors in y),
+    // and without a time difference.
+    auto& d = binaural_decoder_for(3, 256);
+    const BinauralEars e = binaural_decode_noise(d, binaural_encode(3, 0.0, 0.0, -1.0), binaural_noise_frames, 256);
+    double energy = 0.0;
+    bool finite = true;
+    for (std::size_t n = 0; n < e.left.size(); ++n) {
+        finite = finite && std::isfinite(e.left[n]) && std::isfinite(e.right[n]);
+        energy += double(e.left[n]) * e.left[n];
+    }
+    CHECK(finite);
+    CHECK(energy > 0.0);
+    const double ild = 10 * std::log10(binaural_band_energy(e.left, binaural_from, binaural_length, 20, 20000) /
+                                       binaural_band_energy(e.right, binaural_from, binaural_length, 20, 20000));
+    CHECK(std::abs(ild) < 1.0);
+    CHECK(std::abs(binaural_itd(e, binaural_from, binaural_length, d.crossover_hz())) < 0.1e-3);
+}
+
 TEST_CASE("binaural decoder: blocks of 64, 256 and 1024 give direct convolution's samples within float rounding") {
     const int order = 3;
     const int frames = 4096;
