@@ -5,12 +5,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <complex>
 #include <cstdio>
 #include <fstream>
 #include <mutex>
 #include <stdexcept>
 #include <sys/stat.h>
 
+#include "engine/core/fft.hpp"
 #include "engine/core/physical_constants.hpp"
 #include "engine/render/binaural_design.hpp"
 
@@ -23,6 +25,11 @@ constexpr int binaural_max_block = 8192;
 // The crossover's responses are cut where both stay under 1e-6 of their peak (-120 dB, below float's
 // resolution of a full-scale sample).
 constexpr double binaural_crossover_tail_eps = 1e-6;
+// The diffuse-field equaliser: its boost or cut is capped at 15 dB (order 1 needs about 12 dB at 10 kHz with
+// KEMAR) and its minimum-phase response is cut to 5 ms (240 taps at 48 kHz; third-octave detail above
+// 200 Hz needs about 1 / (0.23 f), 22 ms at 200 Hz, but the correction there is near 0 dB).
+constexpr double diffuse_eq_max_db = 15.0;
+constexpr double diffuse_eq_seconds = 0.005;
 
 std::string sofa_number_text(double v) {
     char text[32];
@@ -97,7 +104,7 @@ BinauralDecoder::Made BinauralDecoder::create(const std::string& sofa_path, int 
 
     const std::lock_guard<std::mutex> cache_lock(sofa_cache_mutex());
     // mysofa_open (through its cache): load, check the SOFA conventions, resample every response to rate_hz (speex resampler),
-    // normalise the set's loudness (mysofa_loudness: the frontal pair to unit energy), positions to cartesian.
+    // scale the set by one factor set on a frontal reference (mysofa_loudness), positions to cartesian.
     int filter_length = 0, err = 0;
     std::unique_ptr<MYSOFA_EASY, SofaCloser> sofa(
         mysofa_open_cached(sofa_path.c_str(), static_cast<float>(rate_hz), &filter_length, &err));
@@ -196,24 +203,86 @@ BinauralDecoder::Made BinauralDecoder::create(const std::string& sofa_path, int 
 
     // Two bands per order: LP + g_n HP (basic below the crossover, max-rE above).
     const auto g = binaural_design::max_re_weights(order);
-    std::unique_ptr<BinauralDecoder> decoder(new BinauralDecoder());
-    decoder->order_ = order;
-    decoder->rate_hz_ = rate_hz;
-    decoder->filter_frames_ = static_cast<int>(length);
-    decoder->crossover_hz_ = crossover;
-    decoder->filters_.assign(static_cast<std::size_t>(channels), std::vector<std::vector<float>>(2));
+    std::vector<std::vector<std::vector<double>>> combined(static_cast<std::size_t>(channels),
+                                                           std::vector<std::vector<double>>(2));
     std::vector<double> lp, hp;
     for (int a = 0; a < channels; ++a) {
         const int n = static_cast<int>(std::sqrt(static_cast<double>(a)) + 1e-9);
         for (int e = 0; e < 2; ++e) {
             binaural_design::linkwitz_riley_4(basic[static_cast<std::size_t>(a)][static_cast<std::size_t>(e)],
                                               crossover, rate_hz, lp, hp);
-            auto& out = decoder->filters_[static_cast<std::size_t>(a)][static_cast<std::size_t>(e)];
+            auto& out = combined[static_cast<std::size_t>(a)][static_cast<std::size_t>(e)];
             out.resize(length);
-            for (std::size_t t = 0; t < length; ++t)
-                out[t] = static_cast<float>(lp[t] + g[static_cast<std::size_t>(n)] * hp[t]);
+            for (std::size_t t = 0; t < length; ++t) out[t] = lp[t] + g[static_cast<std::size_t>(n)] * hp[t];
         }
     }
+
+    // Diffuse-field equalisation (Ben-Hur, Brinkmann, Sheaffer, Weinzierl & Rafaely 2017, JASA 141(6),
+    // "Spectral equalization in binaural signals represented by order-truncated spherical harmonics"): an
+    // order-N decode loses high frequencies, because above N c / (2 pi r) the virtual speakers' responses add
+    // with unrelated phases. In a diffuse field (plane waves of unit power from everywhere, E[b_a b_a'] =
+    // delta / (2n+1) in SN3D) the decoded ears have power sum_a |F_a|^2 / (2n+1); the measured set has
+    // sum_i w_i |H_i|^2 over the same grid. One minimum-phase filter, the same for both ears (so the ears'
+    // level and time differences stay as they are), takes the first to the second, summed over both ears,
+    // smoothed over a third of an octave and its boost capped at diffuse_eq_max_db.
+    const std::size_t K = [&] { std::size_t k = 1; while (k < 4 * length) k *= 2; return k; }();
+    const std::size_t half = K / 2;
+    std::vector<double> decoded_power(half + 1, 0.0), measured_power(half + 1, 0.0);
+    std::vector<std::complex<double>> spectrum(K);
+    auto add_power = [&](const auto& taps, std::size_t shift, double weight, std::vector<double>& power) {
+        std::fill(spectrum.begin(), spectrum.end(), std::complex<double>(0.0, 0.0));
+        for (std::size_t t = 0; t < taps.size() && t + shift < K; ++t) spectrum[t + shift] = taps[t];
+        fft_in_place(spectrum);
+        for (std::size_t k = 0; k <= half; ++k) power[k] += weight * std::norm(spectrum[k]);
+    };
+    for (int a = 0; a < channels; ++a) {
+        const int n = static_cast<int>(std::sqrt(static_cast<double>(a)) + 1e-9);
+        for (int e = 0; e < 2; ++e)
+            add_power(combined[static_cast<std::size_t>(a)][static_cast<std::size_t>(e)], 0, 1.0 / (2.0 * n + 1.0), decoded_power);
+    }
+    for (std::size_t i = 0; i < grid.size(); ++i)
+        for (int e = 0; e < 2; ++e)
+            add_power(pairs[i].ear[e], static_cast<std::size_t>(pairs[i].delay[e]), grid[i].weight, measured_power);
+    std::vector<double> eq(half + 1);
+    const double max_gain = std::pow(10.0, diffuse_eq_max_db / 20.0);
+    for (std::size_t k = 0; k <= half; ++k) {
+        // Third-octave smoothing: the powers' means over f / 2^(1/6) .. f 2^(1/6) (at least one bin).
+        const double f = std::max(static_cast<double>(k), 1.0);
+        const auto lo = static_cast<std::size_t>(std::floor(f / std::pow(2.0, 1.0 / 6.0)));
+        const auto hi = std::min(half, static_cast<std::size_t>(std::ceil(f * std::pow(2.0, 1.0 / 6.0))));
+        double dec = 0.0, mea = 0.0;
+        for (std::size_t j = lo; j <= hi; ++j) {
+            dec += decoded_power[j];
+            mea += measured_power[j];
+        }
+        eq[k] = dec > 0.0 && mea > 0.0 ? std::clamp(std::sqrt(mea / dec), 1.0 / max_gain, max_gain) : 1.0;
+    }
+    const int eq_taps = static_cast<int>(std::min<std::size_t>(K, static_cast<std::size_t>(std::lround(diffuse_eq_seconds * rate_hz))));
+    const auto equaliser = binaural_design::minimum_phase_fir(eq, eq_taps);
+    const std::size_t final_length = length + equaliser.size() - 1;
+
+    std::unique_ptr<BinauralDecoder> decoder(new BinauralDecoder());
+    decoder->order_ = order;
+    decoder->rate_hz_ = rate_hz;
+    decoder->filter_frames_ = static_cast<int>(final_length);
+    decoder->crossover_hz_ = crossover;
+    decoder->filters_.assign(static_cast<std::size_t>(channels), std::vector<std::vector<float>>(2));
+    for (int a = 0; a < channels; ++a)
+        for (int e = 0; e < 2; ++e) {
+            const auto& f = combined[static_cast<std::size_t>(a)][static_cast<std::size_t>(e)];
+            std::vector<double> y(final_length, 0.0);
+            for (std::size_t t = 0; t < f.size(); ++t)
+                for (std::size_t u = 0; u < equaliser.size(); ++u) y[t + u] += f[t] * equaliser[u];
+            auto& out = decoder->filters_[static_cast<std::size_t>(a)][static_cast<std::size_t>(e)];
+            out.resize(final_length);
+            for (std::size_t t = 0; t < final_length; ++t) {
+                out[t] = static_cast<float>(y[t]);
+                if (!std::isfinite(out[t])) {
+                    made.error = sofa_path + ": the combined filters are not finite (a response out of range?)";
+                    return made;
+                }
+            }
+        }
     try {
         decoder->convolver_ = std::make_unique<PartitionedConvolver>(channels, 2, block_frames, decoder->filters_);
     } catch (const std::exception& e) {

@@ -47,12 +47,17 @@
 //    gets the same all-pass phase (LR4's LP and HP are in phase), so the orders stay aligned (Heller's
 //    phase-matched shelf filters).
 // 4. Decode and HRIR convolution are linear, so they are combined into (N+1)^2 filters per ear:
-//    F_acn,ear = W_n * sum_i w_i (2n+1) Y_acn(u_i) h_i,ear. The audio thread runs 2 (N+1)^2 convolutions
+//    F_acn,ear = E * W_n * sum_i w_i (2n+1) Y_acn(u_i) h_i,ear, where E is a diffuse-field equaliser (Ben-Hur
+//    et al. 2017, JASA 141(6)): one minimum-phase filter for both ears (so level and time differences are
+//    kept) that gives the decode's diffuse-field power, sum_acn |F|^2 / (2n+1), the measured set's, sum_i
+//    w_i |H_i|^2, smoothed over third octaves and capped at +-15 dB: without it an order-N decode loses
+//    7-13 dB above 8 kHz. The audio thread runs 2 (N+1)^2 convolutions
 //    (engine/render/partitioned_convolver.hpp, uniformly partitioned overlap-save on FFTW, blocks of
 //    block_frames: no latency beyond the filters', deterministic, no threads of its own) and sums per ear.
 //    zita-convolver was left out: its later partitions run in its own threads, which without SCHED_FIFO
 //    lag behind the audio thread, and an offline render (faster than real time) would need its blocking
-//    synchronous mode; the filters here are short (558 taps at 48 kHz plus the crossover's tail), so one
+//    synchronous mode; the filters here are short (558 taps at 48 kHz, the crossover's tail and the
+//    equaliser's 240 taps: 889 to 1034), so one
 //    uniform partitioning costs little (docs/binaural.md, figures).
 
 #include <memory>

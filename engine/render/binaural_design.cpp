@@ -3,8 +3,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <complex>
 #include <stdexcept>
 
+#include "engine/core/fft.hpp"
 #include "engine/core/physical_constants.hpp"
 
 namespace ameoto::binaural_design {
@@ -146,6 +148,38 @@ int linkwitz_riley_4_tail(double fc_hz, double rate_hz, double eps) {
     for (int t = 0; t < span; ++t)
         if (std::abs(lp[static_cast<std::size_t>(t)]) > eps * peak || std::abs(hp[static_cast<std::size_t>(t)]) > eps * peak) last = t;
     return last + 1;
+}
+
+std::vector<double> minimum_phase_fir(const std::vector<double>& magnitude, int taps) {
+    const std::size_t half = magnitude.size() - 1;
+    const std::size_t K = 2 * half;
+    if (magnitude.size() < 3 || (K & (K - 1)) != 0 || taps < 1 || static_cast<std::size_t>(taps) > K)
+        throw std::invalid_argument("minimum_phase_fir: K/2+1 bins with K a power of two, 1 <= taps <= K");
+    // Real cepstrum of log |H| (even, real): c = IDFT(log |H|). The inverse DFT is conj(DFT(conj(x))) / K.
+    std::vector<std::complex<double>> a(K);
+    for (std::size_t k = 0; k <= half; ++k) {
+        a[k] = std::log(std::max(magnitude[k], 1e-30));
+        if (k > 0 && k < half) a[K - k] = a[k];
+    }
+    fft_in_place(a);   // log |H| is real and even: its DFT is real and even, and equals K times the IDFT
+    for (auto& v : a) v = std::complex<double>(v.real() / static_cast<double>(K), 0.0);
+    // Fold: keep quefrency 0 and K/2, double 1..K/2-1, drop the negative ones; exp of its DFT is H_min.
+    for (std::size_t n = 1; n < half; ++n) {
+        a[n] *= 2.0;
+        a[K - n] = 0.0;
+    }
+    fft_in_place(a);
+    for (auto& v : a) v = std::exp(v);
+    for (auto& v : a) v = std::conj(v);
+    fft_in_place(a);   // conj(DFT(conj(H))) / K: the impulse response
+    std::vector<double> h(static_cast<std::size_t>(taps));
+    const int fade = std::max(1, taps / 4);
+    for (int t = 0; t < taps; ++t) {
+        double w = 1.0;
+        if (t >= taps - fade) w = 0.5 * (1.0 + std::cos(constants::pi * (t - (taps - fade) + 1) / fade));
+        h[static_cast<std::size_t>(t)] = w * a[static_cast<std::size_t>(t)].real() / static_cast<double>(K);
+    }
+    return h;
 }
 
 }  // namespace ameoto::binaural_design

@@ -10,6 +10,7 @@
 //   max_re_weights(order)                 // g_0..g_N, energy-normalised
 //   linkwitz_riley_4(x, fc, rate, lp, hp) // x through LR4's low-pass and high-pass (in phase, sum all-pass)
 //   linkwitz_riley_4_tail(fc, rate, eps)  // samples after which LR4's responses stay below eps of their peak
+//   minimum_phase_fir(magnitude, taps)    // the minimum-phase FIR of a magnitude response (bins 0..K/2)
 
 #include <array>
 #include <vector>
@@ -42,5 +43,11 @@ std::vector<double> max_re_weights(int order);
 void linkwitz_riley_4(const std::vector<double>& x, double fc_hz, double rate_hz, std::vector<double>& lp,
                       std::vector<double>& hp);
 int linkwitz_riley_4_tail(double fc_hz, double rate_hz, double eps);
+
+// The minimum-phase impulse response whose magnitude is `magnitude` (K/2 + 1 bins of a K-point DFT, K a power
+// of two, every value > 0), by the real cepstrum folded onto positive quefrencies (Oppenheim & Schafer,
+// "Discrete-time signal processing", 3rd ed., section 5.6 / 13.8), cut to `taps` with a half-Hann fade over
+// its last quarter. Throws std::invalid_argument for a bad size.
+std::vector<double> minimum_phase_fir(const std::vector<double>& magnitude, int taps);
 
 }  // namespace ameoto::binaural_design

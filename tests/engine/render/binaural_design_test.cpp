@@ -112,3 +112,34 @@ TEST_CASE("linkwitz_riley_4: LP + HP is an all-pass, each -6 dB at the crossover
     CHECK(tail > 50);
     CHECK(tail < 1000);
 }
+
+TEST_CASE("minimum_phase_fir: the magnitude asked for, its energy at the start") {
+    // A smooth high shelf, +10 dB above ~4 kHz at 48 kHz (K = 1024): the FIR's DFT magnitude must match it to
+    // 0.1 dB (the 5 ms cut and fade of a response that decays within ~1 ms change it far less), and a
+    // minimum-phase response has the most energy of any with that magnitude in its first samples (Oppenheim &
+    // Schafer, section 5.6): over half in the first 8 taps here, where a linear-phase one would be centred.
+    const int K = 1024;
+    std::vector<double> mag(K / 2 + 1);
+    for (int k = 0; k <= K / 2; ++k) {
+        const double f = k * 48000.0 / K;
+        mag[static_cast<std::size_t>(k)] = std::pow(10.0, 0.5 * (1.0 + std::tanh((f - 4000.0) / 1500.0)) * 10.0 / 20.0);
+    }
+    const auto h = minimum_phase_fir(mag, 240);
+    REQUIRE(h.size() == 240);
+    for (int k : {0, 20, 85, 100, 300, 512}) {
+        double re = 0, im = 0;
+        for (std::size_t t = 0; t < h.size(); ++t) {
+            re += h[t] * std::cos(2 * 3.14159265358979323846 * k * static_cast<double>(t) / K);
+            im -= h[t] * std::sin(2 * 3.14159265358979323846 * k * static_cast<double>(t) / K);
+        }
+        INFO("bin " << k);
+        CHECK(std::abs(20 * std::log10(std::hypot(re, im) / mag[static_cast<std::size_t>(k)])) < 0.1);
+    }
+    double head = 0, total = 0;
+    for (std::size_t t = 0; t < h.size(); ++t) {
+        total += h[t] * h[t];
+        if (t < 8) head += h[t] * h[t];
+    }
+    CHECK(head > 0.5 * total);
+    CHECK_THROWS(minimum_phase_fir(std::vector<double>(100, 1.0), 10));   // 99 x 2 is not a power of two
+}
