@@ -17,8 +17,8 @@
 //     sh_filter(acn, ear) (the combined filter's taps, for tests and benchmarks)
 //   The destructor, like create, runs off the audio thread (it frees, and takes FFTW's planner lock).
 //   create may run on several threads at once (it serialises libmysofa and FFTW's planner itself). It takes
-//   seconds the first time a file is opened at a rate (libmysofa resamples the whole set), milliseconds after:
-//   the resampled set stays in libmysofa's cache for the process's life.
+//   seconds the first time a file is opened at a rate (libmysofa resamples the whole set), 0.2-0.4 s after
+//   (the design alone): the resampled set stays in libmysofa's cache for the process's life.
 // process() and reset() never allocate, free, lock, block or log (tests/engine/render/binaural_decoder_test.cpp
 // checks them with the real-time probe). A change of JACK's block size means a new decoder, built off the
 // audio thread like the first.
@@ -30,7 +30,7 @@
 //    also the mode-matching pseudo-inverse: D^T diag(w) Y = I); the margin to 11 keeps HRTF directional
 //    detail up to degree 8 from aliasing into orders 0..3. Fewer points (26, degree 7) would meet the decode
 //    but alias more; a t-design or Fliege set of similar size would do as well; Lebedev has tabulated weights
-//    and octahedral symmetry (left/right mirror pairs, so a front source gets equal ears by construction).
+//    and octahedral symmetry (left/right mirror pairs: the decode itself favours neither ear).
 // 2. Each speaker's HRIR pair: libmysofa's nearest measured direction (mysofa_getfilter_float_nointerp; the
 //    interpolating lookup averages neighbours' impulse responses, which smears their onsets and comb-filters).
 //    The SOFA set's own delays (Data.Delay) are applied, rounded to the sample. Directions below the lowest
@@ -54,11 +54,10 @@
 //    7-13 dB above 8 kHz. The audio thread runs 2 (N+1)^2 convolutions
 //    (engine/render/partitioned_convolver.hpp, uniformly partitioned overlap-save on FFTW, blocks of
 //    block_frames: no latency beyond the filters', deterministic, no threads of its own) and sums per ear.
-//    zita-convolver was left out: its later partitions run in its own threads, which without SCHED_FIFO
-//    lag behind the audio thread, and an offline render (faster than real time) would need its blocking
-//    synchronous mode; the filters here are short (558 taps at 48 kHz, the crossover's tail and the
-//    equaliser's 240 taps: 889 to 1034), so one
-//    uniform partitioning costs little (docs/binaural.md, figures).
+//    zita-convolver was left out: its later partitions run in threads of its own, which without real-time
+//    rights can lag behind the audio thread, and an offline render (faster than real time) would need its
+//    blocking synchronous mode; the filters here are short (558 taps at 48 kHz, the crossover's tail and
+//    the equaliser's 240 taps: 889 to 1034), so one uniform partitioning costs little (docs/binaural.md).
 
 #include <memory>
 #include <string>
