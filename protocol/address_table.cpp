@@ -335,6 +335,15 @@ std::vector<AddressSpec> make_table() {
                      r.action = Action::nodes;
                      return std::nullopt;
                  }});
+    t.push_back({"/nodes/block", {},
+                 "In a bundle: its timed commands go on the start of the audio block nearest the bundle's time (a conducting "
+                 "node sends it with every bundle it times, on one of its block starts: nodes whose clocks differ by "
+                 "microseconds then change at the same sample).",
+                 "",
+                 [](const ValidatedArguments&, const ProtocolContext&, Request& r) -> std::optional<std::string> {
+                     r.action = Action::on_block;
+                     return std::nullopt;
+                 }});
     t.push_back({"/version", {}, "Ask for the server's version.",
                  "/version.reply s program, s version, i protocol version, i UDP port, i TCP port (0: off)",
                  [](const ValidatedArguments&, const ProtocolContext&, Request& r) -> std::optional<std::string> {

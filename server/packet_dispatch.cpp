@@ -20,11 +20,14 @@ double dispatch_wall_now() {
 // the same master cycle); a time in the middle of a sample would round to different samples on two nodes
 // as often as not, a block's start (a whole sample on every node) only when they are half a sample
 // (10 us at 48 kHz) apart.
-double on_block_grid(const AudioClock& clock, double t, int block) {
+// A peer receives such a time with /nodes/block in its bundle and moves it to its own block start nearest
+// it: the nodes' block starts for one cycle lie microseconds apart, far less than half a block, so every
+// node lands on the same cycle's first sample (measured between two netjack2 slaves on one host: 9 us).
+double on_block_grid(const AudioClock& clock, double t, int block, bool nearest) {
     if (!clock.valid || block <= 0) return t;
     const double start = static_cast<double>(clock.unix_ns) * 1e-9;
-    const double blocks = std::ceil((t - start) * clock.sample_rate / block);
-    return start + blocks * block / clock.sample_rate;
+    const double in_blocks = (t - start) * clock.sample_rate / block;
+    return start + (nearest ? std::round(in_blocks) : std::ceil(in_blocks)) * block / clock.sample_rate;
 }
 }  // namespace
 
@@ -46,6 +49,9 @@ void PacketDispatch::handle(const unsigned char* data, std::size_t size, const P
     const AudioClock clock = bridge_.clock();
     // Conducting: what this node accepts goes to its peers too, unless a peer sent it.
     const bool conduct = !peers_.empty() && !peers_.is_peer(sender);
+    // /nodes/block anywhere in the packet: its timed commands go on this node's nearest block start.
+    bool on_block = false;
+    for (const auto& [message, v] : packet.messages) on_block = on_block || (v.ok && v.request.action == protocol::Action::on_block);
     for (const auto& [message, v] : packet.messages) {
         if (!v.ok) {
             if (message.address == "/status.reply" && peers_.answered(sender, message.args, record_, dispatch_wall_now())) continue;
@@ -81,7 +87,8 @@ void PacketDispatch::handle(const unsigned char* data, std::size_t size, const P
                 scenes_.edit(sender, message.address, v.request.edit);
                 if (conduct) peers_.forward(message, std::nullopt);
                 break;
-            case protocol::Action::enqueue: enqueue(v.request.command, message, clock, sender, conduct); break;
+            case protocol::Action::enqueue: enqueue(v.request.command, message, clock, sender, conduct, on_block); break;
+            case protocol::Action::on_block: break;   // read before the loop
             case protocol::Action::nodes:
                 replies_.reply(sender, "/nodes.reply", peers_.nodes_reply(status_.arguments(), dispatch_wall_now()));
                 break;
@@ -101,7 +108,7 @@ void PacketDispatch::handle(const unsigned char* data, std::size_t size, const P
 // that cannot be saved and rebuilt (e.g. /listener must not carry the umbrella out of range); the
 // record itself changes once the queue has taken it.
 void PacketDispatch::enqueue(Command c, const protocol::DecodedMessage& message, const AudioClock& clock, const Peer& sender,
-                             bool conduct) {
+                             bool conduct, bool on_block) {
     if (protocol::changes_scene(c.kind)) {
         if (const std::string why = record_.refusal(c); !why.empty()) {
             replies_.reply(sender, "/fail", protocol::fail_arguments(message.address, why));
@@ -112,12 +119,19 @@ void PacketDispatch::enqueue(Command c, const protocol::DecodedMessage& message,
     // Conducting, every node applies it at one time: --peer-latency from now (the time a datagram takes
     // to reach the peers and be queued there), or the bundle's own time when that is later. /sync is
     // this node's own queue's question: not sent on, not delayed.
+    // A time on a block start (chosen here, or asked for with /nodes/block) is sent on with /nodes/block.
     const bool forward = conduct && c.kind != CommandKind::sync;
+    const bool asked_on_block = on_block;
+    on_block = false;
     std::optional<double> at;
     if (message.bundled && !message.timetag.immediate()) at = message.timetag.to_unix_seconds();
-    if (forward) {
-        const double soonest = dispatch_wall_now() + peers_.latency_s();
-        if (!at || *at < soonest) at = on_block_grid(clock, soonest, status_.block_size());
+    const double soonest = forward ? dispatch_wall_now() + peers_.latency_s() : 0.0;
+    if (forward && (!at || *at < soonest)) {
+        at = on_block_grid(clock, soonest, status_.block_size(), false);
+        on_block = true;
+    } else if (asked_on_block && at) {
+        at = on_block_grid(clock, *at, status_.block_size(), true);
+        on_block = true;
     }
     if (at) {
         c.timed = true;
@@ -128,7 +142,7 @@ void PacketDispatch::enqueue(Command c, const protocol::DecodedMessage& message,
         replies_.reply(sender, "/fail", protocol::fail_arguments(message.address, "busy: command queue full"));
         return;
     }
-    if (forward) peers_.forward(message, at);
+    if (forward) peers_.forward(message, at, on_block);
     // What the queries answer: an untimed change from now on (the audio thread applies it at its next
     // block); a timed one once its frame has played.
     if (!protocol::changes_scene(c.kind)) return;   // rain, wind, listener, lod; not /drop, /sync

@@ -49,7 +49,8 @@ public:
     void closed(const Peer& gone) { subscriptions_.forget(gone); }
 
 private:
-    void enqueue(Command c, const protocol::DecodedMessage& message, const AudioClock& clock, const Peer& sender, bool conduct);
+    void enqueue(Command c, const protocol::DecodedMessage& message, const AudioClock& clock, const Peer& sender, bool conduct,
+                 bool on_block);
 
     AudioBridge& bridge_;
     SceneManager& scenes_;

@@ -81,9 +81,11 @@ void PeerSet::send(const Node& node, const std::vector<unsigned char>& bytes) {
 
 // The message as it came, in a bundle of its own at the agreed time. Sent to a peer that is silent too:
 // a datagram to a node that is down costs nothing, and one that has just come back gets it.
-void PeerSet::forward(const protocol::DecodedMessage& message, std::optional<double> at_unix_s) {
+void PeerSet::forward(const protocol::DecodedMessage& message, std::optional<double> at_unix_s, bool on_block) {
     const auto bytes = protocol::encode_message(message.address, message.args);
-    const auto packet = at_unix_s ? protocol::encode_bundle(protocol::Timetag::from_unix_seconds(*at_unix_s), {bytes}) : bytes;
+    std::vector<std::vector<unsigned char>> elements{bytes};
+    if (on_block) elements.insert(elements.begin(), protocol::encode_message("/nodes/block", {}));
+    const auto packet = at_unix_s ? protocol::encode_bundle(protocol::Timetag::from_unix_seconds(*at_unix_s), elements) : bytes;
     for (const Node& n : nodes_) send(n, packet);
 }
 

@@ -11,7 +11,8 @@
 // Interface:
 //   PeerSet peers(endpoints, latency_s, replies);    peers.send_through(udp);
 //   peers.empty()  peers.is_peer(sender)  peers.latency_s()
-//   peers.forward(message, at_unix_s);               // at_unix_s: the bundle's timetag; nullopt: untimed
+//   peers.forward(message, at_unix_s, on_block);     // at_unix_s: the bundle's timetag; nullopt: untimed;
+//                                                    // on_block: it is a block start here (/nodes/block added)
 //   peers.answered(sender, status_args, record, now) // a /status.reply: true when it came from a peer
 //   peers.tick(now)                                  // every 250 ms: ask each peer; report the silent
 //   peers.nodes_reply(own_status, now)               // /nodes.reply's arguments (docs/PROTOCOL.md)
@@ -45,7 +46,7 @@ public:
     bool is_peer(const Peer& sender) const { return find(sender) != nullptr; }
     double latency_s() const { return latency_s_; }
 
-    void forward(const protocol::DecodedMessage& message, std::optional<double> at_unix_s);
+    void forward(const protocol::DecodedMessage& message, std::optional<double> at_unix_s, bool on_block = false);
     bool answered(const Peer& sender, const std::vector<protocol::OscArgument>& status, const SceneRecord& record, double now_s);
     void tick(double now_s);
     std::vector<protocol::OscArgument> nodes_reply(const std::vector<protocol::OscArgument>& own_status, double now_s) const;

@@ -267,6 +267,7 @@ int run_render_score(const RenderScoreOptions& o, const CommandIo& io) {
             case Action::notify:
             case Action::version:
             case Action::nodes:
+            case Action::on_block:
             case Action::reply_port: ++ignored; break;
             default:
                 return refuse("rebuilds the scene, which a score cannot do in this version: give the render the scene "

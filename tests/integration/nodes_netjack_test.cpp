@@ -8,7 +8,10 @@
 // whose rain starts at one frame. Starting the rain at another frame only shifts that render (the rain
 // draws nothing while it is 0: checked by rendering the change at 0.5 s and 1.0 s, identical but for
 // 24 000 frames of shift), so the recording is aligned on its first sound; had node 2 started its rain
-// even one frame off node 1, half the sum would be shifted against the other half.
+// even one frame off node 1, half the sum would be shifted against the other half. (The conductor puts
+// the change on one of its block starts and sends it with /nodes/block; node 2 puts it on its own block
+// start nearest that time: the two slaves' clocks place a cycle about 9 us apart, and when each node
+// rounded the time to its own nearest sample, one take agreed for only 158 frames.)
 // Not bit for bit: the two groups of surfaces are added in another order than in the whole (bound: 8
 // float epsilons of the peak, as tests/integration/nodes_jack_test.cpp).
 
@@ -119,7 +122,8 @@ TEST_CASE("nodes over netjack2 on loopback: both nodes' audio on the master; one
         REQUIRE_MESSAGE(there, p << " on the master");
     }
 
-    {
+    // A take whose first 0.25 s of rain met an xrun (a loaded machine) is played again, at most 3 times.
+    for (int take = 1; take <= 3; ++take) {
         ameoto::test::DaemonOptions options;
         options.listen_timeout = 30s;
         options.running_timeout = 15s;
@@ -133,7 +137,7 @@ TEST_CASE("nodes over netjack2 on loopback: both nodes' audio on the master; one
         auto one = node(1, {"--peers", "osc.udp://127.0.0.1:" + std::to_string(two->port()), "--peer-latency", "50"});
 
         // On the master: both nodes into the recorder's two inputs, channel by channel (JACK sums them).
-        const std::string wav = (dir.path() / "master.wav").string();
+        const std::string wav = (dir.path() / ("master-" + std::to_string(take) + ".wav")).string();
         ameoto::test::ChildProcess rec({"/usr/bin/jack-record", "-b", "262144", "-n", "2", "-p", "node1:from_slave_%d", "-t", "3", wav},
                                        master.env());
         std::string recorder;
@@ -182,11 +186,13 @@ TEST_CASE("nodes over netjack2 on loopback: both nodes' audio on the master; one
                 if (d > bound && first_bad < 0) first_bad = n - whole_onset;
                 worst = std::max(worst, d);
             }
-        MESSAGE("on the master, the two nodes' rain against the whole scene's over " << frames << " frames from its first sound: largest difference "
-                                                                                     << worst << " (bound " << bound << "); xruns " << xruns);
+        MESSAGE("take " << take << ": on the master, the two nodes' rain against the whole scene's over " << frames
+                        << " frames from its first sound: largest difference " << worst << " (bound " << bound << "); xruns " << xruns);
         REQUIRE(frames > 24000);
         const long long agreed = first_bad < 0 ? frames : first_bad;
         INFO("the sum agrees with the whole for " << agreed << " frames from the first sound");
+        CHECK(one->process().stop(SIGTERM, 5s) == 0);
+        CHECK(two->process().stop(SIGTERM, 5s) == 0);
         if (xruns == 0) {
             CHECK(worst <= bound);
         } else if (agreed >= 12000) {
@@ -194,11 +200,12 @@ TEST_CASE("nodes over netjack2 on loopback: both nodes' audio on the master; one
             // agreement for 56 893 frames, then an xrun). Before it, both started their rain on one frame:
             // a node off by even one frame differs within the first drops (5 000 a second here).
             MESSAGE("xruns during the take: the sum agreed for the " << agreed << " frames before the first one");
+        } else if (take < 3) {
+            continue;
         } else {
-            WARN_MESSAGE(false, "an xrun within the first 0.25 s of rain: the frames could not be compared (the machine is too loaded)");
+            WARN_MESSAGE(false, "every take met an xrun within its first 0.25 s of rain: the frames could not be compared (the machine is too loaded)");
         }
-        CHECK(one->process().stop(SIGTERM, 5s) == 0);
-        CHECK(two->process().stop(SIGTERM, 5s) == 0);
+        break;
     }
     for (auto& s : slaves) s->stop(SIGTERM, 5s);
     ameoto::test::run_program({"jack_unload", "netmanager"}, 10s, master.env());   // or the master's exit waits 6 s
