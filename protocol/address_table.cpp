@@ -327,6 +327,23 @@ std::vector<AddressSpec> make_table() {
                      return std::nullopt;
                  }});
     t.back().query = {true, {}, "/notify.reply i 1|0: whether the sender is subscribed"};
+    t.push_back({"/nodes", {},
+                 "Ask for the state of every node this one conducts (its peers, docs/nodes.md): this node first, then each peer.",
+                 "/nodes.reply i nodes, then per node: s address (self for this one), i answering (1|0), f seconds since its last "
+                 "answer (-1: never), f drops per second, f CPU average (%), i xruns, f rain rate (mm/h)",
+                 [](const ValidatedArguments&, const ProtocolContext&, Request& r) -> std::optional<std::string> {
+                     r.action = Action::nodes;
+                     return std::nullopt;
+                 }});
+    t.push_back({"/nodes/block", {},
+                 "In a bundle: its timed commands go on the start of the audio block nearest the bundle's time (a conducting "
+                 "node sends it with every bundle it times, on one of its block starts: nodes whose clocks differ by "
+                 "microseconds then change at the same sample).",
+                 "",
+                 [](const ValidatedArguments&, const ProtocolContext&, Request& r) -> std::optional<std::string> {
+                     r.action = Action::on_block;
+                     return std::nullopt;
+                 }});
     t.push_back({"/version", {}, "Ask for the server's version.",
                  "/version.reply s program, s version, i protocol version, i UDP port, i TCP port (0: off)",
                  [](const ValidatedArguments&, const ProtocolContext&, Request& r) -> std::optional<std::string> {

@@ -57,6 +57,8 @@ enum class Action {
     version,                // reply /version.reply
     reply_port,             // send this sender's later replies to its IP address at `reply_port` (0: its own port)
     set_loudness,           // --level auto's target for each scene's default rain (`loudness_lufs`)
+    nodes,                  // reply /nodes.reply: this node and its --peers (server/peers.hpp)
+    on_block,               // /nodes/block: the packet's timed commands go on the start of the nearest audio block
 };
 
 // The protocol's own version, in /version.reply: raised when an address or a reply changes shape.

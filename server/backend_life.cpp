@@ -25,7 +25,7 @@ std::unique_ptr<BackendLife> BackendLife::choose(const DaemonOptions& options, S
     std::unique_ptr<BackendLife> life(new BackendLife(systemd));
     if (options.backend != BackendChoice::null) {
         std::string error;
-        auto j = JackBackend::open({options.jack_name, options.channels, options.autoconnect}, error);
+        auto j = JackBackend::open({options.jack_name, options.channels, options.autoconnect, options.start_at_unix_ns.value_or(0)}, error);
         if (j) {
             life->jack_ = j.get();
             life->backend_ = std::move(j);
@@ -58,6 +58,7 @@ std::unique_ptr<BackendLife> BackendLife::choose(const DaemonOptions& options, S
 
 void BackendLife::announce() const {
     if (jack_) say("backend jack, client " + jack_->client_name());
+    if (jack_ && jack_->start_gate().start_unix_ns() != 0) say("silent until the --start-at epoch");
     if (null_) say(null_->wav() ? "backend null, writing " + null_->wav()->path() : "backend null, discarding audio");
 }
 
@@ -70,6 +71,9 @@ void BackendLife::watch(const AudioSnapshot& s, Replies& notices) {
     if (!ready_ && s.callbacks > 0) {
         ready_ = true;
         say("running");
+        if (jack_ && jack_->start_gate().start_unix_ns() != 0)
+            say("started at the --start-at epoch: its first cycle plays " + std::to_string(jack_->start_gate().lag_ns() / 1000) +
+                " us after it");
         systemd_.ready();
         systemd_.status("playing on " + backend_->name());
     }

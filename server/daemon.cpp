@@ -1,7 +1,10 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "server/daemon.hpp"
 
+#include <time.h>
+
 #include <chrono>
+#include <cmath>
 #include <memory>
 #include <optional>
 
@@ -15,6 +18,7 @@
 #include "server/osc/traffic_counters.hpp"
 #include "server/osc_intake.hpp"
 #include "server/packet_dispatch.hpp"
+#include "server/peers.hpp"
 #include "server/queries.hpp"
 #include "server/realtime/audio_bridge.hpp"
 #include "server/realtime/rt_probe.hpp"
@@ -74,7 +78,10 @@ int Daemon::run() {
     StatusReport status(bridge, life->backend());
     Subscriptions subscriptions(replies, status, bridge, life->backend());
     Queries queries(record, replies, subscriptions, scenes.level(), intake.udp_port(), intake.tcp_port());
-    PacketDispatch dispatch(bridge, scenes, record, replies, queries, subscriptions, status, traffic, [&loop] { loop.shutdown_soon(); });
+    PeerSet peers(options_.peers, options_.peer_latency_s, replies);
+    peers.send_through(intake.udp());
+    PacketDispatch dispatch(bridge, scenes, record, replies, queries, subscriptions, status, traffic, [&loop] { loop.shutdown_soon(); },
+                            peers);
     AudioEvents events(bridge, replies, scenes, traffic);
     Watchdog watchdog(systemd);
 
@@ -108,6 +115,15 @@ int Daemon::run() {
     });
     loop.every(1s, [&] { subscriptions.send_status(); });
     if (take.on()) loop.every(100ms, [&] { take.drain(); });
+    if (!peers.empty()) {
+        say("conducting " + std::to_string(options_.peers.size()) + " peers, commands timed " +
+            std::to_string(static_cast<int>(std::lround(options_.peer_latency_s * 1e3))) + " ms ahead");
+        loop.every(250ms, [&] {
+            timespec t{};
+            clock_gettime(CLOCK_REALTIME, &t);
+            peers.tick(static_cast<double>(t.tv_sec) + t.tv_nsec * 1e-9);
+        });
+    }
     if (watchdog.interval().count() > 0) loop.every(watchdog.interval(), [&] { watchdog.feed(bridge.snapshot().frames); });
     loop.run();
 

@@ -7,8 +7,10 @@
 #include <cmath>
 #include <cstring>
 #include <string_view>
+#include <time.h>
 
 #include "engine/scene/scene_description.hpp"
+#include "server/peers.hpp"
 
 namespace ameoto {
 namespace {
@@ -78,6 +80,21 @@ Options:
                       scene file gives node K (node=K; default node 1), with the same
                       listener and rain (give every node the same --seed): the nodes'
                       outputs sum to the whole scene (default: the whole scene)
+  --start-at UNIX_SECONDS
+                      JACK backend: play silence, and hold the rain, until this wall
+                      time (seconds since 1970, UTC, e.g. $(date +%s) + 3), then start
+                      on the JACK cycle nearest it: nodes given the same instant begin
+                      their rain at the same frame (docs/nodes.md). Must be ahead of
+                      now, at most one day
+  --peers osc.udp://HOST:PORT,...
+                      conduct these other nodes (HOST an IP address; at most 15): every
+                      command this node accepts that changes the sound is sent on to
+                      them, timed --peer-latency ahead, and applied here at the same
+                      sample; each is asked for /status every 250 ms, one silent for
+                      1.5 s is reported (/notice peers), and one that answers again is
+                      sent the current rain, wind and listener; /nodes answers for all
+  --peer-latency MS   how far ahead conducted commands are timed, 1..2000 ms (default
+                      25: about 5 periods of 256 frames at 48 kHz)
   --rain MM/H         starting rain rate, 0..500 mm/h (default: the scene's; 0 for a
                       dry start where only /drop sounds)
   --fixed-detail      never shed detail because of the measured load: the stream then
@@ -161,6 +178,24 @@ ParsedOptions parse_options(int argc, const char* const* argv) {
         } else if (arg == "--node") {
             if (!value(v) || !parse_int(v, 1, max_scene_nodes, n)) return fail("--node needs a node number 1..16");
             o.node = static_cast<int>(n);
+        } else if (arg == "--start-at") {
+            timespec now{};
+            clock_gettime(CLOCK_REALTIME, &now);
+            const double now_s = static_cast<double>(now.tv_sec) + now.tv_nsec * 1e-9;
+            if (!value(v) || !parse_double(v, 0, 1e11, d)) return fail("--start-at needs a wall time in seconds since 1970");
+            if (d <= now_s || d > now_s + 86400.0)
+                return fail("--start-at: " + v + " is not ahead of now (" + std::to_string(static_cast<long long>(now_s)) +
+                            " s since 1970) by at most a day");
+            o.start_at_unix_ns = static_cast<std::int64_t>(std::llround(d * 1e9));
+        } else if (arg == "--peers") {
+            if (!value(v)) return fail("--peers needs osc.udp://HOST:PORT,...");
+            std::string error;
+            const auto peers = parse_peers(v, error);
+            if (!peers) return fail("--peers: " + error);
+            o.peers = *peers;
+        } else if (arg == "--peer-latency") {
+            if (!value(v) || !parse_double(v, 1, 2000, d)) return fail("--peer-latency needs 1..2000 ms");
+            o.peer_latency_s = d * 1e-3;
         } else if (arg == "--realtime-priority") {
             if (!value(v) || !parse_int(v, 0, 99, n))
                 return fail("--realtime-priority needs a priority 1..99, or 0 for normal scheduling");
@@ -251,6 +286,7 @@ ParsedOptions parse_options(int argc, const char* const* argv) {
             return fail("unknown option '" + arg + "' (see --help)");
         }
     }
+    if (o.start_at_unix_ns && o.backend != BackendChoice::jack) return fail("--start-at needs --backend jack");
     return parsed;
 }
 

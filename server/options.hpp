@@ -9,6 +9,9 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
+
+#include <boost/asio/ip/udp.hpp>
 
 #include "server/osc/sender_filter.hpp"
 
@@ -34,6 +37,9 @@ struct DaemonOptions {
     std::uint64_t seed = 0;
     int channels = 2;
     int node = 0;                         // --node K: only the scene's surfaces on node K (0: all)
+    std::optional<std::int64_t> start_at_unix_ns;   // --start-at: JACK plays silence until then (start_gate.hpp)
+    std::vector<boost::asio::ip::udp::endpoint> peers;   // --peers: the nodes this one conducts (peers.hpp)
+    double peer_latency_s = 0.025;        // --peer-latency: how far ahead the conducted commands are timed
     std::string scene = "umbrella";       // a built-in scene, a NAME.scene in scene_folder (is_scene_name),
                                           // or else the path of a scene file (ending in .scene)
     std::optional<std::string> scene_folder;   // default: SceneStore::default_folder()

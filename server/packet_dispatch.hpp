@@ -9,7 +9,10 @@
 //
 // Interface:
 //   PacketDispatch dispatch(bridge, scenes, record, replies, queries, subscriptions, status, traffic,
-//                           [&] { loop.shutdown_soon(); });   // what /quit does after its /done
+//                           [&] { loop.shutdown_soon(); }, peers);   // what /quit does after its /done
+//   peers (--peers, peers.hpp): every accepted change to the sound is also sent to them, and applied here
+//   at the same timetag (now + --peer-latency, or the bundle's own when later); their /status.reply
+//   answers are taken; /nodes answers for the set. A message from a peer is never sent on (no loops).
 //   dispatch.handle(bytes, size, peer);     // one UDP datagram or TCP packet
 //   dispatch.closed(peer);                  // its TCP connection went: no one's subscriber any more
 //   bool reply = is_reply_address("/done"); // the server's own reply addresses (never answered)
@@ -22,6 +25,7 @@
 
 #include "server/osc/peer.hpp"
 #include "server/osc/traffic_counters.hpp"
+#include "server/peers.hpp"
 #include "server/queries.hpp"
 #include "server/realtime/audio_bridge.hpp"
 #include "server/replies.hpp"
@@ -37,14 +41,16 @@ bool is_reply_address(const std::string& address);
 class PacketDispatch {
 public:
     PacketDispatch(AudioBridge& bridge, SceneManager& scenes, SceneRecord& record, Replies& replies, Queries& queries,
-                   Subscriptions& subscriptions, StatusReport& status, TrafficCounters& traffic, std::function<void()> quit)
+                   Subscriptions& subscriptions, StatusReport& status, TrafficCounters& traffic, std::function<void()> quit,
+                   PeerSet& peers)
         : bridge_(bridge), scenes_(scenes), record_(record), replies_(replies), queries_(queries), subscriptions_(subscriptions),
-          status_(status), traffic_(traffic), quit_(std::move(quit)) {}
+          status_(status), traffic_(traffic), quit_(std::move(quit)), peers_(peers) {}
     void handle(const unsigned char* data, std::size_t size, const Peer& sender);
     void closed(const Peer& gone) { subscriptions_.forget(gone); }
 
 private:
-    void enqueue(Command c, const protocol::DecodedMessage& message, const AudioClock& clock, const Peer& sender);
+    void enqueue(Command c, const protocol::DecodedMessage& message, const AudioClock& clock, const Peer& sender, bool conduct,
+                 bool on_block);
 
     AudioBridge& bridge_;
     SceneManager& scenes_;
@@ -55,6 +61,7 @@ private:
     StatusReport& status_;
     TrafficCounters& traffic_;
     std::function<void()> quit_;
+    PeerSet& peers_;
 };
 
 }  // namespace ameoto

@@ -28,6 +28,7 @@ public:
     StatusReport(AudioBridge& bridge, const Backend& backend) : bridge_(bridge), backend_(backend) {}
     std::vector<protocol::OscArgument> arguments();
     void measure_rate();
+    int block_size() const { return backend_.block_size(); }
 
 private:
     AudioBridge& bridge_;

@@ -73,7 +73,7 @@ std::string render_score_usage() {
            "start) or a text score, one message a line: TIME /address arg ... (TIME in seconds; \"quoted\"\n"
            "words are strings; # starts a comment). Every message is validated as over UDP; one invalid\n"
            "message refuses the score (its time, place and reason) and nothing is written. /status,\n"
-           "/version, /notify, /reply/port, /sync, /quit and queries are ignored; messages that rebuild\n"
+           "/version, /nodes, /notify, /reply/port, /sync, /quit and queries are ignored; messages that rebuild\n"
            "the scene (/scene/*, /material/*, /rain/dsd, /surface/*, /accuracy) are refused. Of what\n"
            "Score adds, /g_new is ignored and /c_set (the end marker) ends the render when --seconds is\n"
            "not given.\n"
@@ -284,6 +284,8 @@ int run_render_score(const RenderScoreOptions& o, const CommandIo& io) {
             case Action::query:
             case Action::notify:
             case Action::version:
+            case Action::nodes:
+            case Action::on_block:
             case Action::reply_port: ++ignored; break;
             default:
                 return refuse("rebuilds the scene, which a score cannot do in this version: give the render the scene "

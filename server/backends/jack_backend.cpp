@@ -3,10 +3,12 @@
 
 #include <pthread.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cstdio>
 
 #include "server/realtime/audio_bridge.hpp"
+#include "server/realtime/rt_probe.hpp"
 #include "server/realtime/wall_offset.hpp"
 
 namespace ameoto {
@@ -143,7 +145,14 @@ int JackBackend::on_process(jack_nframes_t frames, void* self) {
     reading.xrun = xruns != me->xruns_seen_;
     me->xruns_seen_ = xruns;
     const BlockTime time = me->cycle_clock_.block(reading);
-    me->bridge_->process(static_cast<int>(frames), me->buffers_.data(), time);
+    const std::int64_t cycle_ns = time.unix_ns;
+    const auto period_ns = static_cast<std::int64_t>(1e9 * frames / me->sample_rate_);
+    if (me->start_gate_.open(cycle_ns, period_ns)) {
+        me->bridge_->process(static_cast<int>(frames), me->buffers_.data(), time);
+    } else {
+        rt::Scope audited;   // (the bridge audits its own process(): these cycles are the gate's alone)
+        for (float* b : me->buffers_) std::fill(b, b + frames, 0.0f);   // before the epoch: silence, the renderer waits
+    }
     pthread_setcancelstate(previous, nullptr);
     return 0;
 }

@@ -17,6 +17,8 @@
 // sample rate is refused with a message: the physics was built for the first rate.
 // Clock: each block is timed by JACK's own delay-locked loop (jack_get_cycle_times, cycle_clock.hpp), so
 // timetags of separate packets keep their distances to the sample; a new client starts a new loop.
+// Start (--start-at, start_gate.hpp): until the epoch each cycle is silence and the renderer does not
+// run, so nodes of one scene on one server begin their rain at the same frame.
 
 #include <jack/jack.h>
 
@@ -27,6 +29,7 @@
 
 #include "server/backends/backend.hpp"
 #include "server/backends/cycle_clock.hpp"
+#include "server/backends/start_gate.hpp"
 
 namespace ameoto {
 
@@ -36,6 +39,7 @@ public:
         std::string client_name = "ameoto";
         int channels = 2;
         bool autoconnect = false;
+        std::int64_t start_unix_ns = 0;   // --start-at: silence until this wall time (start_gate.hpp); 0: none
     };
 
     static std::unique_ptr<JackBackend> open(const Options& options, std::string& error);
@@ -51,9 +55,10 @@ public:
     bool server_lost() const { return lost_.load(); }
     bool reconnect(std::string& error);
     std::string client_name() const;
+    const StartGate& start_gate() const { return start_gate_; }
 
 private:
-    explicit JackBackend(const Options& options) : options_(options) {}
+    explicit JackBackend(const Options& options) : options_(options), start_gate_(options.start_unix_ns) {}
     bool open_client(std::string& error);
     void close_client();
     bool activate(std::string& error);
@@ -74,6 +79,7 @@ private:
     std::atomic<bool> lost_{false};
     CycleClock cycle_clock_{48000.0};   // the audio thread's; set for the server's rate in open_client
     std::uint64_t xruns_seen_ = 0;      // the audio thread's: xruns_ when it last looked
+    StartGate start_gate_;              // the audio thread's; kept across a reconnection (one epoch a run)
 };
 
 }  // namespace ameoto

@@ -108,6 +108,8 @@ void apply(ServerState& s, const DecodedMessage& m, const Request& r) {
         case Action::version:
         case Action::reply_port:
         case Action::set_loudness:
+        case Action::nodes:
+        case Action::on_block:
         case Action::quit: break;   // they change no scene
     }
     // A message the server accepted keeps a valid scene valid: otherwise /scene/save and every later

@@ -3,6 +3,7 @@
 
 #include <doctest/doctest.h>
 
+#include <ctime>
 #include <string>
 #include <vector>
 
@@ -161,4 +162,36 @@ TEST_CASE("--node takes the scene's node 1..16 to play; the whole scene (0) by d
         CHECK(p.error == "--node needs a node number 1..16");
     }
     CHECK(ameoto::usage().find("--node K") != std::string::npos);
+}
+
+TEST_CASE("--start-at takes a wall time ahead of now, by at most a day, with the JACK backend only") {
+    const std::string soon = std::to_string(static_cast<long long>(std::time(nullptr)) + 60);
+    const auto p = parse({"--backend", "jack", "--start-at", soon.c_str()});
+    REQUIRE(p.error.empty());
+    REQUIRE(p.options.start_at_unix_ns.has_value());
+    CHECK(*p.options.start_at_unix_ns == std::stoll(soon) * 1'000'000'000LL);
+    CHECK_FALSE(parse({}).options.start_at_unix_ns.has_value());
+    CHECK(parse({"--start-at", soon.c_str()}).error == "--start-at needs --backend jack");
+    CHECK(parse({"--backend", "jack", "--start-at", "1000"}).error.find("is not ahead of now") != std::string::npos);
+    const std::string far = std::to_string(static_cast<long long>(std::time(nullptr)) + 2 * 86400);
+    CHECK(parse({"--backend", "jack", "--start-at", far.c_str()}).error.find("by at most a day") != std::string::npos);
+    CHECK(parse({"--backend", "jack", "--start-at", "soon"}).error == "--start-at needs a wall time in seconds since 1970");
+    CHECK(ameoto::usage().find("--start-at UNIX_SECONDS") != std::string::npos);
+}
+
+TEST_CASE("--peers takes osc.udp://IP:PORT addresses; --peer-latency 1..2000 ms, 25 by default") {
+    const auto p = parse({"--peers", "osc.udp://127.0.0.1:7771/,osc.udp://[::1]:7772"});
+    REQUIRE(p.error.empty());
+    REQUIRE(p.options.peers.size() == 2);
+    CHECK(p.options.peers[0].port() == 7771);
+    CHECK(p.options.peers[1].address().is_v6());
+    CHECK(parse({}).options.peers.empty());
+    CHECK(parse({}).options.peer_latency_s == doctest::Approx(0.025));
+    CHECK(parse({"--peer-latency", "40"}).options.peer_latency_s == doctest::Approx(0.040));
+    CHECK(parse({"--peer-latency", "0"}).error == "--peer-latency needs 1..2000 ms");
+    CHECK(parse({"--peers", "127.0.0.1:7771"}).error == "--peers: '127.0.0.1:7771' is not osc.udp://HOST:PORT");
+    CHECK(parse({"--peers", "osc.udp://host.example:7771"}).error == "--peers: 'host.example' is not an IP address");
+    CHECK(parse({"--peers", "osc.udp://127.0.0.1:0"}).error == "--peers: '0' is not a port 1..65535");
+    CHECK(parse({"--peers", "osc.udp://127.0.0.1"}).error == "--peers: '127.0.0.1' has no HOST:PORT");
+    CHECK(ameoto::usage().find("--peers osc.udp://HOST:PORT") != std::string::npos);
 }

@@ -32,8 +32,8 @@ DaemonProcess::DaemonProcess(std::vector<std::string> arguments, const std::vect
     listening_line_ = *line;
     port_ = port_from_listening_line(*line);
     if (port_ <= 0) throw std::runtime_error("ameotod listens on no usable port: " + *line);
-    if (!process_.wait_for_line("running", options.running_timeout))
-        throw std::runtime_error("ameotod did not say \"running\" " + within(options.running_timeout) + "; it printed:\n" +
+    if (!process_.wait_for_line(options.ready_line, options.running_timeout))
+        throw std::runtime_error("ameotod did not say \"" + options.ready_line + "\" " + within(options.running_timeout) + "; it printed:\n" +
                                  process_.output() + process_.error_output());
     // The TCP line comes right after the UDP one, before "running": already read here.
     const std::string tcp = "listening on osc.tcp://";

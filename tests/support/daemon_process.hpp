@@ -14,6 +14,7 @@
 //   DaemonOptions o;     // all optional:
 //   o.listen_timeout = 15s;        // for the listening line (default 30 s)
 //   o.running_timeout = 10s;       // then for "running" (default 10 s)
+//   o.ready_line = "...";          // wait for this line instead of "running" (e.g. --start-at's "silent until")
 //   o.child.unset_env = {...};     // ChildOptions for the process
 //   o.wrapper = {"pw-jack"};       // a program that runs ameotod: WRAPPER... AMEOTO_BIN_DIR/ameotod ARGS
 //   DaemonProcess d(args, env, o);
@@ -39,6 +40,7 @@ struct DaemonOptions {
     std::chrono::milliseconds running_timeout{10000};
     ChildOptions child;
     std::vector<std::string> wrapper;
+    std::string ready_line = "running";
 
     // For tests that start ameotod many times beside others' builds: 30 s to listen and 30 s until
     // its first "running" line (both stretched under the sanitizers).
