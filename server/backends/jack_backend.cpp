@@ -139,13 +139,19 @@ int JackBackend::on_process(jack_nframes_t frames, void* self) {
     reading.jack_frame = jack_last_frame_time(me->client_);
     jack_nframes_t cycle_frames = 0;
     jack_time_t cycle_usecs = 0, next_usecs = 0;
-    if (jack_get_cycle_times(me->client_, &cycle_frames, &cycle_usecs, &next_usecs, &reading.period_usecs) != 0) reading.period_usecs = 0.0f;
+    const bool have_cycle = jack_get_cycle_times(me->client_, &cycle_frames, &cycle_usecs, &next_usecs, &reading.period_usecs) == 0;
+    if (!have_cycle) reading.period_usecs = 0.0f;
     reading.wall_minus_mono_ns = realtime_minus_monotonic_ns();
     const std::uint64_t xruns = me->xruns_.load(std::memory_order_relaxed);
     reading.xrun = xruns != me->xruns_seen_;
     me->xruns_seen_ = xruns;
     const BlockTime time = me->cycle_clock_.block(reading);
-    const std::int64_t cycle_ns = time.unix_ns;
+    // The start gate decides by JACK's own filtered cycle time, not by this client's envelope: every client
+    // of one server reads the same value from JACK's shared memory, so all nodes there open on the same
+    // cycle (their envelopes differ by their wake-up order, tens of microseconds). jackd2 and PipeWire's
+    // libjack count that time as CLOCK_MONOTONIC in microseconds.
+    const std::int64_t cycle_ns =
+        have_cycle ? static_cast<std::int64_t>(cycle_usecs) * 1000 + reading.wall_minus_mono_ns : time.unix_ns;
     const auto period_ns = static_cast<std::int64_t>(1e9 * frames / me->sample_rate_);
     if (me->start_gate_.open(cycle_ns, period_ns)) {
         me->bridge_->process(static_cast<int>(frames), me->buffers_.data(), time);
