@@ -11,6 +11,7 @@ void CycleClock::reset() {
     ratio_ = 1.0;
     ratio_started_ = false;
     started_ = false;
+    has_slope_ = false;
 }
 
 void CycleClock::update_ratio(const CycleReading& r) {
@@ -24,6 +25,13 @@ void CycleClock::update_ratio(const CycleReading& r) {
 }
 
 void CycleClock::restart_envelope(const CycleReading& r) {
+    // The rate survives an xrun (the card's crystal did not change): the last slope of the envelope's own
+    // carries the new one until it has 2 s again, in ns per frame from the nominal period.
+    if (started_ && full_ >= kSlopeBuckets) {
+        double mx = 0.0, mr = 0.0;
+        fit_line(mx, mr, slope_);
+        has_slope_ = true;
+    }
     started_ = true;
     anchor_ns_ = r.callback_mono_ns;
     x_ = 0;
@@ -58,49 +66,34 @@ double CycleClock::fit_slope(int skip, double& mx, double& mr) const {
     return sxx > 0.0 ? sxr / sxx : 0.0;
 }
 
-double CycleClock::line_at(double x) const {
-    if (full_ >= kSlopeBuckets) {
-        // The slope: least squares through every full bucket (up to 16 s). The bucket lying highest
-        // above that first fit is left out once when it is an outlier: a half second in which every
-        // callback was late (a loaded machine) says nothing about the line.
-        double mx = 0.0, mr = 0.0;
-        double slope = fit_slope(-1, mx, mr);
-        int worst = -1;
-        double worst_residual = kOutlierNs;
-        for (int i = 0; i < full_; ++i) {
-            const double residual = ring_[i].r - (mr + slope * (ring_[i].x - mx));
-            if (residual > worst_residual) {
-                worst_residual = residual;
-                worst = i;
-            }
-        }
-        if (worst >= 0) slope = fit_slope(worst, mx, mr);
-        // The height: the newest buckets' minima (2 s), each carried to x along that slope, averaged.
-        // A short mean follows a wandering floor; the long slope keeps the carry from amplifying noise
-        // (a line fitted to the newest few minima alone, extrapolated, spread 17-19 us in the test).
-        double sum = 0.0;
-        int used = 0;
-        for (int k = 0; k < full_ && used < kHeightBuckets; ++k) {
-            const int i = ((head_ - 1 - k) % kBuckets + kBuckets) % kBuckets;
-            if (i == worst) continue;
-            sum += ring_[i].r + slope * (x - ring_[i].x);
-            ++used;
-        }
-        return sum / used;
+// The line through the full buckets' minima: their least-squares line once there are 2 s of them, the
+// bucket lying highest above a first fit left out once when it is an outlier (a half second in which
+// every callback was late says nothing about the line); before that, their centroid with the slope
+// from before a restart, or at a start JACK's averaged rate. slope: ns per frame beyond the nominal.
+void CycleClock::fit_line(double& mx, double& mr, double& slope) const {
+    slope = fit_slope(-1, mx, mr);
+    if (full_ < kSlopeBuckets) {
+        slope = has_slope_ ? slope_ : ns_per_frame_ * (1.0 / ratio_ - 1.0);
+        return;
     }
-    // Too few buckets for a slope of its own: JACK's averaged rate carries each minimum to x, and the
-    // lowest is taken (just after a start the first callbacks run late: page faults, a new thread).
-    const double slope = ns_per_frame_ * (1.0 / ratio_ - 1.0);
-    double best = 0.0;
-    bool any = false;
-    auto consider = [&](const Bucket& b) {
-        const double at = b.r + slope * (x - b.x);
-        if (!any || at < best) best = at;
-        any = true;
-    };
-    for (int i = 0; i < full_; ++i) consider(ring_[i]);
-    if (current_has_) consider(current_);
-    return best;
+    int worst = -1;
+    double worst_residual = kOutlierNs;
+    for (int i = 0; i < full_; ++i) {
+        const double residual = ring_[i].r - (mr + slope * (ring_[i].x - mx));
+        if (residual > worst_residual) {
+            worst_residual = residual;
+            worst = i;
+        }
+    }
+    if (worst >= 0) slope = fit_slope(worst, mx, mr);
+}
+
+double CycleClock::line_at(double x) const {
+    // Before the first bucket is full: the lowest reading so far.
+    if (full_ == 0) return current_has_ ? current_.r : 0.0;
+    double mx = 0.0, mr = 0.0, slope = 0.0;
+    fit_line(mx, mr, slope);
+    return mr + slope * (x - mx);
 }
 
 BlockTime CycleClock::block(const CycleReading& r) {

@@ -13,11 +13,11 @@
 // wake-up and the graph before it, so each reading of the monotonic clock at the callback is that line
 // plus a latency that is never negative: tens of microseconds usually, milliseconds when the machine is
 // loaded. The earliest readings lie on the line. The readings, less the nominal F / rate, are kept as
-// the minimum of each half second ("buckets", 32 of them: 16 s). The line's slope is the least-squares
-// slope through those minima (the worst bucket left out once if it lies more than 20 us above the first
-// fit); its height at this block is the mean of the newest 4 minima (2 s), each carried along that
-// slope. A long slope and a short height: a card's rate changes over minutes, the latency's floor over
-// seconds.
+// the minimum of each half second ("buckets", 32 of them: 16 s). The line is the least-squares line
+// through those minima (the worst bucket left out once if it lies more than 20 us above the first fit),
+// evaluated at this block's first frame. Measured on JACK's dummy driver here (2026-12-02), the
+// half-second minima scatter over 40 us (the VM's timer): the lowest of 2 s of them moved by 15-20 us
+// at bucket boundaries, the least-squares line over 16 s moves by about a microsecond a bucket.
 //
 // Why not JACK's own filtered cycle times (jack_get_cycle_times' current_usecs), as before: JACK's
 // delay-locked loop (bandwidth 0.125 Hz) averages the latencies rather than ignoring them, so on a
@@ -32,7 +32,9 @@
 // wake-up), so the line moves later. The envelope restarts when the backend saw an xrun, when JACK's
 // frame counter does not continue from the last block, and when half a bucket of readings all lie more
 // than 1 ms above the line (time lost that no xrun reported). Until four buckets are full (2 s), the
-// line's slope is JACK's period (its loop's rate, averaged) and its height the lowest reading so far.
+// line's slope is the one before the restart, or at a start JACK's period (its loop's rate, averaged):
+// a client's clock is locked 2 s after it starts (JACK's loop, itself just started, can be 30 ppm off:
+// 60 us over those 2 s).
 //
 // The rate ratio (for /status's ppm and the bridge's extrapolation within a block) is frames / (period
 // x nominal rate) from JACK's loop, averaged exponentially over about 10 s: JACK's loop already smooths
@@ -75,7 +77,6 @@ private:
     };
     static constexpr int kBuckets = 32;        // 16 s for the slope
     static constexpr int kSlopeBuckets = 4;    // at least 2 s before the slope is the envelope's own
-    static constexpr int kHeightBuckets = 4;   // the newest 2 s for the height
     static constexpr double kBucketSeconds = 0.5;
     static constexpr double kOutlierNs = 20'000.0;
     static constexpr double kLostNs = 1'000'000.0;
@@ -85,6 +86,7 @@ private:
     void update_ratio(const CycleReading& r);
     double line_at(double x) const;   // the envelope's line at frame x (ns after the anchor, less x / rate)
     double fit_slope(int skip, double& mx, double& mr) const;
+    void fit_line(double& mx, double& mr, double& slope) const;
 
     double nominal_rate_;
     double ns_per_frame_;
@@ -92,6 +94,8 @@ private:
     bool ratio_started_ = false;
 
     bool started_ = false;
+    double slope_ = 0.0;           // the envelope's last own slope, kept across a restart
+    bool has_slope_ = false;
     std::uint32_t next_jack_frame_ = 0;
     std::int64_t anchor_ns_ = 0;   // monotonic reading of the envelope's first block
     std::int64_t x_ = 0;           // frames from the anchor to this block's first frame

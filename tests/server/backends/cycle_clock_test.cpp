@@ -102,7 +102,7 @@ TEST_CASE("cycle clock: on a loaded machine each block's time lies on the driver
             REQUIRE(b.valid);
             CHECK(b.unix_ns > last);   // monotonic, spikes and all
             last = b.unix_ns;
-            if (t > 2.0) {   // the grid test starts 2-3 s after the client
+            if (t > 2.0) {   // locked: the line's slope is its own (the grid test waits 2.5 s for it)
                 ours.add(static_cast<double>(b.unix_ns - truth));
                 theirs.add(jack_us * 1e3 + 1'700'000'000'000'000'000.0 - static_cast<double>(truth));
             }
@@ -112,7 +112,7 @@ TEST_CASE("cycle clock: on a loaded machine each block's time lies on the driver
         // The bound: a spread under one sample (20.8 us) lets two drops' landings differ from their
         // distance by one sample at most (the issue-22 grid test's +/- 1). The floor's own 10 us wander
         // cannot be told from the driver's line and is followed; 5 us more is the 2 s mean's lag and
-        // noise (measured 13-14 us).
+        // noise (measured 11-13 us).
         CHECK(ours.width() < 15'000.0);
         // The whole line sits above the true frame times by the floor of the latency only (20-30 us).
         CHECK(ours.lo > 15'000.0);
