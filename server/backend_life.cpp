@@ -25,7 +25,9 @@ std::unique_ptr<BackendLife> BackendLife::choose(const DaemonOptions& options, S
     std::unique_ptr<BackendLife> life(new BackendLife(systemd));
     if (options.backend != BackendChoice::null) {
         std::string error;
-        auto j = JackBackend::open({options.jack_name, options.channels, options.autoconnect}, error);
+        auto j = JackBackend::open({options.jack_name, options.channels, options.autoconnect,
+                                    options.format ? output_channel_names(*options.format) : std::vector<std::string>{}},
+                                   error);
         if (j) {
             life->jack_ = j.get();
             life->backend_ = std::move(j);

@@ -10,6 +10,7 @@
 #include <optional>
 #include <string>
 
+#include "engine/scene/output_format.hpp"
 #include "server/osc/sender_filter.hpp"
 
 namespace ameoto {
@@ -32,7 +33,10 @@ struct DaemonOptions {
                                           // 1..99, or 0 for normal scheduling (jackd's -P / --no-realtime)
     std::optional<double> duration_s;
     std::uint64_t seed = 0;
-    int channels = 2;
+    int channels = 2;                     // the output format's (resolve_output_format sets it)
+    std::optional<OutputFormat> format;   // --format; none: the scene file's `output format=`, else
+                                          // --channels' meaning (stereo for 2, ring:N)
+    bool channels_given = false;          // --channels on the command line (it and --format exclude each other)
     int node = 0;                         // --node K: only the scene's surfaces on node K (0: all)
     std::string scene = "umbrella";       // a built-in scene, a NAME.scene in scene_folder (is_scene_name),
                                           // or else the path of a scene file (ending in .scene)
