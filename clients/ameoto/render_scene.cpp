@@ -24,7 +24,8 @@ namespace ameoto::client {
 
 std::string render_scene_usage() {
     return "usage: ameoto render scene -o FILE.wav [--scene NAME|FILE.scene] [--rain MM/H] [--seconds S]\n"
-           "           [--rate HZ] [--seed N] [--channels N] [--level auto|physical] [--loudness LUFS]\n"
+           "           [--rate HZ] [--seed N] [--channels N | --format F] [--level auto|physical]\n"
+           "           [--loudness LUFS]"
            "           [--gain DB] [--limiter on|off] [--air on|off] [--quiet]\n"
            "\n"
            "Renders a rain scene offline (no server needed) with the engine ameotod runs: its surfaces,\n"
@@ -38,7 +39,8 @@ std::string render_scene_usage() {
            "  --seconds S         length, 0.01..3600 s (default 10)\n"
            "  --rate HZ           sample rate, 8000..192000 Hz (default 48000)\n"
            "  --seed N            random seed, 0..2^64-1 (default 1)\n"
-           "  --channels N        1..16 (default 2)\n"
+           "  --channels N        1..16 (default 2): stereo for 2, else ring:N\n" +
+           format_option_usage() +
            "  --level auto|physical\n"
            "                      auto (default): a level gain chosen so the scene's default rain\n"
            "                      plays at --loudness (3 s of it rendered and measured first, as\n"
@@ -157,8 +159,11 @@ RenderParse parse_render_scene_options(const CommandWords& words, RenderSceneOpt
                     error = "--channels: '" + value + "' is not 1..16";
                     return RenderParse::error;
                 }
-                o.channels = static_cast<int>(*v);
+                if (!o.format.take_channels(static_cast<int>(*v), error)) return RenderParse::error;
             }
+        } else if (name == "--format") {
+            if (!take_value()) return RenderParse::error;
+            if (!o.format.take_format(value, error)) return RenderParse::error;
         } else if (name == "-o" || name == "--output") {
             if (!take_value()) return RenderParse::error;
             if (value.empty()) {
@@ -206,12 +211,14 @@ int run_render_scene(const RenderSceneOptions& o, const CommandIo& io) {
         return exit_status::refused;
     }
     std::optional<Renderer> renderer;
+    OutputFormat format;
     const double default_rain = scene.rain.rate_mm_per_h;
     LevelChoice level;
     try {
         RendererConfig base;
         base.sample_rate = o.rate;
-        base.channels = o.channels;
+        format = o.format.resolve(scene.output_format);
+        apply_output_format(base, format);
         base.seed = o.seed;
         base.adaptive_lod = false;   // offline: reproducible, whatever the machine's load
         base.limiter = o.limiter.value_or(o.level_auto);
@@ -227,7 +234,7 @@ int run_render_scene(const RenderSceneOptions& o, const CommandIo& io) {
     }
     SF_INFO info{};
     info.samplerate = o.rate;
-    info.channels = o.channels;
+    info.channels = format.channels;
     info.format = SF_FORMAT_WAV | SF_FORMAT_FLOAT;
     SNDFILE* wav = sf_open(o.wav_path.c_str(), SFM_WRITE, &info);
     if (!wav) {
@@ -239,11 +246,12 @@ int run_render_scene(const RenderSceneOptions& o, const CommandIo& io) {
     sf_set_string(wav, SF_STR_SOFTWARE, "ameoto render scene");
     sf_set_string(wav, SF_STR_COMMENT, ("ameoto render scene: " + calibration +
                                         ". Samples are sound pressure at the listener: pressure in Pa = sample x 10^((0 dBFS in "
-                                        "dB SPL - 93.98) / 20)").c_str());
-    LoudnessMeter loudness(o.channels, o.rate, LoudnessMeter::integrated | LoudnessMeter::peaks);
+                                        "dB SPL - 93.98) / 20). Channels: " + output_channel_summary(format))
+                                           .c_str());
+    LoudnessMeter loudness(format.channels, o.rate, LoudnessMeter::integrated | LoudnessMeter::peaks);
     const long total = std::max(1L, std::lround(o.seconds * o.rate));
     constexpr int block = 512;
-    const int channels = o.channels;
+    const int channels = format.channels;
     std::vector<std::vector<float>> planar(static_cast<std::size_t>(channels), std::vector<float>(block));
     std::vector<float*> out(static_cast<std::size_t>(channels));
     for (int c = 0; c < channels; ++c) out[static_cast<std::size_t>(c)] = planar[static_cast<std::size_t>(c)].data();
