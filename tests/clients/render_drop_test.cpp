@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cmath>
 #include <fstream>
+#include <iterator>
 #include <sstream>
 
 #include "clients/ameoto/exit_status.hpp"
@@ -160,6 +161,28 @@ TEST_CASE("render scene: options are checked, and a built-in scene renders the s
     CHECK(parse_render_scene_options({"--rain", "600", "-o", "a.wav"}, o, error) == RenderParse::error);
     CHECK(has(error, "600 mm/h is outside 0..500 mm/h"));
     CHECK(parse_render_scene_options({"--channels", "17", "-o", "a.wav"}, o, error) == RenderParse::error);
+    CHECK(parse_render_scene_options({"--format", "ambix:2", "--channels", "2", "-o", "a.wav"}, o, error) == RenderParse::error);
+    CHECK(error == "give --format or --channels, not both (ring:N is N channels)");
+    CHECK(parse_render_scene_options({"--format", "ambix:0", "-o", "a.wav"}, o, error) == RenderParse::error);
+    CHECK(has(error, "the Ambisonic order is 1, 2 or 3"));
+    {
+        // ambix:1: 4 channels, and the WAV's comment says what they are.
+        const std::string path = ameoto::test::temp_path("scene-ambix.wav");
+        std::ostringstream out, err;
+        const CommandIo io{{}, out, err};
+        REQUIRE(run_render({"scene", "--scene", "pond", "--format", "ambix:1", "--seconds", "0.1", "--quiet", "-o", path}, io) ==
+                exit_status::ok);
+        const auto w = ameoto::test::read_wav(path);
+        REQUIRE(w.ok);
+        CHECK(w.channels == 4);
+        std::ifstream in(path, std::ios::binary);
+        const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        CHECK(has(bytes, "Channels: ambix:1 (AmbiX: ACN order, SN3D, no Condon-Shortley phase): ACN 0 W, ACN 1 Y, ACN 2 Z, ACN 3 X"));
+        std::ostringstream out2, err2;
+        const CommandIo io2{{}, out2, err2};
+        CHECK(run_render({"scene", "--format", "binaural", "--seconds", "0.1", "--quiet", "-o", path}, io2) == exit_status::refused);
+        CHECK(has(err2.str(), "binaural decoder is not built into this ameoto yet"));
+    }
     const std::string a = ameoto::test::temp_path("scene-a.wav"), b = ameoto::test::temp_path("scene-b.wav");
     for (const std::string& path : {a, b}) {
         std::ostringstream out, err;

@@ -112,7 +112,7 @@ TEST_CASE("AmbDec decodes ameotod's ambix:1 stream over JACK: the plate on the l
     REQUIRE(left > 0.0);
     // A plane wave from +90 degrees (Y = W in SN3D, X = 0) through these rows: each left speaker gets
     // 0.354 (W + Y), each right one 0.354 (W - Y) = 0; the plate's 1 m width and the decoder's filters
-    // leave some on the right (measured 15.8 dB less, 2026-12-02). 6 dB: a wrong channel order or a
+    // leave some on the right (measured 17.7 dB less, 2026-12-02). 6 dB: a wrong channel order or a
     // mirrored Y (the plate heard from the front or the right) fails it by far.
     CHECK(10.0 * std::log10(left / right) > 6.0);
     // Left-right symmetric about the source's axis: front and back of the left side alike within 1 dB.

@@ -162,3 +162,19 @@ TEST_CASE("--node takes the scene's node 1..16 to play; the whole scene (0) by d
     }
     CHECK(ameoto::usage().find("--node K") != std::string::npos);
 }
+
+TEST_CASE("--format: every output format, its channels, and --channels not beside it") {
+    const auto a = parse({"--format", "ambix:3"});
+    REQUIRE(a.error.empty());
+    REQUIRE(a.options.format);
+    CHECK(a.options.format->name() == "ambix:3");
+    CHECK(a.options.channels == 16);
+    CHECK(parse({"--format", "ring:6"}).options.channels == 6);
+    CHECK(parse({"--format", "ears"}).options.format->kind == ameoto::OutputKind::ears);
+    CHECK(parse({"--format", "binaural"}).error.empty());   // parsed; refused at start (resolve_output_format)
+    CHECK(parse({"--format", "ambix:4"}).error == "--format: 'ambix:4': the Ambisonic order is 1, 2 or 3 (ambix:ORDER: 4, 9 or 16 channels)");
+    CHECK(parse({"--format", "quad"}).error.find("is not an output format") != std::string::npos);
+    CHECK(parse({"--format", "ambix:1", "--channels", "4"}).error == "give --format or --channels, not both (ring:N is N channels)");
+    CHECK(parse({"--channels", "4", "--format", "ambix:1"}).error == "give --format or --channels, not both (ring:N is N channels)");
+    CHECK(ameoto::usage().find("--format F") != std::string::npos);
+}
