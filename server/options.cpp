@@ -68,7 +68,8 @@ Options:
                       ears (two points 0.18 m apart), ring:N (N = 1..16 speakers on a
                       ring), ambix:ORDER (Ambisonics, ORDER 1..3: 4, 9 or 16 channels,
                       ACN order, SN3D, no Condon-Shortley phase; /listener/orientation
-                      turns it), binaural (refused until its decoder is built in).
+                      turns it), binaural (not yet for the live stream: refused;
+                      ameoto render scene --format binaural decodes it offline).
                       Default: the scene file's 'output format=', else stereo. JACK
                       ports stay out_1..out_N with pretty names ("ACN 0 W", ...)
   --scene NAME|FILE.scene

@@ -25,11 +25,9 @@ bool resolve_output_format(DaemonOptions& options) {
         }
     }
     if (!options.format) options.format = output_format_for_channels(options.channels);
-    try {
-        RendererConfig probe;
-        apply_output_format(probe, *options.format);
-    } catch (const std::invalid_argument& e) {
-        warn(e.what());
+    if (options.format->kind == OutputKind::binaural) {
+        warn("--format binaural: the live stream does not decode to two ears yet (ameoto render scene --format binaural "
+             "does, offline); use --format ambix:3 and a binaural decoder (docs/output-formats.md)");
         return false;
     }
     options.channels = options.format->channels;

@@ -44,7 +44,8 @@ OutputFormat FormatChoice::resolve(const std::string& scene_format, int default_
 std::string format_option_usage() {
     return "  --format F          stereo (default), ears, ring:N (1..16 speakers), ambix:ORDER\n"
            "                      (Ambisonics, ORDER 1..3: 4, 9 or 16 channels, ACN/SN3D), binaural\n"
-           "                      (not yet built in: refused); docs/output-formats.md. Default: the\n"
+           "                      (render scene: the third-order bus decoded to two ears through\n"
+           "                      measured HRIRs, --hrtf); docs/output-formats.md. Default: the\n"
            "                      scene's 'output format=', else what --channels says\n";
 }
 

@@ -227,7 +227,8 @@ RenderParse parse_render_drop_options(const CommandWords& words, RenderDropOptio
                 return RenderParse::error;
             }
             if (f->kind == OutputKind::binaural) {
-                error = "--format binaural: the binaural decoder is not built into this ameoto yet";
+                error = "--format binaural: render drop does not decode to two ears (ears gives two points; "
+                        "ameoto render scene --format binaural decodes)";
                 return RenderParse::error;
             }
             if (channels_given) {

@@ -4,10 +4,12 @@
 #include <sndfile.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <fstream>
 #include <iostream>
+#include <memory>
 #include <sstream>
 #include <vector>
 
@@ -16,6 +18,7 @@
 #include "clients/ameoto/number_text.hpp"
 #include "clients/ameoto/option_reader.hpp"
 #include "clients/ameoto/progress_line.hpp"
+#include "engine/render/binaural_decoder.hpp"
 #include "engine/render/level_choice.hpp"
 #include "engine/render/loudness.hpp"
 #include "engine/render/renderer.hpp"
@@ -25,7 +28,7 @@ namespace ameoto::client {
 std::string render_scene_usage() {
     return "usage: ameoto render scene -o FILE.wav [--scene NAME|FILE.scene] [--rain MM/H] [--seconds S]\n"
            "           [--rate HZ] [--seed N] [--channels N | --format F] [--level auto|physical]\n"
-           "           [--loudness LUFS]"
+           "           [--hrtf FILE.sofa] [--loudness LUFS]"
            "           [--gain DB] [--limiter on|off] [--air on|off] [--quiet]\n"
            "\n"
            "Renders a rain scene offline (no server needed) with the engine ameotod runs: its surfaces,\n"
@@ -41,6 +44,8 @@ std::string render_scene_usage() {
            "  --seed N            random seed, 0..2^64-1 (default 1)\n"
            "  --channels N        1..16 (default 2): stereo for 2, else ring:N\n" +
            format_option_usage() +
+           "  --hrtf FILE.sofa    binaural: the head-related impulse responses (AES69 SOFA; default\n"
+           "                      /usr/share/libmysofa/default.sofa, MIT KEMAR; docs/binaural.md)\n" +
            "  --level auto|physical\n"
            "                      auto (default): a level gain chosen so the scene's default rain\n"
            "                      plays at --loudness (3 s of it rendered and measured first, as\n"
@@ -161,6 +166,13 @@ RenderParse parse_render_scene_options(const CommandWords& words, RenderSceneOpt
                 }
                 if (!o.format.take_channels(static_cast<int>(*v), error)) return RenderParse::error;
             }
+        } else if (name == "--hrtf") {
+            if (!take_value()) return RenderParse::error;
+            if (value.empty()) {
+                error = "--hrtf needs a SOFA file";
+                return RenderParse::error;
+            }
+            o.hrtf = value;
         } else if (name == "--format") {
             if (!take_value()) return RenderParse::error;
             if (!o.format.take_format(value, error)) return RenderParse::error;
@@ -232,6 +244,18 @@ int run_render_scene(const RenderSceneOptions& o, const CommandIo& io) {
         io.err << "ameoto render scene: " << e.what() << "\n";
         return exit_status::refused;
     }
+    constexpr int block = 512;
+    // Binaural: the renderer's third-order bus, decoded to two ears block by block (binaural_decoder.hpp;
+    // built here, before any sample: libmysofa reads and resamples the SOFA file).
+    std::unique_ptr<BinauralDecoder> binaural;
+    if (format.kind == OutputKind::binaural) {
+        auto made = BinauralDecoder::create(o.hrtf, format.order, o.rate, block);
+        if (!made.decoder) {
+            io.err << "ameoto render scene: --format binaural: " << made.error << "\n";
+            return exit_status::refused;
+        }
+        binaural = std::move(made.decoder);
+    }
     SF_INFO info{};
     info.samplerate = o.rate;
     info.channels = format.channels;
@@ -250,11 +274,12 @@ int run_render_scene(const RenderSceneOptions& o, const CommandIo& io) {
                                            .c_str());
     LoudnessMeter loudness(format.channels, o.rate, LoudnessMeter::integrated | LoudnessMeter::peaks);
     const long total = std::max(1L, std::lround(o.seconds * o.rate));
-    constexpr int block = 512;
-    const int channels = format.channels;
-    std::vector<std::vector<float>> planar(static_cast<std::size_t>(channels), std::vector<float>(block));
-    std::vector<float*> out(static_cast<std::size_t>(channels));
-    for (int c = 0; c < channels; ++c) out[static_cast<std::size_t>(c)] = planar[static_cast<std::size_t>(c)].data();
+    const int channels = format.channels;   // the file's (2 for binaural)
+    const int bus = renderer->config().channels;   // the renderer's (16 for binaural)
+    std::vector<std::vector<float>> planar(static_cast<std::size_t>(bus), std::vector<float>(block));
+    std::vector<float*> out(static_cast<std::size_t>(bus));
+    for (int c = 0; c < bus; ++c) out[static_cast<std::size_t>(c)] = planar[static_cast<std::size_t>(c)].data();
+    std::vector<std::vector<float>> ears(2, std::vector<float>(block));
     std::vector<float> interleaved(static_cast<std::size_t>(block * channels));
     ProgressLine progress(io.err, !o.quiet && isatty(STDERR_FILENO) && &io.err == &std::cerr, o.rate);
     double peak = 0.0;
@@ -262,9 +287,16 @@ int run_render_scene(const RenderSceneOptions& o, const CommandIo& io) {
     for (long done = 0; done < total;) {
         const int n = static_cast<int>(std::min<long>(block, total - done));
         renderer->process(n, out.data());
+        const std::vector<std::vector<float>>* heard = &planar;
+        if (binaural) {
+            // The decoder takes whole blocks: a last short block is padded with silence (its tail unwritten).
+            for (auto& p : planar) std::fill(p.begin() + n, p.end(), 0.0f);
+            binaural->process(out.data(), block, ears[0].data(), ears[1].data());
+            heard = &ears;
+        }
         for (int i = 0; i < n; ++i)
             for (int c = 0; c < channels; ++c) {
-                const float s = planar[static_cast<std::size_t>(c)][static_cast<std::size_t>(i)];
+                const float s = (*heard)[static_cast<std::size_t>(c)][static_cast<std::size_t>(i)];
                 if (!std::isfinite(s)) finite = false;
                 peak = std::max(peak, static_cast<double>(std::fabs(s)));
                 interleaved[static_cast<std::size_t>(i * channels + c)] = s;

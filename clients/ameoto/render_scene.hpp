@@ -27,6 +27,7 @@ struct RenderSceneOptions {
     double seconds = 10.0;              // 0.01..3600
     int rate = 48000;                   // Hz, 8000..192000
     std::uint64_t seed = 1;
+    std::string hrtf = "/usr/share/libmysofa/default.sofa";   // --hrtf FILE.sofa: binaural's HRIRs
     FormatChoice format;                // --format or --channels (1..16); default: the scene's, else stereo
     std::optional<bool> air;            // --air on|off: overrides every umbrella's air= key
     bool quiet = false;

@@ -209,6 +209,9 @@ int run_render_score(const RenderScoreOptions& o, const CommandIo& io) {
         RendererConfig base;
         base.sample_rate = o.rate;
         format = o.format.resolve(scene.output_format);
+        if (format.kind == OutputKind::binaural)
+            throw std::invalid_argument("--format binaural: render score does not decode to two ears yet (ameoto render scene "
+                                        "--format binaural does); use ambix:3 and a binaural decoder");
         apply_output_format(base, format);
         base.seed = o.seed;
         base.adaptive_lod = false;   // offline: every drop at its full detail, whatever the machine's load

@@ -54,9 +54,10 @@ void apply_output_format(RendererConfig& config, const OutputFormat& format) {
         case OutputKind::ring: config.listener = ListenerStyle::panned; break;
         case OutputKind::ambix: config.listener = ListenerStyle::ambix; break;
         case OutputKind::binaural:
-            throw std::invalid_argument(
-                "--format binaural: the binaural decoder is not built into this ameoto yet; use ambix:3 and a "
-                "binaural decoder (docs/output-formats.md)");
+            // The renderer makes the third-order bus; the caller decodes it to two ears (BinauralDecoder).
+            config.listener = ListenerStyle::ambix;
+            config.channels = ambix_channels(format.order);
+            return;
     }
     config.channels = format.channels;
 }

@@ -163,8 +163,9 @@ using MaterialResolver = std::optional<MembraneMaterial> (*)(const std::string& 
 RendererConfig configure_for_scene(RendererConfig config, const SceneDescription& scene,
                                    MaterialResolver material = nullptr, const void* context = nullptr);
 
-// Sets config's channels and listener style for an output format (scene/output_format.hpp); throws
-// std::invalid_argument for a format this engine cannot render (binaural, until its decoder is built in).
+// Sets config's channels and listener style for an output format (scene/output_format.hpp). Binaural:
+// the renderer makes the format's Ambisonic bus (order 3, 16 channels), which the caller decodes to two
+// ears with a BinauralDecoder (binaural_decoder.hpp).
 void apply_output_format(RendererConfig& config, const OutputFormat& format);
 
 class Renderer {

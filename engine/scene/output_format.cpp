@@ -3,6 +3,7 @@
 
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 
 #include "engine/models/ambisonics.hpp"
@@ -75,11 +76,11 @@ std::vector<std::string> output_channel_names(const OutputFormat& f) {
                 const double spacing = 360.0 / f.channels;
                 double az = spacing / 2.0 - c * spacing;
                 if (az <= -180.0) az += 360.0;
-                const long rounded = std::lround(az * 10.0);
-                std::string deg = std::to_string(rounded / 10) + (rounded % 10 != 0 ? "." + std::to_string(std::labs(rounded % 10)) : "");
-                if (az > 0) deg = "+" + deg;
-                if (az < 0 && rounded / 10 == 0) deg = "-" + deg;   // -0.5 and the like keep their sign
-                names.push_back("ring " + std::to_string(c + 1) + " az " + deg + " deg");
+                const long tenths = std::lround(az * 10.0);
+                char label[48];
+                std::snprintf(label, sizeof label, tenths % 10 != 0 ? "ring %d az %+.1f deg" : "ring %d az %+.0f deg", c + 1,
+                              static_cast<double>(tenths) / 10.0);
+                names.emplace_back(label);
             }
             return names;
         case OutputKind::ambix:
