@@ -112,6 +112,8 @@ struct ProtocolContext {
     std::function<std::optional<MembraneMaterial>(const std::string& name)> custom_material;
     // true when (x, y) in m lies on the named surface; the daemon asks the engine's geometry.
     std::function<bool(const std::string& surface, double x, double y)> on_surface;
+    int ambisonic_order = 0;   // the stream's Ambisonic order (1..3; --format ambix:N), 0 for the other
+                               // formats: /listener/orientation turns an Ambisonic bus only
 };
 
 struct ValidatedArguments {

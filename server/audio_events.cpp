@@ -14,7 +14,10 @@ bool AudioEvents::handle() {
             // Freed here, never on the audio thread, each as its type.
             if (e.object_type == RetiredObject::scene_surfaces) delete static_cast<SceneSurfaces*>(e.object);
             else if (e.object_type == RetiredObject::loaded_scene) delete static_cast<LoadedScene*>(e.object);
-            else delete static_cast<UmbrellaScene*>(e.object);
+            else if (e.object_type == RetiredObject::rotation) {
+                delete static_cast<AmbixRotation*>(e.object);   // 2 KiB: no need to return memory for it
+                continue;
+            } else delete static_cast<UmbrellaScene*>(e.object);
             freed_scene = true;
         } else if (e.kind == RendererEventKind::swapped) {
             const char* address = e.command == CommandKind::swap_surface  ? "/material/surface"

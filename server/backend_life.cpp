@@ -25,7 +25,9 @@ std::unique_ptr<BackendLife> BackendLife::choose(const DaemonOptions& options, S
     std::unique_ptr<BackendLife> life(new BackendLife(systemd));
     if (options.backend != BackendChoice::null) {
         std::string error;
-        auto j = JackBackend::open({options.jack_name, options.channels, options.autoconnect, options.start_at_unix_ns.value_or(0)}, error);
+        auto j = JackBackend::open({options.jack_name, options.channels, options.autoconnect, options.start_at_unix_ns.value_or(0),
+                                    options.format ? output_channel_names(*options.format) : std::vector<std::string>{}},
+                                   error);
         if (j) {
             life->jack_ = j.get();
             life->backend_ = std::move(j);

@@ -17,6 +17,7 @@
 #include "server/memory_return.hpp"
 #include "server/osc/traffic_counters.hpp"
 #include "server/osc_intake.hpp"
+#include "server/output_choice.hpp"
 #include "server/packet_dispatch.hpp"
 #include "server/peers.hpp"
 #include "server/queries.hpp"
@@ -40,6 +41,10 @@ int Daemon::run() {
     ControlLoop loop;   // SIGINT, SIGTERM and SIGHUP are caught from here on, and handled once it runs
     SystemdNotifier systemd;
     TrafficCounters traffic;
+
+    // The output format before the backend: its channels are the ports' and the WAV's.
+    if (!resolve_output_format(options_)) return 1;
+    say("output " + output_channel_summary(*options_.format));
 
     // The backend first: its sample rate decides the physics' time step. The null backend ends a
     // --duration render from its own thread.
@@ -72,7 +77,8 @@ int Daemon::run() {
     say(level);
     life->set_wav_comment("ameotod " AMEOTO_VERSION ": " + level +
                           ". Samples are sound pressure at the listener: pressure in Pa = sample x 10^((0 dBFS in dB SPL - 93.98) / 20)"
-                          " (gain changes over OSC after the start are in ameotod's log)");
+                          " (gain changes over OSC after the start are in ameotod's log). Channels: " +
+                          output_channel_summary(*options_.format));
 
     // What the control thread answers with, and what a packet becomes.
     StatusReport status(bridge, life->backend());

@@ -65,7 +65,15 @@ Options:
   --duration SECONDS  stop after this many seconds of audio (> 0)
   --seed N            random seed, 0..2^64-1 (default 0): same seed and same timed
                       events give the same samples
-  --channels N        output channels, 1..16 (default 2)
+  --channels N        output channels, 1..16 (default 2): stereo for 2, else ring:N
+  --format F          what the channels carry (docs/output-formats.md): stereo (default),
+                      ears (two points 0.18 m apart), ring:N (N = 1..16 speakers on a
+                      ring), ambix:ORDER (Ambisonics, ORDER 1..3: 4, 9 or 16 channels,
+                      ACN order, SN3D, no Condon-Shortley phase; /listener/orientation
+                      turns it), binaural (not yet for the live stream: refused;
+                      ameoto render scene --format binaural decodes it offline).
+                      Default: the scene file's 'output format=', else stereo. JACK
+                      ports stay out_1..out_N with pretty names ("ACN 0 W", ...)
   --scene NAME|FILE.scene
                       scene to start with: umbrella (default: light rain, 2 mm/h, on
                       an 8-panel nylon umbrella of 0.5 m radius), pond, tin-roof,
@@ -249,6 +257,16 @@ ParsedOptions parse_options(int argc, const char* const* argv) {
         } else if (arg == "--channels") {
             if (!value(v) || !parse_int(v, 1, 16, n)) return fail("--channels needs 1..16");
             o.channels = static_cast<int>(n);
+            o.channels_given = true;
+            if (o.format) return fail("give --format or --channels, not both (ring:N is N channels)");
+        } else if (arg == "--format") {
+            std::string error;
+            if (!value(v)) return fail("--format needs stereo, ears, ring:N, ambix:ORDER or binaural");
+            const auto f = parse_output_format(v, error);
+            if (!f) return fail("--format: " + error);
+            if (o.channels_given) return fail("give --format or --channels, not both (ring:N is N channels)");
+            o.format = *f;
+            o.channels = f->channels;
         } else if (arg == "--rain") {
             if (!value(v) || !parse_double(v, 0, 500, d)) return fail("--rain needs a rain rate 0..500 mm/h");
             o.rain_mm_per_h = d;

@@ -13,6 +13,7 @@
 
 #include <boost/asio/ip/udp.hpp>
 
+#include "engine/scene/output_format.hpp"
 #include "server/osc/sender_filter.hpp"
 
 namespace ameoto {
@@ -35,7 +36,10 @@ struct DaemonOptions {
                                           // 1..99, or 0 for normal scheduling (jackd's -P / --no-realtime)
     std::optional<double> duration_s;
     std::uint64_t seed = 0;
-    int channels = 2;
+    int channels = 2;                     // the output format's (resolve_output_format sets it)
+    std::optional<OutputFormat> format;   // --format; none: the scene file's `output format=`, else
+                                          // --channels' meaning (stereo for 2, ring:N)
+    bool channels_given = false;          // --channels on the command line (it and --format exclude each other)
     int node = 0;                         // --node K: only the scene's surfaces on node K (0: all)
     std::optional<std::int64_t> start_at_unix_ns;   // --start-at: JACK plays silence until then (start_gate.hpp)
     std::vector<boost::asio::ip::udp::endpoint> peers;   // --peers: the nodes this one conducts (peers.hpp)

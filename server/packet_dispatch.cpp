@@ -5,6 +5,7 @@
 
 #include <cmath>
 
+#include "engine/models/ambisonics.hpp"
 #include "protocol/receive.hpp"
 
 namespace ameoto {
@@ -137,7 +138,12 @@ void PacketDispatch::enqueue(Command c, const protocol::DecodedMessage& message,
         c.timed = true;
         c.frame = frame_at(clock, *at);
     }
+    // The head's rotation matrix is built here, on the control thread, and travels with the command
+    // (the audio thread copies it and hands it back in a `retired` event).
+    if (c.kind == CommandKind::orientation)
+        c.object = new AmbixRotation(AmbixRotation::from_orientation(c.values[0], c.values[1], c.values[2], scenes_.context().ambisonic_order));
     if (!bridge_.send(c)) {
+        if (c.kind == CommandKind::orientation) delete static_cast<AmbixRotation*>(c.object);
         ++traffic_.busy;
         replies_.reply(sender, "/fail", protocol::fail_arguments(message.address, "busy: command queue full"));
         return;

@@ -45,6 +45,7 @@ std::optional<FirstScene> read_first_scene(const DaemonOptions& options, double 
     FirstScene first;
     first.base.sample_rate = sample_rate;
     first.base.channels = options.channels;
+    if (options.format) apply_output_format(first.base, *options.format);   // resolve_output_format checked it
     first.base.seed = options.seed;
     first.base.node = options.node;   // kept by every later /scene/load (base_config_)
     // Shedding detail by measured load makes the output depend on the machine: live playback only. An
@@ -99,6 +100,7 @@ SceneManager::SceneManager(boost::asio::io_context& io, const FirstScene& first,
       level_(first.level),
       worker_(io) {
     use_geometry(first.config, has_umbrella(first.scene));
+    context_.ambisonic_order = first.config.listener == ListenerStyle::ambix ? ambix_order(first.config.channels) : 0;
     context_.on_surface = [this](const std::string&, double x, double y) { return geometry_->locate(x, y).panel >= 0; };
     context_.custom_liquid = [this](const std::string& name) -> std::optional<Liquid> {
         const auto found = custom_liquids_.find(name);

@@ -6,6 +6,7 @@
 #include "clients/ameoto/bench_accuracy.hpp"
 #include "clients/ameoto/bench_drop.hpp"
 #include "clients/ameoto/bench_engine.hpp"
+#include "clients/ameoto/bench_formats.hpp"
 #include "clients/ameoto/bench_lattices.hpp"
 #include "clients/ameoto/bench_levels.hpp"
 #include "clients/ameoto/bench_options.hpp"
@@ -18,6 +19,7 @@ std::string bench_usage() {
     return "usage: ameoto bench engine [--json] [--seconds S] [--sizes N,N,...] [--runs R] [--no-faust]\n"
            "       ameoto bench drop [--json] [--runs R]\n"
            "       ameoto bench scene [--json] [--seconds S]\n"
+           "       ameoto bench formats [--json] [--seconds S]\n"
            "       ameoto bench accuracy [--json] [--csv FILE] [--svg FILE] [--stability-svg FILE] [--table FILE]\n"
            "       ameoto bench lattices [--max-diameter MM] [--table FILE]\n"
            "       ameoto bench levels [--seconds S] [--scene NAME]... [--json | --markdown]\n"
@@ -27,6 +29,9 @@ std::string bench_usage() {
            "scene: the drops per second one core holds at each level of detail (full, template,\n"
            "texture), and heavy rain (50 mm/h, umbrella and pond) in 64-frame blocks: mean and\n"
            "99.9th percentile callback time (--seconds x 4 s of audio per measurement, 1..20).\n"
+           "formats: heavy rain (50 mm/h, umbrella and pond) at 48 kHz in 256-frame blocks as stereo and\n"
+           "as ambix:1, 2, 3: ns per sample, % of a core and the ratio to stereo, in the same run\n"
+           "(--seconds x 4 s of audio per format and round, 3 rounds; docs/output-formats.md).\n"
            "accuracy: cost against error of every integration method on the umbrella panel, the\n"
            "stability map, and the accuracy knob's data (ameoto bench accuracy --help; docs/accuracy.md).\n"
            "lattices: the drop lattices' stretch-mode analysis, timed per lattice, and its committed table\n"
@@ -71,6 +76,7 @@ int run_bench(const CommandWords& words, const CommandIo& io) {
     }
     if (options.suite == "drop") return run_drop_bench(options, io);
     if (options.suite == "scene") return run_scene_bench(options, io);
+    if (options.suite == "formats") return run_formats_bench(options, io);
     return run_engine_bench(options, io);
 }
 

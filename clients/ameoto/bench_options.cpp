@@ -24,7 +24,7 @@ std::optional<long> parse_integer(const std::string& text) {
 // ignore it is refused rather than silently dropped, so no one reads a figure as measured with it.
 std::vector<std::string> options_of(const std::string& suite) {
     if (suite == "drop") return {"--json", "--runs"};
-    if (suite == "scene") return {"--json", "--seconds"};
+    if (suite == "scene" || suite == "formats") return {"--json", "--seconds"};
     return {"--json", "--seconds", "--sizes", "--runs", "--no-faust"};
 }
 
@@ -99,11 +99,11 @@ BenchParse parse_bench_options(const CommandWords& words, BenchOptions& options,
         }
     }
     if (options.suite.empty()) {
-        error = "which suite? (ameoto bench engine | drop | scene)";
+        error = "which suite? (ameoto bench engine | drop | scene | formats)";
         return BenchParse::error;
     }
-    if (options.suite != "engine" && options.suite != "drop" && options.suite != "scene") {
-        error = "unknown suite '" + options.suite + "' (the suites: engine, drop, scene)";
+    if (options.suite != "engine" && options.suite != "drop" && options.suite != "scene" && options.suite != "formats") {
+        error = "unknown suite '" + options.suite + "' (the suites: engine, drop, scene, formats)";
         return BenchParse::error;
     }
     const auto accepted = options_of(options.suite);

@@ -50,7 +50,7 @@ std::vector<std::string> liquid_names() {
 std::string render_usage() {
     return "usage: ameoto render drop --diameter MM -o FILE.wav [--speed M/S] [--material NAME]\n"
            "           [--liquid NAME] [--seconds S] [--rate HZ] [--seed N] [--x M --y M]\n"
-           "           [--output-kind far-field|mass] [--channels 1|2] [--coarse-steps N]\n"
+           "           [--output-kind far-field|mass] [--channels 1|2 | --format F] [--coarse-steps N]\n"
            "           [--impact wet|seed] [--air on|off] [--quiet] [--plot FILE.svg]\n"
            "\n"
            "Renders one drop falling on the umbrella, offline (no server needed): a lattice drop of\n"
@@ -81,6 +81,8 @@ std::string render_usage() {
            "                      (1.0 = 100 Pa; default); mass: the seed's single-mass pickup,\n"
            "                      the displacement of the membrane mass under the impact point\n"
            "  --channels N        1 (mono) or 2 (two ears 0.18 m apart; default 1)\n"
+           "  --format F          ring:1 (mono), ears (as --channels 2), stereo (panned), ring:N, or\n"
+           "                      ambix:ORDER (1..3: 4, 9 or 16 channels, ACN/SN3D; docs/output-formats.md)\n"
            "  --coarse-steps N    1..64 samples a splash wholly in the air (touching nothing) may\n"
            "                      take as one step (default 4; 1: every piece every sample). The\n"
            "                      sound is the same to the bit until a piece lands again, then\n"
@@ -106,7 +108,7 @@ std::string render_usage() {
 }
 
 RenderParse parse_render_drop_options(const CommandWords& words, RenderDropOptions& o, std::string& error) {
-    bool have_diameter = false;
+    bool have_diameter = false, channels_given = false;
     OptionReader reader(words);
     for (auto kind = reader.next_word(); kind != OptionReader::Word::end; kind = reader.next_word()) {
         // The word as typed for the messages below: the option's name, or the positional word.
@@ -210,7 +212,31 @@ RenderParse parse_render_drop_options(const CommandWords& words, RenderDropOptio
                 error = "--channels: '" + value + "' is not 1 or 2";
                 return RenderParse::error;
             }
+            if (o.format) {
+                error = "give --format or --channels, not both";
+                return RenderParse::error;
+            }
             o.channels = value == "1" ? 1 : 2;
+            channels_given = true;
+        } else if (name == "--format") {
+            if (!take_value()) return RenderParse::error;
+            std::string why;
+            const auto f = parse_output_format(value, why);
+            if (!f) {
+                error = "--format: " + why;
+                return RenderParse::error;
+            }
+            if (f->kind == OutputKind::binaural) {
+                error = "--format binaural: render drop does not decode to two ears (ears gives two points; "
+                        "ameoto render scene --format binaural decodes)";
+                return RenderParse::error;
+            }
+            if (channels_given) {
+                error = "give --format or --channels, not both";
+                return RenderParse::error;
+            }
+            o.format = *f;
+            o.channels = f->channels;
         } else if (name == "-o" || name == "--output") {
             if (!take_value()) return RenderParse::error;
             if (value.empty()) {
@@ -345,6 +371,10 @@ int run_render(const CommandWords& words, const CommandIo& io) {
     config.liquid = *find_liquid(o.liquid);
     config.output = o.output;
     config.channels = o.channels;
+    if (o.format)
+        config.listener = o.format->kind == OutputKind::ambix  ? ListenerStyle::ambix
+                          : o.format->kind == OutputKind::ears ? ListenerStyle::ears
+                                                               : ListenerStyle::panned;
     config.coarse_steps = o.coarse_steps;
     config.impact = o.impact;
     config.air = o.air;
@@ -395,6 +425,8 @@ int run_render(const CommandWords& words, const CommandIo& io) {
         io.err << "ameoto render drop: " << error << "\n";
         return exit_status::refused;
     }
+    if (o.format)   // what the channels are (the --channels formats say it in --help)
+        sf_set_string(wav, SF_STR_COMMENT, ("ameoto render drop. Channels: " + output_channel_summary(*o.format)).c_str());
     std::ofstream svg;
     if (!o.plot_path.empty()) {
         svg.open(o.plot_path, std::ios::binary | std::ios::trunc);

@@ -21,6 +21,7 @@
 #include "clients/ameoto/command_io.hpp"
 #include "engine/models/drop_on_canopy.hpp"
 #include "engine/models/wet_impact.hpp"
+#include "engine/scene/output_format.hpp"
 
 namespace ameoto::client {
 
@@ -34,7 +35,8 @@ struct RenderDropOptions {
     std::uint64_t seed = 1;             // picks the impact point when --x/--y are not given
     std::optional<double> x, y;         // m, canopy coordinates; both or neither
     SceneOutput output = SceneOutput::far_field;
-    int channels = 1;                   // 1 or 2
+    int channels = 1;                   // 1 or 2 (--channels), or the format's (--format)
+    std::optional<OutputFormat> format; // --format: ring:1 (mono), ears (the default for 2), stereo, ring:N, ambix:N
     int coarse_steps = 4;               // 1..64: samples a splash in the air may take as one (1: never)
     ImpactModel impact = ImpactModel::wet;   // --impact wet|seed (engine/models/wet_impact.hpp)
     bool air = false;                   // --air on|off: the canopy's modes in air heard as dipoles

@@ -4,10 +4,12 @@
 #include <sndfile.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <fstream>
 #include <iostream>
+#include <memory>
 #include <sstream>
 #include <vector>
 
@@ -16,6 +18,7 @@
 #include "clients/ameoto/number_text.hpp"
 #include "clients/ameoto/option_reader.hpp"
 #include "clients/ameoto/progress_line.hpp"
+#include "engine/render/binaural_decoder.hpp"
 #include "engine/render/level_choice.hpp"
 #include "engine/render/loudness.hpp"
 #include "engine/render/renderer.hpp"
@@ -24,7 +27,8 @@ namespace ameoto::client {
 
 std::string render_scene_usage() {
     return "usage: ameoto render scene -o FILE.wav [--scene NAME|FILE.scene] [--rain MM/H] [--seconds S]\n"
-           "           [--rate HZ] [--seed N] [--channels N] [--level auto|physical] [--loudness LUFS]\n"
+           "           [--rate HZ] [--seed N] [--channels N | --format F] [--level auto|physical]\n"
+           "           [--hrtf FILE.sofa] [--loudness LUFS]"
            "           [--gain DB] [--limiter on|off] [--air on|off] [--quiet]\n"
            "\n"
            "Renders a rain scene offline (no server needed) with the engine ameotod runs: its surfaces,\n"
@@ -38,7 +42,10 @@ std::string render_scene_usage() {
            "  --seconds S         length, 0.01..3600 s (default 10)\n"
            "  --rate HZ           sample rate, 8000..192000 Hz (default 48000)\n"
            "  --seed N            random seed, 0..2^64-1 (default 1)\n"
-           "  --channels N        1..16 (default 2)\n"
+           "  --channels N        1..16 (default 2): stereo for 2, else ring:N\n" +
+           format_option_usage() +
+           "  --hrtf FILE.sofa    binaural: the head-related impulse responses (AES69 SOFA; default\n"
+           "                      /usr/share/libmysofa/default.sofa, MIT KEMAR; docs/binaural.md)\n" +
            "  --level auto|physical\n"
            "                      auto (default): a level gain chosen so the scene's default rain\n"
            "                      plays at --loudness (3 s of it rendered and measured first, as\n"
@@ -157,8 +164,18 @@ RenderParse parse_render_scene_options(const CommandWords& words, RenderSceneOpt
                     error = "--channels: '" + value + "' is not 1..16";
                     return RenderParse::error;
                 }
-                o.channels = static_cast<int>(*v);
+                if (!o.format.take_channels(static_cast<int>(*v), error)) return RenderParse::error;
             }
+        } else if (name == "--hrtf") {
+            if (!take_value()) return RenderParse::error;
+            if (value.empty()) {
+                error = "--hrtf needs a SOFA file";
+                return RenderParse::error;
+            }
+            o.hrtf = value;
+        } else if (name == "--format") {
+            if (!take_value()) return RenderParse::error;
+            if (!o.format.take_format(value, error)) return RenderParse::error;
         } else if (name == "-o" || name == "--output") {
             if (!take_value()) return RenderParse::error;
             if (value.empty()) {
@@ -206,12 +223,14 @@ int run_render_scene(const RenderSceneOptions& o, const CommandIo& io) {
         return exit_status::refused;
     }
     std::optional<Renderer> renderer;
+    OutputFormat format;
     const double default_rain = scene.rain.rate_mm_per_h;
     LevelChoice level;
     try {
         RendererConfig base;
         base.sample_rate = o.rate;
-        base.channels = o.channels;
+        format = o.format.resolve(scene.output_format);
+        apply_output_format(base, format);
         base.seed = o.seed;
         base.adaptive_lod = false;   // offline: reproducible, whatever the machine's load
         base.limiter = o.limiter.value_or(o.level_auto);
@@ -225,9 +244,21 @@ int run_render_scene(const RenderSceneOptions& o, const CommandIo& io) {
         io.err << "ameoto render scene: " << e.what() << "\n";
         return exit_status::refused;
     }
+    constexpr int block = 512;
+    // Binaural: the renderer's third-order bus, decoded to two ears block by block (binaural_decoder.hpp;
+    // built here, before any sample: libmysofa reads and resamples the SOFA file).
+    std::unique_ptr<BinauralDecoder> binaural;
+    if (format.kind == OutputKind::binaural) {
+        auto made = BinauralDecoder::create(o.hrtf, format.order, o.rate, block);
+        if (!made.decoder) {
+            io.err << "ameoto render scene: --format binaural: " << made.error << "\n";
+            return exit_status::refused;
+        }
+        binaural = std::move(made.decoder);
+    }
     SF_INFO info{};
     info.samplerate = o.rate;
-    info.channels = o.channels;
+    info.channels = format.channels;
     info.format = SF_FORMAT_WAV | SF_FORMAT_FLOAT;
     SNDFILE* wav = sf_open(o.wav_path.c_str(), SFM_WRITE, &info);
     if (!wav) {
@@ -239,14 +270,16 @@ int run_render_scene(const RenderSceneOptions& o, const CommandIo& io) {
     sf_set_string(wav, SF_STR_SOFTWARE, "ameoto render scene");
     sf_set_string(wav, SF_STR_COMMENT, ("ameoto render scene: " + calibration +
                                         ". Samples are sound pressure at the listener: pressure in Pa = sample x 10^((0 dBFS in "
-                                        "dB SPL - 93.98) / 20)").c_str());
-    LoudnessMeter loudness(o.channels, o.rate, LoudnessMeter::integrated | LoudnessMeter::peaks);
+                                        "dB SPL - 93.98) / 20). Channels: " + output_channel_summary(format))
+                                           .c_str());
+    LoudnessMeter loudness(format.channels, o.rate, LoudnessMeter::integrated | LoudnessMeter::peaks);
     const long total = std::max(1L, std::lround(o.seconds * o.rate));
-    constexpr int block = 512;
-    const int channels = o.channels;
-    std::vector<std::vector<float>> planar(static_cast<std::size_t>(channels), std::vector<float>(block));
-    std::vector<float*> out(static_cast<std::size_t>(channels));
-    for (int c = 0; c < channels; ++c) out[static_cast<std::size_t>(c)] = planar[static_cast<std::size_t>(c)].data();
+    const int channels = format.channels;   // the file's (2 for binaural)
+    const int bus = renderer->config().channels;   // the renderer's (16 for binaural)
+    std::vector<std::vector<float>> planar(static_cast<std::size_t>(bus), std::vector<float>(block));
+    std::vector<float*> out(static_cast<std::size_t>(bus));
+    for (int c = 0; c < bus; ++c) out[static_cast<std::size_t>(c)] = planar[static_cast<std::size_t>(c)].data();
+    std::vector<std::vector<float>> ears(2, std::vector<float>(block));
     std::vector<float> interleaved(static_cast<std::size_t>(block * channels));
     ProgressLine progress(io.err, !o.quiet && isatty(STDERR_FILENO) && &io.err == &std::cerr, o.rate);
     double peak = 0.0;
@@ -254,9 +287,16 @@ int run_render_scene(const RenderSceneOptions& o, const CommandIo& io) {
     for (long done = 0; done < total;) {
         const int n = static_cast<int>(std::min<long>(block, total - done));
         renderer->process(n, out.data());
+        const std::vector<std::vector<float>>* heard = &planar;
+        if (binaural) {
+            // The decoder takes whole blocks: a last short block is padded with silence (its tail unwritten).
+            for (auto& p : planar) std::fill(p.begin() + n, p.end(), 0.0f);
+            binaural->process(out.data(), block, ears[0].data(), ears[1].data());
+            heard = &ears;
+        }
         for (int i = 0; i < n; ++i)
             for (int c = 0; c < channels; ++c) {
-                const float s = planar[static_cast<std::size_t>(c)][static_cast<std::size_t>(i)];
+                const float s = (*heard)[static_cast<std::size_t>(c)][static_cast<std::size_t>(i)];
                 if (!std::isfinite(s)) finite = false;
                 peak = std::max(peak, static_cast<double>(std::fabs(s)));
                 interleaved[static_cast<std::size_t>(i * channels + c)] = s;

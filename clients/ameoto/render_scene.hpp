@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // `ameoto render scene [--scene NAME|FILE.scene] [--rain MM/H] [--seconds S] [--rate HZ] [--seed N]
-// [--channels N] [--level auto|physical] [--loudness LUFS] [--gain DB] [--limiter on|off] [--quiet] -o FILE.wav`: renders a rain scene offline with the renderer the server runs
+// [--channels N | --format F] [--level auto|physical] [--loudness LUFS] [--gain DB] [--limiter on|off] [--quiet] -o FILE.wav`: renders a rain scene offline with the renderer the server runs
 // (engine/render/renderer.hpp), to a 32-bit float WAV; needs no server. The same scene, seed and rate
 // give the same samples as ameotod --offline (the governor ignores machine load offline), through the same
 // output stage (engine/render/output_stage.hpp) and level choice (level_choice.hpp). docs/cli-offline.md.
@@ -16,6 +16,7 @@
 #include <string>
 
 #include "clients/ameoto/command_io.hpp"
+#include "clients/ameoto/format_option.hpp"
 #include "clients/ameoto/render_drop.hpp"
 
 namespace ameoto::client {
@@ -26,7 +27,8 @@ struct RenderSceneOptions {
     double seconds = 10.0;              // 0.01..3600
     int rate = 48000;                   // Hz, 8000..192000
     std::uint64_t seed = 1;
-    int channels = 2;                   // 1..16
+    std::string hrtf = "/usr/share/libmysofa/default.sofa";   // --hrtf FILE.sofa: binaural's HRIRs
+    FormatChoice format;                // --format or --channels (1..16); default: the scene's, else stereo
     std::optional<bool> air;            // --air on|off: overrides every umbrella's air= key
     bool quiet = false;
     std::string wav_path;               // -o, required

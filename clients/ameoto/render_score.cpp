@@ -32,7 +32,7 @@ struct ScoreCommand {
     Command command;
 };
 
-std::string seconds_text(double s) {
+std::string score_seconds_text(double s) {
     std::ostringstream o;
     o.precision(9);
     o << s;
@@ -64,7 +64,7 @@ bool read_scene(const std::string& name, SceneDescription& scene, std::string& e
 
 std::string render_score_usage() {
     return "usage: ameoto render score FILE -o OUT.wav [--scene NAME|FILE.scene] [--rain MM/H]\n"
-           "           [--seconds S] [--rate HZ] [--seed N] [--channels N]\n"
+           "           [--seconds S] [--rate HZ] [--seed N] [--channels N | --format F]\n"
            "           [--block FRAMES] [--quiet]\n"
            "\n"
            "Renders a score of timed OSC messages offline (no server needed) with the engine ameotod\n"
@@ -85,7 +85,9 @@ std::string render_score_usage() {
            "                      message's time + 3 s)\n"
            "  --rate HZ           sample rate, 8000..192000 Hz (default 48000)\n"
            "  --seed N            random seed, 0..2^64-1 (default 1)\n"
-           "  --channels N        1..16 (default 2)\n"
+           "  --channels N        1..16 (default 2): stereo for 2, else ring:N\n" +
+           format_option_usage() +
+           "                      With ambix:N, /listener/orientation messages turn the bus\n"
            "  --block FRAMES      frames per engine call, 1..8192 (default 512; the samples are the same\n"
            "                      at any block size)\n"
            "  --quiet             no progress on stderr\n"
@@ -137,6 +139,9 @@ RenderParse parse_render_score_options(const CommandWords& words, RenderScoreOpt
             const auto v = reader.number_into(0.0, 500.0, "mm/h", error);
             if (!v) return RenderParse::error;
             o.rain_mm_per_h = *v;
+        } else if (name == "--format") {
+            if (!take_value()) return RenderParse::error;
+            if (!o.format.take_format(value, error)) return RenderParse::error;
         } else if (name == "--seconds") {
             const auto v = reader.number_into(0.01, 86400.0, "s", error);
             if (!v) return RenderParse::error;
@@ -161,7 +166,7 @@ RenderParse parse_render_score_options(const CommandWords& words, RenderScoreOpt
                     error = "--channels: '" + value + "' is not 1..16";
                     return RenderParse::error;
                 }
-                o.channels = static_cast<int>(*v);
+                if (!o.format.take_channels(static_cast<int>(*v), error)) return RenderParse::error;
             } else {
                 if (!v || *v < 1 || *v > 8192) {
                     error = "--block: '" + value + "' is not 1..8192 frames";
@@ -217,10 +222,15 @@ int run_render_score(const RenderScoreOptions& o, const CommandIo& io) {
     if (o.rain_mm_per_h) scene.rain.rate_mm_per_h = *o.rain_mm_per_h;
     std::optional<Renderer> renderer;
     std::optional<Canopy> geometry;
+    OutputFormat format;
     try {
         RendererConfig base;
         base.sample_rate = o.rate;
-        base.channels = o.channels;
+        format = o.format.resolve(scene.output_format);
+        if (format.kind == OutputKind::binaural)
+            throw std::invalid_argument("--format binaural: render score does not decode to two ears yet (ameoto render scene "
+                                        "--format binaural does); use ambix:3 and a binaural decoder");
+        apply_output_format(base, format);
         base.seed = o.seed;
         base.adaptive_lod = false;   // offline: every drop at its full detail, whatever the machine's load
         const RendererConfig config = configure_for_scene(base, scene);
@@ -236,6 +246,7 @@ int run_render_score(const RenderScoreOptions& o, const CommandIo& io) {
                                       [](const SurfaceDescription& s) { return s.kind == SurfaceKind::umbrella; });
     context.surfaces = umbrella ? std::vector<std::string>{"umbrella"} : std::vector<std::string>{};
     context.on_surface = [&](const std::string&, double x, double y) { return geometry->locate(x, y).panel >= 0; };
+    context.ambisonic_order = format.kind == OutputKind::ambix ? format.order : 0;
 
     // Every message checked before a sample is written.
     std::vector<Command> commands;
@@ -245,7 +256,7 @@ int run_render_score(const RenderScoreOptions& o, const CommandIo& io) {
     for (std::size_t index = 0; index < score.messages.size(); ++index) {
         const ScoreMessage& m = score.messages[index];
         auto refuse = [&](const std::string& reason) {
-            io.err << me << m.where << ", at " << seconds_text(m.seconds) << " s (message " << index + 1 << " in time order): "
+            io.err << me << m.where << ", at " << score_seconds_text(m.seconds) << " s (message " << index + 1 << " in time order): "
                    << m.message.address << ": " << reason << "\nnothing was rendered\n";
             return exit_status::refused;
         };
@@ -298,15 +309,17 @@ int run_render_score(const RenderScoreOptions& o, const CommandIo& io) {
 
     SF_INFO info{};
     info.samplerate = o.rate;
-    info.channels = o.channels;
+    info.channels = format.channels;
     info.format = SF_FORMAT_WAV | SF_FORMAT_FLOAT;
     SNDFILE* wav = sf_open(o.wav_path.c_str(), SFM_WRITE, &info);
     if (!wav) {
         io.err << me << "cannot open " << o.wav_path << " for writing: " << sf_strerror(nullptr) << "\n";
         return exit_status::refused;
     }
+    sf_set_string(wav, SF_STR_SOFTWARE, "ameoto render score");
+    sf_set_string(wav, SF_STR_COMMENT, ("ameoto render score. Channels: " + output_channel_summary(format)).c_str());
     const int block = o.block;
-    const int channels = o.channels;
+    const int channels = format.channels;
     std::vector<std::vector<float>> planar(static_cast<std::size_t>(channels), std::vector<float>(static_cast<std::size_t>(block)));
     std::vector<float*> out(static_cast<std::size_t>(channels));
     for (int c = 0; c < channels; ++c) out[static_cast<std::size_t>(c)] = planar[static_cast<std::size_t>(c)].data();
@@ -325,10 +338,16 @@ int run_render_score(const RenderScoreOptions& o, const CommandIo& io) {
                 n = std::max<long>(1, static_cast<long>(commands[next].frame) - done);
                 break;
             }
-            renderer->schedule(commands[next++]);
+            Command c = commands[next++];
+            // The head's rotation, built here off the renderer's calls as ameotod builds it (packet_dispatch.cpp).
+            if (c.kind == CommandKind::orientation)
+                c.object = new AmbixRotation(AmbixRotation::from_orientation(c.values[0], c.values[1], c.values[2], format.order));
+            renderer->schedule(c);
             ++queued;
         }
         renderer->process(static_cast<int>(n), out.data());
+        for (RendererEvent e; renderer->poll_event(e);)   // the rotations come back to be freed
+            if (e.kind == RendererEventKind::retired && e.object_type == RetiredObject::rotation) delete static_cast<AmbixRotation*>(e.object);
         for (long i = 0; i < n; ++i)
             for (int c = 0; c < channels; ++c) {
                 const float s = planar[static_cast<std::size_t>(c)][static_cast<std::size_t>(i)];

@@ -29,6 +29,7 @@
 #include <string>
 
 #include "clients/ameoto/command_io.hpp"
+#include "clients/ameoto/format_option.hpp"
 #include "clients/ameoto/render_drop.hpp"
 
 namespace ameoto::client {
@@ -41,7 +42,7 @@ struct RenderScoreOptions {
     std::optional<double> seconds;         // 0.01..86400; default: the end marker, or the last message + 3 s
     int rate = 48000;                      // Hz
     std::uint64_t seed = 1;
-    int channels = 2;
+    FormatChoice format;                   // --format or --channels; default: the scene's, else stereo
     int block = 512;                       // frames per renderer call, 1..8192 (changes nothing in the samples)
     bool quiet = false;
     std::string setup_option;              // the first of --scene, --rain, --rate, --seed, --channels given

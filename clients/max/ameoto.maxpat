@@ -910,6 +910,40 @@
      "text": "level auto's target LUFS; /loudness alone asks (level, target, measured, gains, 0 dBFS dB SPL)",
      "linecount": 1
     }
+   },
+   {
+    "box": {
+     "id": "obj-52",
+     "maxclass": "message",
+     "numinlets": 2,
+     "numoutlets": 1,
+     "patching_rect": [
+      740,
+      476,
+      220,
+      22.0
+     ],
+     "outlettype": [
+      ""
+     ],
+     "text": "/listener/orientation 90. 0. 0."
+    }
+   },
+   {
+    "box": {
+     "id": "obj-53",
+     "maxclass": "comment",
+     "numinlets": 1,
+     "numoutlets": 0,
+     "patching_rect": [
+      970,
+      476,
+      440,
+      22.0
+     ],
+     "text": "the head turned (ambix streams): yaw pitch roll degrees",
+     "linecount": 1
+    }
    }
   ],
   "lines": [
@@ -1253,6 +1287,18 @@
     "patchline": {
      "source": [
       "obj-50",
+      0
+     ],
+     "destination": [
+      "obj-2",
+      0
+     ]
+    }
+   },
+   {
+    "patchline": {
+     "source": [
+      "obj-52",
       0
      ],
      "destination": [

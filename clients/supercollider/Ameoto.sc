@@ -110,6 +110,11 @@ Ameoto {
 	listener_ { |x = 0, y = 0, z = 1.6, facingDeg = 0|
 		addr.sendMsg('/listener', x.asFloat, y.asFloat, z.asFloat, facingDeg.asFloat)
 	}
+	// The head turned (a head tracker), degrees: yaw left, pitch nose up, roll right ear down. An
+	// Ambisonic stream only (ameotod --format ambix:N): the bus is rotated (docs/output-formats.md).
+	orientation { |yawDeg = 0, pitchDeg = 0, rollDeg = 0|
+		addr.sendMsg('/listener/orientation', yawDeg.asFloat, pitchDeg.asFloat, rollDeg.asFloat)
+	}
 	lod { |budgetPercent = 50, full = 4| addr.sendMsg('/lod', budgetPercent.asFloat, full.asInteger) }
 
 	// ---- level (docs/loudness.md) ----

@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "engine/core/physical_constants.hpp"
+#include "engine/models/ambisonics.hpp"
 #include "engine/models/collision_scan.hpp"
 #include "engine/models/drop.hpp"
 #include "engine/models/panning.hpp"
@@ -41,7 +42,14 @@ ListenerLayout layout_for(const DropOnCanopyConfig& c) {
     std::vector<std::vector<double>> gains(static_cast<std::size_t>(c.channels),
                                            std::vector<double>(static_cast<std::size_t>(shape.panel_count())));
     for (int k = 0; k < shape.panel_count(); ++k) {
-        const auto g = pan_gains(shape.panel_azimuth(k), c.channels);
+        // Ambisonics: the panel encoded by the direction of its centre (the mean of its nodes' rest
+        // points) from the head, elevation included; a panel's nodes are all within its sector.
+        Vec3 centre{};
+        for (int i = 0; i < shape.nodes_per_panel(); ++i) centre = centre + shape.rest_position(k, i);
+        const Vec3 d = centre / shape.nodes_per_panel() - head;
+        const auto g = c.listener == ListenerStyle::ambix
+                           ? ambix_gains(d, ambix_order(c.channels))
+                           : direction_gains(shape.panel_azimuth(k), 0.0, c.channels, false);
         for (int ch = 0; ch < c.channels; ++ch)
             gains[static_cast<std::size_t>(ch)][static_cast<std::size_t>(k)] = g[static_cast<std::size_t>(ch)];
     }
@@ -83,6 +91,8 @@ const DropOnCanopyConfig& DropOnCanopy::checked(const DropOnCanopyConfig& c) {
         throw std::invalid_argument("sample rate " + number(c.sample_rate) + " Hz is outside 8000..384000");
     if (c.channels < 1 || c.channels > max_pan_channels)
         throw std::invalid_argument("channels must be 1 to 16, not " + std::to_string(c.channels));
+    if (c.listener == ListenerStyle::ambix && ambix_order(c.channels) < 1)
+        throw std::invalid_argument("an Ambisonic listener needs 4, 9 or 16 channels, not " + std::to_string(c.channels));
     if (!(c.restitution >= 0.0 && c.restitution <= 1.0))
         throw std::invalid_argument("restitution " + number(c.restitution) + " is outside 0..1");
     if (c.impact != ImpactModel::wet && c.impact != ImpactModel::seed) throw std::invalid_argument("unknown impact model");

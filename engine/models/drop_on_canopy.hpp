@@ -116,7 +116,9 @@
 namespace ameoto {
 
 enum class SceneOutput { far_field, mass_pickup };
-enum class ListenerStyle { ears, panned };
+// ambix: one listening point; each panel's pressure encoded by the direction of its centre from the
+// head (ACN/SN3D, ambisonics.hpp) on 4, 9 or 16 channels (orders 1 to 3).
+enum class ListenerStyle { ears, panned, ambix };
 
 struct DropOnCanopyConfig {
     double sample_rate = 48000.0;                  // Hz, 8000..384000
@@ -125,7 +127,8 @@ struct DropOnCanopyConfig {
     CanopyGeometry geometry{};
     SceneOutput output = SceneOutput::far_field;
     int channels = 1;                              // 1..16 (the pickup is the same on every channel)
-    ListenerStyle listener = ListenerStyle::ears;  // two channels: ears or panned (3+: always panned)
+    ListenerStyle listener = ListenerStyle::ears;  // two channels: ears or panned (3+: panned, or ambix
+                                                   // on 4, 9 or 16)
     ImpactModel impact = ImpactModel::wet;         // how a drop mass meets the membrane (wet_impact.hpp):
                                                    // wet (a real drop's impulse m V, spreading) or seed
                                                    // (the seed's exchange, restitution below)

@@ -67,6 +67,7 @@ ImpactTemplateTable record_impact_templates(const DropOnCanopyConfig& scene, con
     DropOnCanopyConfig c = scene;
     c.output = SceneOutput::mass_pickup;   // the sound is not needed, only the contact force
     c.channels = 1;
+    c.listener = ListenerStyle::panned;    // mono (whatever the scene's listener)
     c.capacity = 1;
     c.max_diameter = grid.max_diameter_m * (1.0 + 1e-9);
     c.gap_m = 0.0;                         // striking in the first sample, as the server's /drop

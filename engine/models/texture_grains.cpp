@@ -38,6 +38,7 @@ TextureCalibration calibrate_texture(const DropOnCanopyConfig& scene, const Impa
     DropOnCanopyConfig c = scene;
     c.output = SceneOutput::far_field;
     c.channels = 1;
+    c.listener = ListenerStyle::panned;   // one point (an Ambisonic scene calibrates on the same mono)
     c.capacity = 1;
     const double fs = scene.sample_rate;
     const int frames = static_cast<int>(0.05 * fs);

@@ -24,6 +24,9 @@ enum class CommandKind : std::uint8_t {
     listener,      // values: x, y, z m, facing rad (the umbrella, if any, is held: it moves along)
     gain,          // values[0]: the listening gain, dB (output_stage.hpp); ramps over 50 ms
     level,         // values[0]: the scene's level gain, dB (--level auto's choice, moved by /loudness); ramps
+    orientation,   // values: yaw, pitch, roll rad (/listener/orientation); object: the AmbixRotation of the
+                   // bus (models/ambisonics.hpp) built off the audio thread, returned in a `retired` event;
+                   // the bus turns to it over rotation_ramp_frames (renderer.hpp)
 };
 
 struct Command {
@@ -33,7 +36,7 @@ struct Command {
     std::int32_t id = 0;
     std::uint64_t frame = 0;     // sample time at which to apply it, when timed
     double values[4] = {0, 0, 0, 0};
-    void* object = nullptr;      // swap_surface, swap_liquid: ownership passes to the renderer
+    void* object = nullptr;      // swap_surface, swap_liquid, load_scene, orientation: ownership passes to the renderer
 };
 
 enum class RendererEventKind : std::uint8_t {
@@ -44,7 +47,7 @@ enum class RendererEventKind : std::uint8_t {
 };
 
 // What a retired event's object is, so the control thread deletes it as its type.
-enum class RetiredObject : std::uint8_t { none, umbrella_scene, scene_surfaces, loaded_scene };
+enum class RetiredObject : std::uint8_t { none, umbrella_scene, scene_surfaces, loaded_scene, rotation };
 
 struct RendererEvent {
     RendererEventKind kind = RendererEventKind::synced;

@@ -17,6 +17,13 @@ LevelChoice choose_level(const RendererConfig& config, double target_lufs, doubl
     c.adaptive_lod = false;   // the same samples on any machine load
     c.rain_rate_mm_per_h = c.scene.rain.rate_mm_per_h;
     c.node = 0;   // the whole scene on every node: each node plays with the same gain, so the nodes sum to it
+    // An Ambisonic bus is measured as the stereo stream of the same scene: a loudness summed over SH
+    // channels would depend on the order (R 128 weights loudspeaker channels, not SH components), and a
+    // scene should play at one gain whatever the format.
+    if (c.listener == ListenerStyle::ambix) {
+        c.listener = ListenerStyle::panned;
+        c.channels = 2;
+    }
     LevelChoice choice;
     choice.seconds = seconds;
     if (!(c.rain_rate_mm_per_h > 0.0)) {

@@ -25,6 +25,8 @@ RainSpawner::Config rain_config_for(const Canopy& canopy, const RainDescription&
 const RendererConfig& checked(const RendererConfig& config) {
     if (config.channels < 1 || config.channels > Renderer::max_channels)
         throw std::invalid_argument("channels must be 1 to 16");
+    if (config.listener == ListenerStyle::ambix && ambix_order(config.channels) < 1)
+        throw std::invalid_argument("an Ambisonic bus has 4, 9 or 16 channels (orders 1 to 3)");
     if (!(config.sample_rate >= 8000.0 && config.sample_rate <= 384000.0))
         throw std::invalid_argument("sample rate must be 8000 to 384000 Hz");
     if (config.node < 0 || config.node > max_scene_nodes) throw std::invalid_argument("node must be 0 (the whole scene) to 16");
@@ -44,6 +46,21 @@ OutputStageConfig output_config(const RendererConfig& config) {
 }
 
 }  // namespace
+
+void apply_output_format(RendererConfig& config, const OutputFormat& format) {
+    switch (format.kind) {
+        case OutputKind::stereo: config.listener = ListenerStyle::panned; break;
+        case OutputKind::ears: config.listener = ListenerStyle::ears; break;
+        case OutputKind::ring: config.listener = ListenerStyle::panned; break;
+        case OutputKind::ambix: config.listener = ListenerStyle::ambix; break;
+        case OutputKind::binaural:
+            // The renderer makes the third-order bus; the caller decodes it to two ears (BinauralDecoder).
+            config.listener = ListenerStyle::ambix;
+            config.channels = ambix_channels(format.order);
+            return;
+    }
+    config.channels = format.channels;
+}
 
 bool umbrella_on_node(const SceneDescription& scene, int node) {
     return std::any_of(scene.surfaces.begin(), scene.surfaces.end(), [node](const SurfaceDescription& s) {
@@ -85,7 +102,7 @@ std::unique_ptr<LoadedScene> Renderer::make_loaded_scene(const RendererConfig& c
     auto loaded = std::make_unique<LoadedScene>();
     loaded->umbrella = make_scene(config);
     loaded->surfaces = std::make_unique<SceneSurfaces>(config.scene, config.sample_rate, config.channels, config.seed,
-                                                       config.full_scale_pa, config.node);
+                                                       config.full_scale_pa, config.node, config.listener == ListenerStyle::ambix);
     loaded->has_umbrella = umbrella_on_node(config.scene, config.node);
     loaded->rain = std::make_unique<RainSpawner>(rain_config_for(loaded->umbrella->drops.canopy(), config.scene.rain));
     loaded->rain_rate_mm_per_h = config.rain_rate_mm_per_h;
@@ -141,7 +158,11 @@ Renderer::Renderer(const RendererConfig& config)
       output_(output_config(config_)) {
     set_level_db(config_.level_gain_db, false);
     surfaces_ = new SceneSurfaces(config_.scene, config_.sample_rate, config_.channels, config_.seed, config_.full_scale_pa,
-                                  config_.node);
+                                  config_.node, ambisonic());
+    if (ambisonic()) {
+        rotation_from_ = rotation_to_ = AmbixRotation::identity(ambix_order(config_.channels));
+        encode_grains(scene_->drops.canopy());
+    }
     has_umbrella_ = umbrella_on_node(config_.scene, config_.node);
     rain_->set_rate_now(has_umbrella_ ? config.rain_rate_mm_per_h : 0.0);
     wind_ = Wind(Wind::Config{.turbulence_intensity = config_.scene.rain.gustiness});
@@ -157,7 +178,9 @@ Renderer::~Renderer() {
         const Command& c = pending_[static_cast<std::size_t>(i)];
         if (c.kind == CommandKind::swap_surface || c.kind == CommandKind::swap_liquid) delete static_cast<UmbrellaScene*>(c.object);
         if (c.kind == CommandKind::load_scene) delete static_cast<LoadedScene*>(c.object);
+        if (c.kind == CommandKind::orientation) delete static_cast<AmbixRotation*>(c.object);
     }
+    for (AmbixRotation* r : unreturned_) delete r;
     delete fading_;
     delete scene_;
     delete fading_surfaces_;
@@ -207,6 +230,7 @@ void Renderer::swap_scene(const Command& c) {
     fade_left_ = static_cast<int>(0.5 / dt_);
     scene_ = incoming;
     grains_->set_calibration(scene_->texture);
+    if (ambisonic()) encode_grains(scene_->drops.canopy());
     push_event({RendererEventKind::swapped, c.kind, c.reply_to, c.id});
 }
 
@@ -234,6 +258,68 @@ void Renderer::set_level_db(double db, bool ramp) {
     level_ramp_left_ = frames;
 }
 
+// The texture bed's ring: direction v at the ring speaker's azimuth (panning.hpp's layout: the first
+// at half a spacing left of front, then clockwise) and the canopy's mean elevation seen from the head.
+// A loop over the canopy's nodes, no allocation (it runs on the audio thread after a scene change).
+void Renderer::encode_grains(const Canopy& canopy) {
+    const Vec3 head{0.0, 0.0, -config_.listener_below_m};
+    double up = 0.0, out = 0.0;
+    for (int k = 0; k < canopy.panel_count(); ++k)
+        for (int i = 0; i < canopy.nodes_per_panel(); ++i) {
+            const Vec3 d = canopy.rest_position(k, i) - head;
+            up += d.z;
+            out += std::hypot(d.x, d.y);
+        }
+    const double elevation = std::atan2(up, out), spacing = 2.0 * constants::pi / grain_ring;
+    const int order = ambix_order(config_.channels);
+    for (int v = 0; v < grain_ring; ++v)
+        grain_encoding_[static_cast<std::size_t>(v)] = ambix_gains(spacing / 2.0 - v * spacing, elevation, order);
+}
+
+// The head turned (/listener/orientation): the bus glides from where it is now to the new rotation.
+void Renderer::set_orientation(const Command& c) {
+    auto* target = static_cast<AmbixRotation*>(c.object);
+    if (!target) return;
+    if (ambisonic() && target->order == rotation_to_.order) {
+        // Mid-turn, the glide starts again from the matrix it had reached (the crossfade's weights
+        // applied to the matrices), so a stream of tracker updates never jumps.
+        if (rotation_ramp_left_ > 0) {
+            const double t = 1.0 - static_cast<double>(rotation_ramp_left_) / rotation_ramp_frames;
+            for (std::size_t i = 0; i < rotation_from_.m.size(); ++i)
+                rotation_from_.m[i] = (1.0 - t) * rotation_from_.m[i] + t * rotation_to_.m[i];
+        } else {
+            rotation_from_ = rotation_to_;
+        }
+        rotation_to_ = *target;
+        rotation_ramp_left_ = rotation_ramp_frames;
+        rotating_ = true;
+    }
+    if (retire(target, RetiredObject::rotation)) return;
+    for (AmbixRotation*& slot : unreturned_)
+        if (!slot) {
+            slot = target;
+            return;
+        }
+    // Every slot taken and the event list full: the control thread has stopped reading; the object
+    // stays with the command's owner (the destructor frees the slots, never the audio thread).
+}
+
+void Renderer::rotate(float* frame) {
+    double in[max_ambix_channels] = {}, to[max_ambix_channels] = {};
+    const int channels = config_.channels;
+    for (int ch = 0; ch < channels; ++ch) in[ch] = frame[ch];
+    rotation_to_.apply(in, to);
+    if (rotation_ramp_left_ > 0) {
+        double from[max_ambix_channels] = {};
+        rotation_from_.apply(in, from);
+        const double t = 1.0 - static_cast<double>(--rotation_ramp_left_) / rotation_ramp_frames;
+        for (int ch = 0; ch < channels; ++ch) frame[ch] = static_cast<float>((1.0 - t) * from[ch] + t * to[ch]);
+        if (rotation_ramp_left_ == 0 && rotation_to_.is_identity()) rotating_ = false;   // back at rest: the encoder's samples
+        return;
+    }
+    for (int ch = 0; ch < channels; ++ch) frame[ch] = static_cast<float>(to[ch]);
+}
+
 void Renderer::load_scene(const Command& c) {
     auto* loaded = static_cast<LoadedScene*>(c.object);
     if (!loaded || !loaded->umbrella || !loaded->surfaces || loaded->umbrella->drops.channels() != config_.channels ||
@@ -257,6 +343,7 @@ void Renderer::load_scene(const Command& c) {
     surfaces_ = loaded->surfaces.release();
     has_umbrella_ = loaded->has_umbrella;
     grains_->set_calibration(scene_->texture);
+    if (ambisonic()) encode_grains(scene_->drops.canopy());
     rain_rate_ = loaded->rain_rate_mm_per_h;
     // The new rain spawner takes over; the old one goes back in the envelope (no allocation here).
     RainSpawner* old_rain = rain_;
@@ -330,7 +417,7 @@ void Renderer::start_rain_drop(double diameter, Point2 at) {
         case LodTier::texture:
             ++stats_.drops;
             ++stats_.rain_tiers.texture;
-            if (!grains_->add(diameter, speed, density, std::atan2(at.y, at.x), config_.channels, grain_noise_))
+            if (!grains_->add(diameter, speed, density, std::atan2(at.y, at.x), ambisonic() ? grain_ring : config_.channels, grain_noise_))
                 ++stats_.grains_dropped;
             return;
     }
@@ -375,6 +462,7 @@ void Renderer::apply(const Command& c) {
         case CommandKind::swap_liquid: swap_scene(c); break;
         case CommandKind::gain: output_.set_gain_db(c.values[0]); break;
         case CommandKind::level: set_level_db(c.values[0], true); break;
+        case CommandKind::orientation: set_orientation(c); break;
         case CommandKind::lod: {
             LodSettings s = governor_.settings();
             s.budget = c.values[0];
@@ -416,13 +504,24 @@ void Renderer::render_sample(float* const* outputs, int offset) {
             if (!fading_surfaces_ && retire(fading_, RetiredObject::umbrella_scene)) fading_ = nullptr;
         }
     }
-    if (level_ == 1.0) {
+    if (ambisonic()) {
+        // The bed over its virtual ring, each direction encoded (renderer.hpp, "Ambisonics").
+        float ring[grain_ring] = {};
+        grains_->render(ring, grain_ring, grain_noise_);
+        for (int v = 0; v < grain_ring; ++v) {
+            if (ring[v] == 0.0f) continue;
+            const double x = ring[v] * level_;
+            const auto& e = grain_encoding_[static_cast<std::size_t>(v)];
+            for (int ch = 0; ch < channels; ++ch) frame[ch] += static_cast<float>(e[static_cast<std::size_t>(ch)] * x);
+        }
+    } else if (level_ == 1.0) {
         grains_->render(frame, channels, grain_noise_);   // the physical sum, in the order it always had
     } else {
         float grains[max_channels] = {};
         grains_->render(grains, channels, grain_noise_);
         for (int ch = 0; ch < channels; ++ch) frame[ch] += scaled(grains[ch], level_);
     }
+    if (rotating_) rotate(frame);
     output_.process_frame(frame);
     for (int ch = 0; ch < channels; ++ch) outputs[ch][offset] = frame[ch];
     // The governor is told the drop rate every governor_period samples, counted on the sample clock, so
@@ -461,6 +560,8 @@ void Renderer::process(int frames, float* const* outputs) {
         render_sample(outputs, n);
     }
     frame_ += static_cast<std::uint64_t>(frames);
+    for (AmbixRotation*& slot : unreturned_)   // rotations the event list could not take before
+        if (slot && retire(slot, RetiredObject::rotation)) slot = nullptr;
     // Runtime guard (core/stability.hpp): a panel whose state went non-finite or whose energy ran away is
     // reset and counted, never left to explode.
     stats_.body_resets += static_cast<std::uint64_t>(scene_->drops.guard());

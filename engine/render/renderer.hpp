@@ -46,6 +46,14 @@
 // then goes back to the control thread in a `retired` event to be freed there. Nothing is allocated
 // or freed here.
 //
+// Ambisonics (listener = ListenerStyle::ambix, 4, 9 or 16 channels: orders 1 to 3, ACN/SN3D): the umbrella's
+// panels by their centres' directions from the head, each surface by its direction relative to the
+// facing (/listener re-encodes it, as it re-pans the other formats), the texture grains over a virtual
+// ring of 8 directions at the canopy's mean elevation, each encoded (an approximation: a grain's
+// direction is its ring neighbours', as on a ring of speakers). The bus is then rotated by the head's
+// orientation (CommandKind::orientation, /listener/orientation), the matrix built off the audio thread
+// and reached over rotation_ramp_frames by crossfading the old matrix's output into the new one's (no
+// click); at the identity the rotation is skipped and the samples are the encoder's.
 // Output: full scale (1.0) is `full_scale_pa` pascals at level gain and gain 0 dB (output_stage.hpp
 // states the calibration); the output stage (gain, limiter) is the last thing a sample passes. Mono: one listening point; stereo and more:
 // one point, each panel panned by its azimuth over the speakers (ListenerStyle::panned), or for two
@@ -57,6 +65,7 @@
 
 #include "engine/core/random.hpp"
 #include "engine/models/drop_on_canopy.hpp"
+#include "engine/models/ambisonics.hpp"
 #include "engine/models/impact_templates.hpp"
 #include "engine/models/panning.hpp"
 #include "engine/models/texture_grains.hpp"
@@ -66,6 +75,7 @@
 #include "engine/render/output_stage.hpp"
 #include "engine/render/scene_surfaces.hpp"
 #include "engine/render/umbrella_scene.hpp"
+#include "engine/scene/output_format.hpp"
 #include "engine/scene/rain_spawner.hpp"
 
 namespace ameoto {
@@ -153,12 +163,20 @@ using MaterialResolver = std::optional<MembraneMaterial> (*)(const std::string& 
 RendererConfig configure_for_scene(RendererConfig config, const SceneDescription& scene,
                                    MaterialResolver material = nullptr, const void* context = nullptr);
 
+// Sets config's channels and listener style for an output format (scene/output_format.hpp). Binaural:
+// the renderer makes the format's Ambisonic bus (order 3, 16 channels), which the caller decodes to two
+// ears with a BinauralDecoder (binaural_decoder.hpp).
+void apply_output_format(RendererConfig& config, const OutputFormat& format);
+
 class Renderer {
 public:
     static constexpr int max_channels = max_pan_channels;
     static constexpr int max_full_drops = 64;   // the lattice pool's capacity (what /lod may ask for)
     static constexpr int pending_capacity = 1024;
     static constexpr int event_capacity = 1024;
+    static constexpr int rotation_ramp_frames = 256;   // 5.3 ms at 48 kHz: a head tracker's 100 Hz updates
+                                                       // glide into each other without a click
+    static constexpr int grain_ring = 8;               // virtual directions of the texture bed (ambix)
 
     explicit Renderer(const RendererConfig& config);
     ~Renderer();
@@ -191,6 +209,8 @@ public:
     // The first sound of an impact: the nearest node's distance over c, plus the limiter's look-ahead.
     int latency_samples() const { return scene_->drops.latency_samples() + output_.latency_frames(); }
     const OutputStage& output() const { return output_; }
+    bool ambisonic() const { return config_.listener == ListenerStyle::ambix; }
+    const AmbixRotation& rotation() const { return rotation_to_; }   // the bus's rotation (its target while it turns)
     double level_gain_db() const { return level_db_; }   // the current scene's level gain (the target of a ramp)
 
 private:
@@ -202,6 +222,9 @@ private:
     void load_scene(const Command& command);
     void set_wind(double speed, double direction, double gustiness);
     void set_level_db(double db, bool ramp);
+    void set_orientation(const Command& command);
+    void rotate(float* frame);
+    void encode_grains(const Canopy& canopy);
     bool retire(void* object, RetiredObject type);
     void render_sample(float* const* outputs, int offset);
     void push_event(const RendererEvent& event) { (void)push_event_checked(event); }
@@ -242,6 +265,13 @@ private:
     int level_ramp_left_ = 0;
     double fading_level_ = 1.0;
     OutputStage output_;
+    // Ambisonics: the bus rotation (from_ while it turns to to_), the grains' ring encoding
+    // [ring direction][acn], and rotations the event list could not take yet (handed back later).
+    AmbixRotation rotation_from_, rotation_to_;
+    int rotation_ramp_left_ = 0;
+    bool rotating_ = false;
+    std::array<std::array<double, max_ambix_channels>, grain_ring> grain_encoding_{};
+    std::array<AmbixRotation*, 8> unreturned_{};
 
     // Commands waiting for their sample, sorted by frame (stable for equal frames).
     std::array<Command, pending_capacity> pending_{};

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 #include "engine/models/drop.hpp"
 #include "engine/scene/terminal_speed.hpp"
@@ -15,8 +16,9 @@ constexpr double water_density = 998.0;
 }  // namespace
 
 SceneSurfaces::SceneSurfaces(const SceneDescription& scene, double sample_rate, int channels, std::uint64_t seed,
-                             double full_scale_pa, int node)
-    : channels_(channels), dt_(1.0 / sample_rate), inverse_full_scale_(1.0 / full_scale_pa) {
+                             double full_scale_pa, int node, bool ambisonic)
+    : channels_(channels), ambisonic_(ambisonic), dt_(1.0 / sample_rate), inverse_full_scale_(1.0 / full_scale_pa) {
+    if (ambisonic && ambix_order(channels) < 1) throw std::invalid_argument("an Ambisonic bus has 4, 9 or 16 channels");
     const ListenerDescription& l = scene.listener;
     listener_ = Vec3{l.x_m, l.y_m, l.z_m};
     facing_rad_ = l.facing_rad;
@@ -49,7 +51,8 @@ void SceneSurfaces::place(Placed& p, bool now) {
     } else {
         p.path.set_listener(listener_);
     }
-    const auto g = pan_gains(std::atan2(d.y, d.x) - facing_rad_, channels_);
+    // Relative to the facing; the elevation only an Ambisonic bus hears (the panned formats are rings).
+    const auto g = direction_gains(std::atan2(d.y, d.x) - facing_rad_, std::atan2(d.z, std::hypot(d.x, d.y)), channels_, ambisonic_);
     for (int c = 0; c < channels_; ++c) p.pan[static_cast<std::size_t>(c)] = static_cast<float>(g[static_cast<std::size_t>(c)]);
 }
 

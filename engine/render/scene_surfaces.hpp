@@ -6,7 +6,8 @@
 // them along its normal (wind.hpp), and its sound (Pa at 1 m, surface_source.hpp) reaches the listener
 // through open air (propagation.hpp: 1/r, the delay r/c, ISO 9613-1 air absorption, gliding when the
 // listener moves) and, over 2 channels or more, panned by its azimuth relative to the listener's facing
-// (panning.hpp).
+// (panning.hpp), or, on an Ambisonic bus (ambisonic = true: 4, 9 or 16 channels), encoded by its
+// direction from the listener, relative to the facing, elevation included (ambisonics.hpp).
 //
 // Interface:
 //   SceneSurfaces s(scene_description, sample_rate, channels, seed);   // off the audio thread; throws
@@ -14,6 +15,7 @@
 //   SceneSurfaces s(scene_description, sample_rate, channels, seed, full_scale_pa, node);
 //                                           // node K (1..16): only the surfaces the scene gives node K;
 //                                           // 0 (the default): all of them
+//   SceneSurfaces s(..., node, true);       // an Ambisonic bus (ACN/SN3D) of `channels` (4, 9, 16)
 //   ---- audio thread: no allocation ----
 //   s.set_rate(mm_per_h);                   // every surface's rain ramps there (1 s)
 //   s.render(frame, wind);                  // adds this sample of every surface into frame[channel], in
@@ -39,6 +41,7 @@
 #include <vector>
 
 #include "engine/core/random.hpp"
+#include "engine/models/ambisonics.hpp"
 #include "engine/models/panning.hpp"
 #include "engine/render/surface_source.hpp"
 #include "engine/scene/propagation.hpp"
@@ -51,7 +54,7 @@ namespace ameoto {
 class SceneSurfaces {
 public:
     SceneSurfaces(const SceneDescription& scene, double sample_rate, int channels, std::uint64_t seed,
-                  double full_scale_pa = 100.0, int node = 0);
+                  double full_scale_pa = 100.0, int node = 0, bool ambisonic = false);
 
     void set_rate(double mm_per_h);
     void set_rate_now(double mm_per_h);
@@ -71,13 +74,14 @@ private:
         Propagation path;
         Vec3 centre;
         double distance_m = 1.0;
-        std::array<float, max_pan_channels> pan{};
+        std::array<float, max_pan_channels> pan{};   // pan gains, or SH gains (ACN) on an Ambisonic bus
     };
     void place(Placed& p, bool now);
     std::vector<Placed> placed_;
     Vec3 listener_{};
     double facing_rad_ = 0.0;
     int channels_ = 1;
+    bool ambisonic_ = false;
     double dt_ = 0.0;
     double inverse_full_scale_ = 0.01;
     double density_ = 998.0;

@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "engine/core/physical_constants.hpp"
+#include "engine/scene/output_format.hpp"
 
 namespace ameoto {
 
@@ -122,6 +123,10 @@ std::string validate_scene(const SceneDescription& s) {
                                    check_number("lod full", s.lod.max_full, full_range, "drops"),
                                    check_number("output gain", s.gain_db, gain_range, "dB")})
         if (!why.empty()) return why;
+    if (!s.output_format.empty()) {
+        std::string why;
+        if (!parse_output_format(s.output_format, why)) return "output format " + why;
+    }
     if (std::find(dsd_names().begin(), dsd_names().end(), r.dsd) == dsd_names().end())
         return "dsd '" + r.dsd + "' is not one of marshall-palmer, joss-drizzle, joss-thunderstorm, gamma";
     if (!std::isfinite(r.wind_direction_rad) || std::abs(r.wind_direction_rad) > 4.0 * constants::pi)
@@ -342,7 +347,7 @@ SceneDescription parse_scene(std::string_view text, const std::string& file) {
             }
             if (version > scene_format_version)
                 throw SceneFileError(file, number, "version",
-                                     "version " + std::to_string(version) + " needs a newer ameoto (this one reads versions 1 to 3)");
+                                     "version " + std::to_string(version) + " needs a newer ameoto (this one reads versions 1 to 4)");
             if (version < 1) throw SceneFileError(file, number, "version", "version " + std::to_string(version) + " does not exist");
             have_header = true;
             file_version = version;
@@ -407,6 +412,12 @@ SceneDescription parse_scene(std::string_view text, const std::string& file) {
         } else if (line.word == "output") {
             if (!seen.insert(line.word).second) r.fail(line.word, "given twice");
             s.gain_db = r.number("gain", s.gain_db, gain_range, "dB");
+            if (r.has("format")) {
+                if (file_version < 4) r.fail("format", "the format key needs version 4 (start the file with 'ameoto-scene 4')");
+                s.output_format = r.text("format", "");
+                std::string why;
+                if (!parse_output_format(s.output_format, why)) r.fail("format", why);
+            }
         } else if (line.word == "accuracy") {
             if (!seen.insert(line.word).second) r.fail(line.word, "given twice");
             if (r.has("cents") == r.has("db")) r.fail("accuracy", "give one of cents=C (frequency error) or db=D (spectral distance)");
@@ -462,7 +473,7 @@ std::string format_scene(const SceneDescription& s) {
     // Older readers load what needs nothing new: version 3 only for surfaces on other nodes, 2 for accuracy
     // or a gain.
     const bool nodes = std::any_of(s.surfaces.begin(), s.surfaces.end(), [](const SurfaceDescription& f) { return f.node != 1; });
-    out << "ameoto-scene " << (nodes ? 3 : s.accuracy || s.gain_db != 0.0 ? 2 : 1) << "\n";
+    out << "ameoto-scene " << (!s.output_format.empty() ? 4 : nodes ? 3 : s.accuracy || s.gain_db != 0.0 ? 2 : 1) << "\n";
     out << "# written by ameoto; units: rate mm/h, wind m/s, direction and facing degrees, sizes and positions m,\n";
     out << "# budget % of the block period, gain dB (docs/scenes.md)\n";
     out << "name " << s.name << "\n";
@@ -482,7 +493,12 @@ std::string format_scene(const SceneDescription& s) {
         if (f.kind == SurfaceKind::umbrella && f.air) out << " air=on";   // off is the default
         out << "\n";
     }
-    if (s.gain_db != 0.0) out << "output gain=" << number(s.gain_db) << "\n";
+    if (s.gain_db != 0.0 || !s.output_format.empty()) {
+        out << "output";
+        if (s.gain_db != 0.0) out << " gain=" << number(s.gain_db);
+        if (!s.output_format.empty()) out << " format=" << s.output_format;
+        out << "\n";
+    }
     if (s.accuracy) out << "accuracy " << accuracy_measure_name(s.accuracy->measure) << "=" << number(s.accuracy->value) << "\n";
     return out.str();
 }

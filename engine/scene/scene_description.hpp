@@ -33,6 +33,10 @@
 //                                        played by several ameotod (--node K); default 1. Every node
 //                                        renders the same listener and rain (the same seed): the sum of
 //                                        the nodes' outputs is the whole scene's (renderer.hpp)
+// Version 4 adds one optional key on the output line:
+//   output format=F                      the output format the scene asks for when a stream starts with it
+//                                        and no --format is given (scene/output_format.hpp: stereo, ears,
+//                                        ring:N, ambix:N, binaural); a running stream keeps its format
 // Keys after the first word are key=value pairs in any order; unknown keys, repeated keys, missing
 // required keys and values out of range are errors naming the line and the key. A later version
 // number is refused (the file needs a newer ameoto); lines are at most 1024 characters, files at most
@@ -102,10 +106,12 @@ struct SceneDescription {
     std::vector<SurfaceDescription> surfaces;
     std::optional<AccuracyBudget> accuracy;   // none: the engine's default method (explicit, as stable needs)
     double gain_db = 0.0;                // the listening gain (`output gain=DB`, /gain): dB on top of the level
+    std::string output_format;           // `output format=F` (version 4): the text, checked by
+                                         // parse_output_format; empty: not given
     bool operator==(const SceneDescription&) const = default;
 };
 
-inline constexpr int scene_format_version = 3;   // the newest this ameoto reads (and writes when needed)
+inline constexpr int scene_format_version = 4;   // the newest this ameoto reads (and writes when needed)
 inline constexpr int max_scene_surfaces = 16;
 inline constexpr int max_scene_nodes = 16;
 inline constexpr std::size_t max_scene_line = 1024;

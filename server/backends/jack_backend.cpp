@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "server/backends/jack_backend.hpp"
 
+#include <jack/metadata.h>
+
 #include <pthread.h>
 
 #include <algorithm>
@@ -64,6 +66,15 @@ bool JackBackend::open_client(std::string& error) {
             return false;
         }
         ports_.push_back(port);
+        // What the port carries, for patchbays that show pretty names (JACK metadata API, JACK 1.9.13+).
+        // A server without metadata support still plays: the label is a courtesy, said once if refused.
+        if (static_cast<std::size_t>(c) < options_.port_labels.size()) {
+            const jack_uuid_t uuid = jack_port_uuid(port);
+            if (jack_set_property(client_, uuid, JACK_METADATA_PRETTY_NAME, options_.port_labels[static_cast<std::size_t>(c)].c_str(),
+                                  "text/plain") != 0 &&
+                c == 0)
+                std::fprintf(stderr, "ameotod: the JACK server did not take the ports' pretty names (metadata)\n");
+        }
     }
     buffers_.assign(ports_.size(), nullptr);
     jack_set_process_callback(client_, &JackBackend::on_process, this);

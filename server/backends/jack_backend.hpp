@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
-// The JACK backend: ports <name>:out_1..N, the process callback calls AudioBridge::process.
+// The JACK backend: ports <name>:out_1..N (with metadata pretty names saying what each carries), the
+// process callback calls AudioBridge::process.
 //
 // Interface:
 //   std::string error;
@@ -40,6 +41,9 @@ public:
         int channels = 2;
         bool autoconnect = false;
         std::int64_t start_unix_ns = 0;   // --start-at: silence until this wall time (start_gate.hpp); 0: none
+        // Each port's JACK metadata pretty name (JACK_METADATA_PRETTY_NAME: "ACN 0 W", "left", ...): the
+        // ports keep the names out_1..N that patches connect by; empty: no metadata.
+        std::vector<std::string> port_labels;
     };
 
     static std::unique_ptr<JackBackend> open(const Options& options, std::string& error);

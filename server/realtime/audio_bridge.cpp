@@ -39,12 +39,15 @@ AudioBridge::~AudioBridge() {
             delete static_cast<UmbrellaScene*>(command.object);
         else if (command.kind == CommandKind::load_scene)
             delete static_cast<LoadedScene*>(command.object);
+        else if (command.kind == CommandKind::orientation)
+            delete static_cast<AmbixRotation*>(command.object);
     }
     RendererEvent event;
     while (events_.try_pop(event)) {
         if (event.kind != RendererEventKind::retired) continue;
         if (event.object_type == RetiredObject::scene_surfaces) delete static_cast<SceneSurfaces*>(event.object);
         else if (event.object_type == RetiredObject::loaded_scene) delete static_cast<LoadedScene*>(event.object);
+        else if (event.object_type == RetiredObject::rotation) delete static_cast<AmbixRotation*>(event.object);
         else delete static_cast<UmbrellaScene*>(event.object);
     }
 }

@@ -61,9 +61,9 @@ TEST_CASE("bench options: errors say what is wrong") {
         CHECK(p.result == BenchParse::error);
         return p.error;
     };
-    CHECK(error_of({}) == "which suite? (ameoto bench engine | drop | scene)");
-    CHECK(error_of({"--json"}) == "which suite? (ameoto bench engine | drop | scene)");
-    CHECK(error_of({"server"}) == "unknown suite 'server' (the suites: engine, drop, scene)");
+    CHECK(error_of({}) == "which suite? (ameoto bench engine | drop | scene | formats)");
+    CHECK(error_of({"--json"}) == "which suite? (ameoto bench engine | drop | scene | formats)");
+    CHECK(error_of({"server"}) == "unknown suite 'server' (the suites: engine, drop, scene, formats)");
     CHECK(error_of({"engine", "extra"}) == "unexpected argument 'extra'");
     CHECK(error_of({"engine", "--fast"}) == "unknown option '--fast'");
     CHECK(error_of({"engine", "--json=1"}) == "--json takes no value");

@@ -101,6 +101,7 @@ TEST_CASE("Pd: every [ameoto] command sends its documented address and arguments
         "/gain f -6.000000",
         "/loudness f -18.000000",
         "/loudness ",
+        "/listener/orientation fff 90.000000 -10.000000 5.000000",
         "/status ",
         "/sync f 3.000000",
         "/notify f 1.000000",

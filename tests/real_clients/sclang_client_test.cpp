@@ -152,6 +152,7 @@ TEST_CASE("SuperCollider: every Ameoto method sends its documented address and a
         "/gain f -6.000000",
         "/loudness f -18.000000",
         "/loudness ",
+        "/listener/orientation fff 90.000000 -10.000000 5.000000",
         "/surface/add sssfffff \"roof\" \"plate\" \"tin\" 1.000000 0.600000 0.000000 1.000000 3.000000",
         "/surface/set sssfffff \"roof\" \"plate\" \"glass\" 1.000000 0.600000 0.000000 1.000000 3.000000",
         "/surface/remove s \"roof\"",

@@ -195,3 +195,19 @@ TEST_CASE("--peers takes osc.udp://IP:PORT addresses; --peer-latency 1..2000 ms,
     CHECK(parse({"--peers", "osc.udp://127.0.0.1"}).error == "--peers: '127.0.0.1' has no HOST:PORT");
     CHECK(ameoto::usage().find("--peers osc.udp://HOST:PORT") != std::string::npos);
 }
+
+TEST_CASE("--format: every output format, its channels, and --channels not beside it") {
+    const auto a = parse({"--format", "ambix:3"});
+    REQUIRE(a.error.empty());
+    REQUIRE(a.options.format);
+    CHECK(a.options.format->name() == "ambix:3");
+    CHECK(a.options.channels == 16);
+    CHECK(parse({"--format", "ring:6"}).options.channels == 6);
+    CHECK(parse({"--format", "ears"}).options.format->kind == ameoto::OutputKind::ears);
+    CHECK(parse({"--format", "binaural"}).error.empty());   // parsed; refused at start (resolve_output_format)
+    CHECK(parse({"--format", "ambix:4"}).error == "--format: 'ambix:4': the Ambisonic order is 1, 2 or 3 (ambix:ORDER: 4, 9 or 16 channels)");
+    CHECK(parse({"--format", "quad"}).error.find("is not an output format") != std::string::npos);
+    CHECK(parse({"--format", "ambix:1", "--channels", "4"}).error == "give --format or --channels, not both (ring:N is N channels)");
+    CHECK(parse({"--channels", "4", "--format", "ambix:1"}).error == "give --format or --channels, not both (ring:N is N channels)");
+    CHECK(ameoto::usage().find("--format F") != std::string::npos);
+}

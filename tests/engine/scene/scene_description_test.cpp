@@ -81,7 +81,7 @@ TEST_CASE("scene file: format then parse gives the same scene, for every built-i
 TEST_CASE("scene file: errors name the file, the line and the field, and say why") {
     CHECK(error_of("") == "test.scene: empty: no 'ameoto-scene 1' line");
     CHECK(error_of("hello\n").find("not an ameoto scene file") != std::string::npos);
-    CHECK(error_of("ameoto-scene 4\n") == "test.scene:1: version: version 4 needs a newer ameoto (this one reads versions 1 to 3)");
+    CHECK(error_of("ameoto-scene 5\n") == "test.scene:1: version: version 5 needs a newer ameoto (this one reads versions 1 to 4)");
     CHECK(error_of("ameoto-scene x\n").find("not a version number") != std::string::npos);
     CHECK(error_of("ameoto-scene 1\nrain rate=900\n") == "test.scene:2: rate: 900 mm/h is outside 0..500");
     CHECK(error_of("ameoto-scene 1\nrain rate=abc\n") == "test.scene:2: rate: 'abc' is not a number");

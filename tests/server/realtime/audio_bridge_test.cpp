@@ -9,6 +9,7 @@
 #include <doctest/doctest.h>
 
 #include <atomic>
+#include <chrono>
 #include <cstdio>
 #include <cstring>
 #include <mutex>
@@ -155,4 +156,48 @@ TEST_CASE("AudioBridge maps wall-clock time to sample time from the last block")
     const auto f = static_cast<double>(bridge.frame_for(after + 1.0));
     CHECK(f >= 480 + 48000 - 1);
     CHECK(f <= 480 + 48000 + (after - before) * 48000 + 1);
+}
+
+TEST_CASE_FIXTURE(ProbeFixture, "AudioBridge::process on an Ambisonic stream, the head turning, never allocates, frees, locks or sleeps") {
+    ameoto::RendererConfig config;
+    config.rain_rate_mm_per_h = 50.0;   // panels, texture grains and the bus rotation all busy
+    std::string error;
+    ameoto::apply_output_format(config, *ameoto::parse_output_format("ambix:1", error));
+    ameoto::AudioBridge bridge(std::make_unique<ameoto::Renderer>(config), 256);
+    constexpr int block = 256;
+    std::vector<std::vector<float>> planes(4, std::vector<float>(block));
+    std::vector<float*> outputs{planes[0].data(), planes[1].data(), planes[2].data(), planes[3].data()};
+    // The control thread turns the head over and over (a tracker far faster than any: every turn starts
+    // mid-glide), building each matrix itself as packet_dispatch.cpp does, and frees what comes back.
+    std::atomic<bool> done{false};
+    std::atomic<int> returned{0};
+    std::thread control([&] {
+        int i = 0;
+        while (!done.load()) {
+            ameoto::Command c;
+            c.kind = ameoto::CommandKind::orientation;
+            c.values[0] = 0.1 * (i % 60);
+            c.values[1] = 0.05 * (i % 7);
+            c.object = new ameoto::AmbixRotation(ameoto::AmbixRotation::from_orientation(c.values[0], c.values[1], 0.0, 1));
+            if (!bridge.send(c)) delete static_cast<ameoto::AmbixRotation*>(c.object);
+            ameoto::RendererEvent e;
+            while (bridge.poll_event(e))
+                if (e.kind == ameoto::RendererEventKind::retired && e.object_type == ameoto::RetiredObject::rotation) {
+                    delete static_cast<ameoto::AmbixRotation*>(e.object);
+                    returned.fetch_add(1);
+                }
+            ++i;
+            std::this_thread::sleep_for(std::chrono::microseconds(200));
+        }
+    });
+    std::thread audio([&] {
+        for (int n = 0; n < 500; ++n) bridge.process(block, outputs.data());
+    });
+    audio.join();
+    done.store(true);
+    control.join();
+    CHECK(returned.load() > 10);   // the turns really reached the audio thread and came back
+    CHECK(ameoto_rt_probe_entries() == 500);
+    INFO("first violation: " << std::string(ameoto_rt_probe_first_violation()));
+    CHECK(ameoto_rt_probe_violations() == 0);
 }
