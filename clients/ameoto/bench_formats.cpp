@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "clients/ameoto/bench_scene.hpp"
 #include "clients/ameoto/bench_timer.hpp"
 #include "clients/ameoto/exit_status.hpp"
 #include "clients/ameoto/json_text.hpp"
@@ -17,20 +18,6 @@ namespace {
 constexpr int format_block = 256;
 constexpr int format_rounds = 3;
 
-SceneDescription formats_heavy_rain() {
-    SceneDescription scene = *builtin_scene("umbrella");
-    scene.rain.rate_mm_per_h = 50.0;
-    SurfaceDescription pond;
-    pond.name = "pond";
-    pond.kind = SurfaceKind::water;
-    pond.material = "pond";
-    pond.size_x_m = 4.0;
-    pond.size_y_m = 3.0;
-    pond.x_m = 3.0;
-    scene.surfaces.push_back(pond);
-    return scene;
-}
-
 // CPU seconds per sample over `seconds` of audio, after 0.5 s of the rain ramping in (not counted).
 double format_seconds_per_sample(const OutputFormat& format, double seconds) {
     RendererConfig base;
@@ -38,7 +25,7 @@ double format_seconds_per_sample(const OutputFormat& format, double seconds) {
     base.seed = 5;
     base.adaptive_lod = false;   // the same drops in every format: only the output's cost differs
     apply_output_format(base, format);
-    Renderer r(configure_for_scene(base, formats_heavy_rain()));
+    Renderer r(configure_for_scene(base, heavy_rain_bench_scene()));
     // configure_for_scene keeps the format's channels and listener (they are not the scene's).
     std::vector<std::vector<float>> planes(static_cast<std::size_t>(format.channels), std::vector<float>(format_block));
     std::vector<float*> out;

@@ -82,6 +82,20 @@ RenderRow render_row(double rate, double target, double seconds) {
 
 }  // namespace
 
+SceneDescription heavy_rain_bench_scene() {
+    SceneDescription scene = *builtin_scene("umbrella");
+    scene.rain.rate_mm_per_h = 50.0;
+    SurfaceDescription pond;
+    pond.name = "pond";
+    pond.kind = SurfaceKind::water;
+    pond.material = "pond";
+    pond.size_x_m = 4.0;
+    pond.size_y_m = 3.0;
+    pond.x_m = 3.0;
+    scene.surfaces.push_back(pond);
+    return scene;
+}
+
 int run_scene_bench(const BenchOptions& options, const CommandIo& io) {
     const double seconds = std::clamp(options.seconds * 4.0, 1.0, 20.0);   // audio seconds per measurement
     io.err << "ameoto bench scene: the dry umbrella, then each tier forced, then heavy rain with a pond ("
@@ -117,16 +131,7 @@ int run_scene_bench(const BenchOptions& options, const CommandIo& io) {
     }
 
     // Heavy rain: the umbrella and a pond at 50 mm/h, 64-frame blocks, the governor on measured load.
-    SceneDescription scene = *builtin_scene("umbrella");
-    scene.rain.rate_mm_per_h = 50.0;
-    SurfaceDescription pond;
-    pond.name = "pond";
-    pond.kind = SurfaceKind::water;
-    pond.material = "pond";
-    pond.size_x_m = 4.0;
-    pond.size_y_m = 3.0;
-    pond.x_m = 3.0;
-    scene.surfaces.push_back(pond);
+    const SceneDescription scene = heavy_rain_bench_scene();
     RendererConfig base;
     base.sample_rate = bench_sample_rate;
     base.channels = 2;

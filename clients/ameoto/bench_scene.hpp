@@ -5,6 +5,7 @@
 //
 // Interface:
 //   int status = run_scene_bench(options, io);   // a table, or one JSON object per line (--json)
+//   SceneDescription s = heavy_rain_bench_scene(); // its heavy rain (also `bench formats`'): any thread
 //
 // Measurements (thread CPU time, the renderer ameotod runs, 48 kHz stereo):
 //   tiers       the umbrella scene with every rain drop forced into one tier (full: lattice drops;
@@ -17,9 +18,11 @@
 
 #include "clients/ameoto/bench_options.hpp"
 #include "clients/ameoto/command_io.hpp"
+#include "engine/scene/scene_description.hpp"
 
 namespace ameoto::client {
 
 int run_scene_bench(const BenchOptions& options, const CommandIo& io);
+SceneDescription heavy_rain_bench_scene();   // the umbrella at 50 mm/h and a 4 x 3 m pond 3 m away
 
 }  // namespace ameoto::client
