@@ -33,6 +33,7 @@ void CycleClock::restart_envelope(const CycleReading& r) {
         has_slope_ = true;
     }
     started_ = true;
+    fit_valid_ = false;
     anchor_ns_ = r.callback_mono_ns;
     x_ = 0;
     full_ = 0;
@@ -88,12 +89,16 @@ void CycleClock::fit_line(double& mx, double& mr, double& slope) const {
     if (worst >= 0) slope = fit_slope(worst, mx, mr);
 }
 
-double CycleClock::line_at(double x) const {
+double CycleClock::line_at(double x) {
     // Before the first bucket is full: the lowest reading so far.
     if (full_ == 0) return current_has_ ? current_.r : 0.0;
-    double mx = 0.0, mr = 0.0, slope = 0.0;
-    fit_line(mx, mr, slope);
-    return mr + slope * (x - mx);
+    // The fit changes only when a bucket joins or the envelope restarts, except while its slope is
+    // still JACK's averaged rate, which moves every block: so it is fitted once a bucket, not twice a block.
+    if (!fit_valid_ || (full_ < kSlopeBuckets && !has_slope_)) {
+        fit_line(fit_.mx, fit_.mr, fit_.slope);
+        fit_valid_ = true;
+    }
+    return fit_.mr + fit_.slope * (x - fit_.mx);
 }
 
 BlockTime CycleClock::block(const CycleReading& r) {
@@ -130,6 +135,7 @@ BlockTime CycleClock::block(const CycleReading& r) {
         ring_[head_] = current_;
         head_ = (head_ + 1) % kBuckets;
         if (full_ < kBuckets) ++full_;
+        fit_valid_ = false;
         current_has_ = false;
         current_count_ = 0;
         current_high_ = 0;

@@ -84,7 +84,7 @@ private:
 
     void restart_envelope(const CycleReading& r);
     void update_ratio(const CycleReading& r);
-    double line_at(double x) const;   // the envelope's line at frame x (ns after the anchor, less x / rate)
+    double line_at(double x);   // the envelope's line at frame x (ns after the anchor, less x / rate)
     double fit_slope(int skip, double& mx, double& mr) const;
     void fit_line(double& mx, double& mr, double& slope) const;
 
@@ -102,6 +102,12 @@ private:
     Bucket ring_[kBuckets];
     int full_ = 0;                 // full buckets in ring_ (the newest at head_ - 1)
     int head_ = 0;
+    struct Line {
+        double mx = 0.0, mr = 0.0;   // the centroid of the buckets fitted
+        double slope = 0.0;          // ns per frame beyond the nominal
+    };
+    Line fit_;                     // fit_line()'s result for ring_ as it is
+    bool fit_valid_ = false;
     Bucket current_;               // the bucket being filled
     bool current_has_ = false;
     std::int64_t current_end_x_ = 0;

@@ -15,6 +15,7 @@
 #include "tests/support/daemon_process.hpp"
 #include "tests/support/osc_test_client.hpp"
 #include "tests/support/temp_dir.hpp"
+#include "tests/support/rt_report.hpp"
 
 using namespace std::chrono_literals;
 using ameoto::protocol::OscArgument;
@@ -94,7 +95,7 @@ TEST_CASE("/accuracy over UDP: set, query, refuse, save; no real-time violations
         CHECK(q->args[0].text == "off");
         CHECK(d.process().stop(SIGTERM, 5s) == 0);
     }
-    const std::string rt = read_file(report);
-    INFO(rt);
-    CHECK(rt.find("violations 0\n") != std::string::npos);
+    const auto rt = ameoto::test::read_rt_report(report);
+    INFO(rt.text);
+    CHECK(rt.no_violations());
 }

@@ -17,6 +17,7 @@
 #include "tests/support/temp_dir.hpp"
 #include "tests/support/wav_file.hpp"
 #include "tests/support/program_paths.hpp"
+#include "tests/support/rt_report.hpp"
 
 using namespace std::chrono_literals;
 using ameoto::protocol::OscArgument;
@@ -28,11 +29,6 @@ using Daemon = ameoto::test::DaemonProcess;
 namespace {
 
 using ameoto::test::ameotod;
-
-std::string read_report(const std::string& path) {
-    std::ifstream in(path);
-    return std::string(std::istreambuf_iterator<char>(in), {});
-}
 
 }  // namespace
 
@@ -67,10 +63,10 @@ TEST_CASE("a /drop over UDP sounds within a block, with silence before it") {
     // Latency bound on a shared machine: two blocks plus 30 ms of scheduling slack.
     CHECK(onset - before_frame <= 2 * 256 + static_cast<long long>(0.030 * 48000));
     // The real-time probe ran in every block and saw nothing forbidden.
-    const std::string rt = read_report(report);
-    INFO(rt);
-    CHECK(rt.find("violations 0\n") != std::string::npos);
-    CHECK(rt.find("entries 0\n") == std::string::npos);
+    const auto rt = ameoto::test::read_rt_report(report);
+    INFO(rt.text);
+    CHECK(rt.no_violations());
+    CHECK(rt.probed());
 }
 
 TEST_CASE("a timetagged bundle plays its /drop at the bundle's time; a late bundle plays at once and is counted") {
@@ -146,10 +142,10 @@ TEST_CASE("materials change live: /done once in use, refusals with the bound, no
         REQUIRE(status);
         CHECK(d.process().stop(SIGTERM, 5s) == 0);
     }
-    const std::string rt = read_report(report);
-    INFO(rt);
-    CHECK(rt.find("violations 0\n") != std::string::npos);
-    CHECK(rt.find("entries 0\n") == std::string::npos);
+    const auto rt = ameoto::test::read_rt_report(report);
+    INFO(rt.text);
+    CHECK(rt.no_violations());
+    CHECK(rt.probed());
 }
 
 TEST_CASE("/drop plays the seed's full model: a lattice drop, counted in the full tier while it lives") {
@@ -265,9 +261,9 @@ TEST_CASE("scenes load and save over OSC: built-ins, the scene folder, refusals 
         CHECK(rate == doctest::Approx(17.0));
         CHECK(d.process().stop(SIGTERM, 5s) == 0);
     }
-    const std::string rt = read_report(report);
-    INFO(rt);
-    CHECK(rt.find("violations 0\n") != std::string::npos);
+    const auto rt = ameoto::test::read_rt_report(report);
+    INFO(rt.text);
+    CHECK(rt.no_violations());
 }
 
 TEST_CASE("bad messages get /fail with a reason; the server keeps serving") {

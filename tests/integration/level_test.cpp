@@ -14,6 +14,7 @@
 #include "tests/support/osc_shorthand.hpp"
 #include "tests/support/osc_test_client.hpp"
 #include "tests/support/temp_dir.hpp"
+#include "tests/support/rt_report.hpp"
 
 using namespace ameoto::test::osc_shorthand;
 using namespace std::chrono_literals;
@@ -29,11 +30,6 @@ ameoto::protocol::DecodedMessage ask_level(OscTestClient& c, const std::string& 
     auto r = c.request(address, {}, address + ".reply", 2s);
     REQUIRE_MESSAGE(r, "no " << address << ".reply");
     return *r;
-}
-
-std::string read_level_report(const std::string& path) {
-    std::ifstream in(path);
-    return std::string(std::istreambuf_iterator<char>(in), {});
 }
 
 }  // namespace
@@ -84,10 +80,10 @@ TEST_CASE("/gain and /loudness: set, queried, refused out of range with nothing 
         CHECK(d.process().stop(SIGTERM, 5s) == 0);
     }
     // The gain ramps and the limiter ran on the audio thread without allocating, locking or logging.
-    const std::string rt = read_level_report(report);
-    INFO(rt);
-    CHECK(rt.find("violations 0\n") != std::string::npos);
-    CHECK(rt.find("entries 0\n") == std::string::npos);
+    const auto rt = ameoto::test::read_rt_report(report);
+    INFO(rt.text);
+    CHECK(rt.no_violations());
+    CHECK(rt.probed());
 }
 
 TEST_CASE("/loudness while a scene load is measured: the new scene plays at the new target") {

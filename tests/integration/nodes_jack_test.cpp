@@ -28,23 +28,15 @@
 #include "tests/support/osc_test_client.hpp"
 #include "tests/support/program_paths.hpp"
 #include "tests/support/sanitizer_bounds.hpp"
+#include "tests/support/street_split_scene.hpp"
 #include "tests/support/temp_dir.hpp"
 #include "tests/support/timing_scale.hpp"
 #include "tests/support/wav_file.hpp"
+#include "tests/support/rt_report.hpp"
 
 using namespace std::chrono_literals;
 
 namespace {
-
-// The street with its car and window on node 2 (as scene_nodes_test.cpp).
-constexpr const char* street_split_scene =
-    "ameoto-scene 3\n"
-    "name street-split\n"
-    "rain rate=10\n"
-    "surface umbrella kind=umbrella material=nylon size=1 z=1.9\n"
-    "surface car kind=plate material=car-roof size=1.2x1 x=2.5 y=-1.5 z=1.4 node=2\n"
-    "surface window kind=plate material=glass size=0.8x0.6 x=-2 y=2 z=1 node=2\n"
-    "surface puddle kind=water material=puddle size=1x0.8 x=1 y=1 z=0\n";
 
 double wall_seconds() {
     timespec t{};
@@ -73,19 +65,13 @@ bool ports_there(const ameoto::test::JackServer& jack, const std::vector<std::st
     return true;
 }
 
-float peak(const ameoto::test::WavData& w) {
-    float p = 0.0f;
-    for (float v : w.samples) p = std::max(p, std::abs(v));
-    return p;
-}
-
 }  // namespace
 
 TEST_CASE("nodes on one JACK server: the street in two parts, started at one epoch, sums on JACK to the whole scene's offline render") {
     if (ameoto::test::stop_here_if_sanitized("JACK's dummy driver waits for clients slower than real time")) return;
     ameoto::test::TempDir dir("ameoto-nodes-jack");
     const std::string scene = (dir.path() / "street-split.scene").string();
-    std::ofstream(scene) << street_split_scene;
+    std::ofstream(scene) << ameoto::test::street_split_scene;
 
     // The whole scene offline, the same seed (the harness's --level physical: docs/loudness.md's auto
     // level would give each part its own gain).
@@ -175,7 +161,7 @@ TEST_CASE("nodes on one JACK server: the street in two parts, started at one epo
         REQUIRE(epoch_frame >= 0);
         const long long frames = std::min(sum.frames - epoch_frame, whole.frames);
         REQUIRE(frames > 48000);   // at least a second of both nodes together
-        const float bound = 8.0f * std::numeric_limits<float>::epsilon() * peak(whole);
+        const float bound = 8.0f * std::numeric_limits<float>::epsilon() * whole.peak();
         float worst = 0.0f;
         long long first_bad = -1;
         for (long long n = 0; n < frames * 2; ++n) {
@@ -184,16 +170,15 @@ TEST_CASE("nodes on one JACK server: the street in two parts, started at one epo
             worst = std::max(worst, d);
         }
         MESSAGE("sum of the two nodes against the whole scene over " << frames << " frames: largest difference " << worst << " (bound "
-                                                                        << bound << ", peak " << peak(whole) << ")");
+                                                                        << bound << ", peak " << whole.peak() << ")");
         INFO("first frame past the bound: " << first_bad);
         CHECK(worst <= bound);
         CHECK(one.process().stop(SIGTERM, 5s) == 0);
         CHECK(two.process().stop(SIGTERM, 5s) == 0);
-        std::ifstream in(report);
-        const std::string rt((std::istreambuf_iterator<char>(in)), {});
-        INFO(rt);
-        CHECK(rt.find("violations 0\n") != std::string::npos);
-        CHECK(rt.find("entries 0\n") == std::string::npos);   // the probe was live in its cycles
+        const auto rt = ameoto::test::read_rt_report(report);
+        INFO(rt.text);
+        CHECK(rt.no_violations());
+        CHECK(rt.probed());   // the probe was live in its cycles
         return;
     }
     WARN_MESSAGE(false, "every take had xruns or a node late for its epoch: the machine is too loaded; the sum was not compared");

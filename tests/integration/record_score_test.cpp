@@ -29,6 +29,7 @@
 #include "tests/support/temp_dir.hpp"
 #include "tests/support/timing_scale.hpp"
 #include "tests/support/wav_file.hpp"
+#include "tests/support/rt_report.hpp"
 
 using namespace std::chrono_literals;
 using ameoto::protocol::OscArgument;
@@ -98,11 +99,10 @@ TEST_CASE("record-score: a paced live take (drops, rain, wind, a material, a sav
         CHECK(d.process().output().find("take: ") != std::string::npos);
     }
     {
-        std::ifstream in(report);
-        const std::string rt((std::istreambuf_iterator<char>(in)), {});
-        INFO(rt);
-        CHECK(rt.find("violations 0\n") != std::string::npos);
-        CHECK(rt.find("entries 0\n") == std::string::npos);
+        const auto rt = ameoto::test::read_rt_report(report);
+        INFO(rt.text);
+        CHECK(rt.no_violations());
+        CHECK(rt.probed());
     }
     const auto w = ameoto::test::read_wav(live);
     REQUIRE_MESSAGE(w.ok, w.error);

@@ -3,6 +3,7 @@
 
 #include <sndfile.h>
 
+#include <algorithm>
 #include <cmath>
 
 namespace ameoto::test {
@@ -38,6 +39,12 @@ long long WavData::first_nonzero_frame(float threshold) const {
         for (int c = 0; c < channels; ++c)
             if (std::fabs(samples[static_cast<std::size_t>(n * channels + c)]) > threshold) return n;
     return -1;
+}
+
+float WavData::peak() const {
+    float p = 0.0f;
+    for (float v : samples) p = std::max(p, std::fabs(v));
+    return p;
 }
 
 }  // namespace ameoto::test

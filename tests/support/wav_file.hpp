@@ -21,6 +21,7 @@ struct WavData {
     std::vector<float> samples;
     std::vector<float> channel(int c) const;
     long long first_nonzero_frame(float threshold = 0.0f) const;   // -1 when silent
+    float peak() const;                                             // the largest |sample|, 0 when silent
 };
 
 WavData read_wav(const std::string& path);
