@@ -100,9 +100,10 @@ TEST_CASE("level against rain rate: every surface follows the per-drop energy la
     for (const Case& c : cases) {
         const std::string name = c.surface.material;
         CAPTURE(name);
-        // Under the sanitizers the pond is left out: its 600 repeats and 30 s of rain cost minutes there,
-        // and the glass and the grounds run the same code.
-        if (ameoto::test::sanitized_build() && c.surface.kind == SurfaceKind::water) continue;
+        // Under the sanitizers one surface of each other kind: the pond's 600 repeats and 30 s of rain cost
+        // minutes there, and leaves run soil's code (SoftGround) with other constants; the Release run
+        // checks all four.
+        if (ameoto::test::sanitized_build() && (c.surface.kind == SurfaceKind::water || name == "leaves")) continue;
         std::vector<double> grid, log_energy;
         // Sizes on both sides of each entrainment threshold (water: bubbles from 0.8 to 1.1 mm, then
         // rarely, then more often above 2.2 mm): e(D) jumps there, and interpolating across a jump
