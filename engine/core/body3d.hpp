@@ -262,7 +262,7 @@ public:
     Vec3 position(int m) const;
     Vec3 velocity(int m) const;                   // CORDIS: backward difference over the last sub-step
     // Every mass's coordinates as arrays (mass_count() each): position(m) is {x[m], y[m], z[m]}. For a
-    // caller that scans every mass each step (the collision broad phase, drop_on_canopy.cpp) without a
+    // caller that scans every mass each step (the collision broad phase, drop_on_canopy_collide.cpp) without a
     // call per mass. Valid until the body is cleared or built again.
     struct Coordinates {
         const double *x, *y, *z;
@@ -270,7 +270,7 @@ public:
     Coordinates positions() const { return {x_.data(), y_.data(), z_.data()}; }
     // The lowest z of any mass (fixed points included) as the last step() left them, measured by its
     // update (no pass of its own; the same value on either step), for a broad phase that skips a whole
-    // body at once (drop_on_canopy.cpp). -infinity (unknown: skip nothing) after finalize(), reset(),
+    // body at once (drop_on_canopy_collide.cpp). -infinity (unknown: skip nothing) after finalize(), reset(),
     // set_position(), or a step the guard reset.
     double lowest_z() const { return lowest_z_; }
     double mass(int m) const { return mass_[idx(m)]; }   // 0 for a fixed point

@@ -225,7 +225,7 @@ namespace {
 // x < y, so minpd(value, low) is std::min(low, value) exactly (equal values, +0 and -0, and NaN keep
 // low), and maxpd(value, high) is std::max(high, value): the same doubles as the scalar loop, which
 // kept its running extremes in memory and cost about 10 instructions a node (4 300 a reading of the
-// default canopy, read every step while a splash hovers over it: drop_on_canopy.cpp, collide()).
+// default canopy, read every step while a splash hovers over it: drop_on_canopy_collide.cpp, collide()).
 void lane_extremes(std::size_t nodes, std::size_t lanes, const double* __restrict u, double* __restrict low,
                    double* __restrict high) {
 #if defined(__SSE2__)

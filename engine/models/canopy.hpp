@@ -20,7 +20,7 @@
 //   canopy.node_position(k, i)     // rest + u n: where the membrane is now
 //   canopy.displacement(k, i), canopy.normal_velocity(k, i)   // u (m) and du/dt (m/s) along n
 //   canopy.displacement_range()    // {lowest, highest} u over every node: bounds for a collision
-//                                  // broad phase (drop_on_canopy.cpp); no allocation
+//                                  // broad phase (drop_on_canopy_collide.cpp); no allocation
 //   canopy.rest_height(x, y), canopy.surface_normal(x, y)     // the rest surface over a plan point
 //   ---- per panel (the state lives in the lanes when laned(); panel(k).network then holds only the
 //        panel's arrays, stability report and options, its state stays at rest: read these instead) ----

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
-// The collision broad phase's first look at a drop's masses (DropOnCanopy::collide, drop_on_canopy.cpp):
+// The collision broad phase's first look at a drop's masses (DropOnCanopy::collide, drop_on_canopy_collide.cpp):
 // one pass over a body's coordinate arrays that lists the masses worth a closer look and counts those
 // in the band near the membrane, four masses per AVX2 vector where the CPU has it.
 //

@@ -41,7 +41,7 @@
 // membrane this step are not looked up: off the rim's circle, above the membrane's highest node (when
 // collide() has read the membrane's extremes: after an impact, or while it is far displaced), beyond a
 // 5 cm band around the rest cap otherwise, or below it by more than the band plus their own travel
-// (drop_on_canopy.cpp, collide(), gives the argument); a whole drop whose lowest mass is above is passed
+// (drop_on_canopy_collide.cpp, collide(), gives the argument); a whole drop whose lowest mass is above is passed
 // over at once (DropPool::lowest_z).
 //
 // Coarse steps (drop_pool.hpp): collide() sets each drop's floor each sample (with settling, from that
@@ -71,7 +71,7 @@
 // could not be stepped coarsely while any piece lay on the membrane). What it changes in the sound is
 // bounded by a test (drop_on_canopy_test: band levels of a render with and without, docs/drop.md).
 // Each drop's coarse steps take their floor from its own lowest mass and the membrane (set_drop_floors in
-// drop_on_canopy.cpp), and its checks come every 32 of its own samples: a drop's samples depend on its
+// drop_on_canopy_collide.cpp), and its checks come every 32 of its own samples: a drop's samples depend on its
 // own history and the canopy, never on when another drop was spawned (drop_settle_independence_test).
 // settle = false is the model before it (ameoto bench drop and bench scene time both).
 //

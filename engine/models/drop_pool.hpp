@@ -74,7 +74,7 @@
 // most coarse_max: stable over the links that can act, clear of the floor; body3d.hpp, "Coarse steps")
 // and then sits out the next k - 1 step() calls. Its masses show the state at the end of the coarse
 // step meanwhile (at most k - 1 steps ahead). The caller sets the floor where nothing can touch a drop
-// above it (drop_on_canopy.cpp, each sample: the membrane's highest point read that sample plus 2 mm and
+// above it (drop_on_canopy_collide.cpp, each sample: the membrane's highest point read that sample plus 2 mm and
 // the collider's skin, or the top of the 5 cm band the membrane never reaches): a splash's pieces in
 // flight, most of a shattered drop's life, then cost a third or a quarter. The floor is held per drop:
 // set_coarse_floor(z) sets every drop's, set_coarse_floor(d, z) one drop's (DropOnCanopy with settling

@@ -20,7 +20,7 @@ struct Scan {
     int near = 0;
 };
 
-// collide()'s tests as it wrote them before the scan (drop_on_canopy.cpp).
+// collide()'s tests as it wrote them before the scan (drop_on_canopy_collide.cpp).
 Scan reference(const std::vector<double>& x, const std::vector<double>& y, const std::vector<double>& z,
                const CollisionScanBounds& b) {
     Scan s;

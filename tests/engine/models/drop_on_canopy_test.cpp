@@ -344,11 +344,11 @@ struct ReferenceScene {
         return pool.spawn(diameter, liquid, ameoto::Vec3{x, y, z}, ameoto::Vec3{0.0, 0.0, -v});
     }
 
-    // Masses the exact test (over max u) and the travel-aware lower band (drop_on_canopy.cpp) would
+    // Masses the exact test (over max u) and the travel-aware lower band (drop_on_canopy_collide.cpp) would
     // skip, evaluated here independently of the scene.
     void count_skippable() {
         // Wet: a mass touches up to its reach over a node and is held up to 3/7 of its parcel under it:
-        // the bounds widen by the reach's cap (drop_on_canopy.cpp).
+        // the bounds widen by the reach's cap (drop_on_canopy_collide.cpp).
         const double touch = config.impact == ameoto::ImpactModel::wet ? collider.options().max_reach_m : 0.0;
         const double r = canopy.geometry().radius_m, skin = collider.options().skin_m + touch;
         const double nz = canopy.surface_normal(r, 0.0).z, bottom = canopy.rest_height(r, 0.0);
@@ -478,7 +478,7 @@ TEST_CASE("drop_on_canopy: the collision broad phase skips only masses that cann
     }
     CHECK(above > 0);
     CHECK(below > 0);
-    CHECK(peak_u > 0.0125);   // some scene made collide() read u every step (drop_on_canopy.cpp)
+    CHECK(peak_u > 0.0125);   // some scene made collide() read u every step (drop_on_canopy_collide.cpp)
     CHECK(passed_over > 0);   // and some drop was skipped whole, by Body3D::lowest_z()
     CHECK(passed_over_in_band > 0);   // some of them in the band, over the highest u read (a hovering splash)
 }
