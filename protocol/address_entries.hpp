@@ -25,6 +25,7 @@ void add_scene_entries(std::vector<AddressSpec>& t);           // /scene, /scene
 void add_surface_entries(std::vector<AddressSpec>& t);         // /surface/add, /surface/set, /surfaces, /surface/remove
 void add_accuracy_entry(std::vector<AddressSpec>& t);          // /accuracy
 void add_canopy_air_entry(std::vector<AddressSpec>& t);        // /canopy/air
+void add_canopy_impact_entry(std::vector<AddressSpec>& t);     // /canopy/impact
 // address_entries_level.cpp
 void add_level_entries(std::vector<AddressSpec>& t);           // /lod, /gain, /loudness
 // address_entries_material.cpp

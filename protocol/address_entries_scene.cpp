@@ -154,4 +154,26 @@ void add_canopy_air_entry(std::vector<AddressSpec>& t) {
     t.back().query = {true, {}, "/canopy/air.reply i 1|0: whether the umbrella's canopy is in air (0 with no umbrella)"};
 }
 
+void add_canopy_impact_entry(std::vector<AddressSpec>& t) {
+    // Appended (issue 19, part 3): how drops meet the canopy (engine/models/wet_impact.hpp, docs/impacts.md).
+    t.push_back({"/canopy/impact",
+                 {{"model", ArgumentKind::text, "", 0, 0, false,
+                   "wet: as a liquid (impulse m V, spreading; Gordillo et al. 2018); seed: the seed's elastic exchange", "wet"}},
+                 "Choose how drops meet the scene's umbrella canopy: wet (the default, a real drop's impulse) or seed (the "
+                 "seed paper's elastic exchange, twice that impulse). The scene is rebuilt off the audio thread, its "
+                 "impact templates and texture grains recorded again from the new model, and swapped in, as /canopy/air "
+                 "is; saved scenes keep it (the umbrella's impact= key). With no arguments, ask which.",
+                 "/done /canopy/impact (once the rebuilt scene plays); /fail /canopy/impact for another model name or "
+                 "when the scene has no umbrella",
+                 [](const ValidatedArguments& a, const ProtocolContext&, Request& r) -> std::optional<std::string> {
+                     const std::optional<ImpactModel> model = find_impact_model(a.texts[0]);
+                     if (!model) return "'" + a.texts[0] + "' is not wet or seed";
+                     r.action = Action::edit_scene;
+                     r.edit.op = SceneEdit::Op::impact;
+                     r.edit.impact = *model;
+                     return std::nullopt;
+                 }});
+    t.back().query = {true, {}, "/canopy/impact.reply s wet|seed: how drops meet the umbrella's canopy (wet with no umbrella)"};
+}
+
 }  // namespace ameoto::protocol::entries

@@ -64,6 +64,7 @@ std::vector<AddressSpec> make_table() {
     entries::add_accuracy_entry(t);
     entries::add_reply_port_entry(t);
     entries::add_canopy_air_entry(t);
+    entries::add_canopy_impact_entry(t);
     return t;
 }
 

@@ -76,12 +76,13 @@ struct QuerySpec {
 
 // A change to the current scene that needs a rebuild: the drop size distribution, or a surface.
 struct SceneEdit {
-    enum class Op { dsd, surface_add, surface_set, surface_remove, accuracy, air } op = Op::dsd;
+    enum class Op { dsd, surface_add, surface_set, surface_remove, accuracy, air, impact } op = Op::dsd;
     std::string dsd;                 // dsd: its name
     double mu = 2.0, lambda = 0.0;   // dsd gamma: shape, 1/mm (0: from the rate)
     SurfaceDescription surface;      // surface_add / surface_set (all fields); surface_remove: its name
     std::optional<AccuracyBudget> accuracy;   // accuracy: the new budget (none: the default method)
     bool air = false;                // air: every umbrella's canopy in air (true) or in vacuum
+    ImpactModel impact = ImpactModel::wet;   // impact: how drops meet every umbrella's canopy
 };
 
 struct Request {

@@ -83,6 +83,10 @@ void Queries::answer(const Peer& to, const std::string& address, const std::stri
         const auto umbrella = std::find_if(scene.surfaces.begin(), scene.surfaces.end(),
                                            [](const SurfaceDescription& x) { return x.kind == SurfaceKind::umbrella; });
         reply(reply_address, {OscArgument::from_int(umbrella != scene.surfaces.end() && umbrella->air ? 1 : 0)});
+    } else if (address == "/canopy/impact") {
+        const auto umbrella = std::find_if(scene.surfaces.begin(), scene.surfaces.end(),
+                                           [](const SurfaceDescription& x) { return x.kind == SurfaceKind::umbrella; });
+        reply(reply_address, {text(impact_model_name(umbrella != scene.surfaces.end() ? umbrella->impact : ImpactModel::wet))});
     } else if (address == "/reply/port") {
         reply(reply_address, {OscArgument::from_int(replies_.reply_port_of(to))});
     } else if (address == "/notify") {

@@ -173,6 +173,16 @@ void SceneManager::edit(const Peer& sender, const std::string& address, const pr
             if (!umbrella) refusal = "the scene has no umbrella";
             break;
         }
+        case Op::impact: {   // configure_for_scene applies it
+            bool umbrella = false;
+            for (SurfaceDescription& s : scene.surfaces)
+                if (s.kind == SurfaceKind::umbrella) {
+                    s.impact = edit.impact;
+                    umbrella = true;
+                }
+            if (!umbrella) refusal = "the scene has no umbrella";
+            break;
+        }
     }
     if (refusal.empty()) refusal = validate_scene(scene);
     if (!refusal.empty()) {

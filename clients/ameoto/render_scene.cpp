@@ -29,7 +29,7 @@ std::string render_scene_usage() {
     return "usage: ameoto render scene -o FILE.wav [--scene NAME|FILE.scene] [--rain MM/H] [--seconds S]\n"
            "           [--rate HZ] [--seed N] [--channels N | --format F] [--level auto|physical]\n"
            "           [--hrtf FILE.sofa] [--loudness LUFS]"
-           "           [--gain DB] [--limiter on|off] [--air on|off] [--quiet]\n"
+           "           [--gain DB] [--limiter on|off] [--air on|off] [--impact wet|seed] [--quiet]\n"
            "\n"
            "Renders a rain scene offline (no server needed) with the engine ameotod runs: its surfaces,\n"
            "rain and listener, every drop at its level of detail. Same scene, seed and rate: the same\n"
@@ -58,6 +58,9 @@ std::string render_scene_usage() {
            "  --air on|off        the umbrella's canopy in air (its air-loaded modes heard as dipoles,\n"
            "                      docs/canopy.md) or in vacuum, baffled (the seed's); default: the\n"
            "                      scene's umbrella air= key (off when not given)\n"
+           "  --impact wet|seed   how drops meet the umbrella's canopy: wet (stopped as a liquid is,\n"
+           "                      impulse m V; docs/impacts.md) or seed (the seed's elastic exchange);\n"
+           "                      default: the scene's umbrella impact= key (wet when not given)\n"
            "  --quiet             no progress on stderr\n"
            "  -o FILE.wav         the output (32-bit float WAV)\n"
            "\n"
@@ -109,6 +112,13 @@ RenderParse parse_render_scene_options(const CommandWords& words, RenderSceneOpt
                 return RenderParse::error;
             }
             o.air = value == "on";
+        } else if (name == "--impact") {
+            if (!take_value()) return RenderParse::error;
+            o.impact = find_impact_model(value);
+            if (!o.impact) {
+                error = "--impact: '" + value + "' is not wet or seed";
+                return RenderParse::error;
+            }
         } else if (name == "--scene") {
             if (!take_value()) return RenderParse::error;
             if (!builtin_scene(value) && !value.ends_with(".scene")) {
@@ -218,6 +228,9 @@ int run_render_scene(const RenderSceneOptions& o, const CommandIo& io) {
         if (o.air)
             for (SurfaceDescription& s : scene.surfaces)
                 if (s.kind == SurfaceKind::umbrella) s.air = *o.air;
+        if (o.impact)
+            for (SurfaceDescription& s : scene.surfaces)
+                if (s.kind == SurfaceKind::umbrella) s.impact = *o.impact;
     } catch (const std::exception& e) {
         io.err << "ameoto render scene: " << e.what() << "\n";
         return exit_status::refused;

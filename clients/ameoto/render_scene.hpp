@@ -18,6 +18,7 @@
 #include "clients/ameoto/command_io.hpp"
 #include "clients/ameoto/format_option.hpp"
 #include "clients/ameoto/render_drop.hpp"
+#include "engine/models/wet_impact.hpp"
 
 namespace ameoto::client {
 
@@ -30,6 +31,7 @@ struct RenderSceneOptions {
     std::string hrtf = "/usr/share/libmysofa/default.sofa";   // --hrtf FILE.sofa: binaural's HRIRs
     FormatChoice format;                // --format or --channels (1..16); default: the scene's, else stereo
     std::optional<bool> air;            // --air on|off: overrides every umbrella's air= key
+    std::optional<ImpactModel> impact;  // --impact wet|seed: overrides every umbrella's impact= key
     bool quiet = false;
     std::string wav_path;               // -o, required
     bool level_auto = true;             // --level auto|physical (docs/loudness.md)

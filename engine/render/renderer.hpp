@@ -93,6 +93,8 @@ struct RendererConfig {
     MembraneMaterial material = MembraneMaterial::nylon_canopy();
     bool air = false;                     // the canopy in air (air_canopy.hpp) or in vacuum; the scene's
                                           // umbrella air= key through configure_for_scene
+    ImpactModel impact = ImpactModel::wet;  // how drops meet the canopy (wet_impact.hpp); the umbrella's
+                                          // impact= key through configure_for_scene
     Liquid liquid = liquids::water();
     ListenerStyle listener = ListenerStyle::panned;
     double listener_below_m = 0.3;        // listener on the shaft, this far below the canopy

@@ -83,6 +83,7 @@ RendererConfig configure_for_scene(RendererConfig config, const SceneDescription
         if (!m) throw std::invalid_argument("surface '" + s.name + "': no umbrella material named '" + s.material + "'");
         config.material = *m;
         config.air = s.air;
+        config.impact = s.impact;
         config.canopy.panels = s.panels;
         config.canopy.radius_m = s.size_x_m / 2.0;
         // The umbrella is held over the listener: the far field hears it from under its shaft.
@@ -139,6 +140,7 @@ std::unique_ptr<UmbrellaScene> Renderer::make_scene(const RendererConfig& config
     c.network = config.canopy_network;
     c.settle = config.settle;
     c.air = config.air;
+    c.impact = config.impact;   // the templates and texture grains are recorded from this config too
     return std::make_unique<UmbrellaScene>(c);
 }
 

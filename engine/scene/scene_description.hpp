@@ -53,6 +53,7 @@
 #include <vector>
 
 #include "engine/core/method_choice.hpp"
+#include "engine/models/wet_impact.hpp"
 #include "engine/scene/drop_size_distribution.hpp"
 
 namespace ameoto {
@@ -71,6 +72,9 @@ struct SurfaceDescription {
     bool air = false;                    // umbrella only: air=on|off, the canopy in air (its air-loaded
                                          // modes heard as dipoles) or in vacuum, baffled (the seed's;
                                          // the default until air meets its 3 dB, docs/canopy.md)
+    ImpactModel impact = ImpactModel::wet;   // umbrella only: impact=wet|seed, how a drop meets the canopy:
+                                         // as a liquid (impulse m V, spreading; docs/impacts.md) or the
+                                         // seed's elastic exchange (twice that impulse)
     bool operator==(const SurfaceDescription&) const = default;
 };
 

@@ -229,6 +229,10 @@ SceneDescription parse_scene(std::string_view text, const std::string& file) {
                 const std::string air = r.text("air", "off");
                 if (air != "on" && air != "off") r.fail("air", "'" + air + "' is not on or off");
                 f.air = air == "on";
+                const std::string impact = r.text("impact", "wet");
+                const std::optional<ImpactModel> model = find_impact_model(impact);
+                if (!model) r.fail("impact", "'" + impact + "' is not wet or seed");
+                f.impact = *model;
             }
             if (r.has("node") && file_version < 3) r.fail("node", "the node key needs version 3 (start the file with 'ameoto-scene 3')");
             const double node = r.number("node", 1, node_range, "");
@@ -271,6 +275,7 @@ std::string format_scene(const SceneDescription& s) {
         if (f.kind == SurfaceKind::umbrella) out << " panels=" << f.panels;
         if (f.node != 1) out << " node=" << f.node;
         if (f.kind == SurfaceKind::umbrella && f.air) out << " air=on";   // off is the default
+        if (f.kind == SurfaceKind::umbrella && f.impact != ImpactModel::wet) out << " impact=" << impact_model_name(f.impact);
         out << "\n";
     }
     if (s.gain_db != 0.0 || !s.output_format.empty()) {

@@ -47,7 +47,7 @@ TEST_CASE("the table's queries are exactly the settable addresses; actions that 
         const bool settable_value = a == "/rain/rate" || a == "/rain/wind" || a == "/rain/dsd" || a == "/listener" || a == "/lod" ||
                                     a == "/material/liquid" || a == "/material/surface" || a == "/scene" || a == "/scene/load" ||
                                     a == "/surface/set" || a == "/notify" || a == "/accuracy" || a == "/reply/port" ||
-                                    a == "/gain" || a == "/loudness" || a == "/canopy/air";
+                                    a == "/gain" || a == "/loudness" || a == "/canopy/air" || a == "/canopy/impact";
         if (!settable_value) {
             CHECK_FALSE(spec.query.available);
             continue;

@@ -204,3 +204,19 @@ TEST_CASE("scene file: the umbrella's air key: on, off (the default), anything e
     s.surfaces[0].air = false;
     CHECK(format_scene(s).find("air=") == std::string::npos);
 }
+
+TEST_CASE("scene file: the umbrella's impact key: wet (the default), seed, anything else refused with its line") {
+    const std::string head = "ameoto-scene 1\nsurface u kind=umbrella material=nylon size=1 z=1.9";
+    CHECK(parse_scene(head + "\n", "test.scene").surfaces[0].impact == ImpactModel::wet);
+    CHECK(parse_scene(head + " impact=seed\n", "test.scene").surfaces[0].impact == ImpactModel::seed);
+    CHECK(parse_scene(head + " impact=wet\n", "test.scene").surfaces[0].impact == ImpactModel::wet);
+    CHECK(error_of(head + " impact=elastic\n") == "test.scene:2: impact: 'elastic' is not wet or seed");
+    CHECK(error_of("ameoto-scene 1\nsurface p kind=plate material=tin size=1 impact=seed\n") ==
+          "test.scene:2: impact: unknown key for 'surface'");
+    // format_scene writes it when it is not the default, and it reads back.
+    SceneDescription s = parse_scene(head + " impact=seed\n", "test.scene");
+    CHECK(format_scene(s).find(" impact=seed") != std::string::npos);
+    CHECK(parse_scene(format_scene(s), "again.scene") == s);
+    s.surfaces[0].impact = ImpactModel::wet;
+    CHECK(format_scene(s).find("impact=") == std::string::npos);
+}
