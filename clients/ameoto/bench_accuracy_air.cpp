@@ -152,7 +152,7 @@ void mark_air_front(std::vector<AirRow>& rows) {
 }
 
 std::vector<AirRow> measure_air_rows(const AirReference& reference, const std::vector<AccuracyRow>& vacuum_rows,
-                                     const AccuracyReference& exact, const AirRowOptions& options) {
+                                     const AccuracyReference& exact, const AirRowOptions& options, const AirModels* given) {
     std::vector<AirRow> rows;
     AirRow ref;
     ref.kind = "reference";
@@ -163,7 +163,9 @@ std::vector<AirRow> measure_air_rows(const AirReference& reference, const std::v
     ref.errors = in_air_errors(reference.mode_hz, reference.mode_hz);
     rows.push_back(ref);
 
-    const AirModels models = build_air_models();
+    AirModels built;
+    if (!given) built = build_air_models();
+    const AirModels& models = given ? *given : built;
     AirRow air;
     air.kind = "air";
     air.label = "air-loaded modal";

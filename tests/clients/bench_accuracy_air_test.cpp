@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // `ameoto bench accuracy`'s canopy in air (clients/ameoto/bench_accuracy_air.hpp): the error measure
-// against known perturbations, and the rows held to the FDTD reference's committed figures. About 3-4 s
-// in Release (the scene's air modes are built once, ~1.6 s; the reference's cost runs on a 50 mm grid).
+// against known perturbations, and the rows held to the FDTD reference's committed figures. About 4 s of
+// CPU in Release (the scene's air modes are built once, ~1.6 s; the reference's cost runs on a 50 mm grid).
 #include <doctest/doctest.h>
 
 #include <cmath>
@@ -31,6 +31,18 @@ const AccuracyReference& air_test_exact() {
 const AirModels& air_test_models() {
     static const AirModels m = build_air_models();
     return m;
+}
+
+// The models' panel modes by the estimator, computed once for the file (each a modal superposition of
+// 400 modes over 100 ms).
+const std::vector<double>& air_test_air_hz() {
+    static const std::vector<double> hz = air_model_panel_modes(air_test_models());
+    return hz;
+}
+
+const std::vector<double>& air_test_vacuum_hz() {
+    static const std::vector<double> hz = vacuum_panel_modes(air_test_models());
+    return hz;
 }
 
 std::vector<double> air_test_shifted(const std::vector<double>& hz, double cents) {
@@ -70,7 +82,7 @@ TEST_CASE("bench accuracy in air: the models by the reference's estimator") {
     // ones the panel chart measures each method against): the rows' per-mode ratios apply to the right
     // modes. Within 5 cents: a single damped mode's windowed peak (0.1 s Hann, refined) against its
     // zero crossings; measured under 1 cent.
-    const std::vector<double> vacuum = vacuum_panel_modes(air_test_models());
+    const std::vector<double>& vacuum = air_test_vacuum_hz();
     REQUIRE(vacuum.size() == ref.size());
     for (std::size_t q = 0; q < vacuum.size(); ++q) {
         const double c = 1200.0 * std::log2(vacuum[q] / air_test_exact().mode_hz[q]);
@@ -79,7 +91,7 @@ TEST_CASE("bench accuracy in air: the models by the reference's estimator") {
         CHECK(std::abs(c) < 5.0);
     }
     const AirModeErrors vac = in_air_errors(vacuum, ref);
-    const AirModeErrors air = in_air_errors(air_model_panel_modes(air_test_models()), ref);
+    const AirModeErrors air = in_air_errors(air_test_air_hz(), ref);
     std::printf("in air against the reference: air-loaded worst %.1f cents, in vacuum worst %.1f cents (mode 1 %+.1f)\n", air.worst,
                 vac.worst, vac.cents[0]);
     // The air-loaded model: issue 19's 3 % (51 cents) except mode 4, held at 4.5 % (80 cents) as in
@@ -113,7 +125,7 @@ TEST_CASE("bench accuracy in air: the rows, held to the reference's figures") {
     options.runs = 1;
     options.cost_dx_m = 0.05;           // the cost alone, on a coarse grid (a fraction of a second)
     options.cost_duration_s = 0.002;
-    const std::vector<AirRow> rows = measure_air_rows(reference, vacuum_rows, air_test_exact(), options);
+    const std::vector<AirRow> rows = measure_air_rows(reference, vacuum_rows, air_test_exact(), options, &air_test_models());
     REQUIRE(rows.size() == 2 + vacuum_rows.size());
     const AirRow& ref = rows[0];
     const AirRow& air = rows[1];
@@ -125,8 +137,8 @@ TEST_CASE("bench accuracy in air: the rows, held to the reference's figures") {
     CHECK(air.modes > 0);
     CHECK(air.ns_per_sample > 0.0);
     CHECK(air.ns_per_sample < ref.ns_per_sample);
-    CHECK(air.errors.worst == doctest::Approx(in_air_errors(air_model_panel_modes(air_test_models()), reference.mode_hz).worst));
-    const std::vector<double> vacuum = vacuum_panel_modes(air_test_models());
+    CHECK(air.errors.worst == doctest::Approx(in_air_errors(air_test_air_hz(), reference.mode_hz).worst));
+    const std::vector<double>& vacuum = air_test_vacuum_hz();
     const AirModeErrors exact_vacuum = in_air_errors(vacuum, reference.mode_hz);
     // Explicit Verlet 1x: finite, its own 2.5 cents at most on top of the vacuum canopy's error.
     const AirRow& verlet = rows[2];
