@@ -17,12 +17,15 @@
 // panel (the default umbrella has 8); also the quiet figure, the step alone with 1 N every 0.1 s (bench
 // engine's drive), and the contact figure: every node's displacement read as well, as the collider's
 // broad phase does while a lattice drop is near. Errors: bench_accuracy_errors.hpp.
+// Then the canopy in air (bench_accuracy_air.hpp), held to the FDTD reference's committed figures (or
+// recomputed with --air-reference DX): the reference's cost, the air-loaded modal canopy, and every
+// method above in vacuum, by the worst cents of the struck panel's first 10 modes (CSV rows "canopy in air").
 // Then the free drop (bench_accuracy_drop.hpp): explicit Verlet and symplectic Euler at 1x..8x the
 // sub-steps it needs, frequency error of its n = 2 oscillation and cost (CSV rows "free drop").
 // Then the scene's drop tiers (bench_accuracy_tiers.hpp): full, template, texture: CPU per drop, and the
 // long-term spectrum against the full tier's for the same rain (CSV rows "drop tiers", cost in ns_per_drop).
 // Outputs: a text table (or --json, one object per row), --csv FILE, --svg FILE (cost against error,
-// the Pareto front; a third panel for the tiers), --stability-svg FILE (the stability map) and --table FILE (the C++ source of
+// the Pareto front; a third panel for the canopy in air, a fourth for the tiers), --stability-svg FILE (the stability map) and --table FILE (the C++ source of
 // engine/core/method_table.cpp, the knob's data). docs/accuracy.md has the command that regenerates
 // everything committed.
 

@@ -69,8 +69,9 @@ std::string header(double width, double height, const std::string& title) {
 }  // namespace
 
 std::string cost_error_chart(const std::string& title, const std::vector<LogPanel>& panels) {
-    const double panel_w = 520, panel_h = 420, left = 70, top = 50;
-    std::string s = header(left + panels.size() * (panel_w + 90), top + panel_h + 60, title);
+    const double panel_w = 520, panel_h = 420, left = 70, top = 50, row_h = panel_h + 100;
+    const std::size_t columns = std::min<std::size_t>(panels.size(), 2), rows = (panels.size() + 1) / 2;
+    std::string s = header(left + columns * (panel_w + 90), top + rows * row_h - 40, title);
     for (std::size_t p = 0; p < panels.size(); ++p) {
         const LogPanel& panel = panels[p];
         double cmin = std::numeric_limits<double>::infinity(), cmax = 0, emin = std::numeric_limits<double>::infinity(), emax = 0;
@@ -85,7 +86,7 @@ std::string cost_error_chart(const std::string& title, const std::vector<LogPane
             }
         }
         if (!(cmax > 0) || !(emax > 0)) continue;
-        const LogFrame f{left + p * (panel_w + 90), top, panel_w, panel_h, std::floor(std::log10(cmin)),
+        const LogFrame f{left + (p % 2) * (panel_w + 90), top + (p / 2) * row_h, panel_w, panel_h, std::floor(std::log10(cmin)),
                          std::ceil(std::log10(cmax) + 0.05), std::floor(std::log10(emin)), std::ceil(std::log10(emax) + 0.05)};
         s += f.draw(panel.x_label, panel.y_label + " (log)");
         if (!panel.heading.empty()) s += text(f.x + f.w / 2, f.y - 8, panel.heading, "middle", 12);
@@ -121,10 +122,11 @@ std::string cost_error_chart(const std::string& title, const std::vector<LogPane
             }
             const double e = std::max(c.error, panel.floor);
             const double x = f.px(c.cost), y = f.py(e);
-            const char* colour = c.front ? "#2ca02c" : "#1f77b4";
+            const std::string colour = !c.colour.empty() ? c.colour : c.front ? "#2ca02c" : "#1f77b4";
             s += fmt("<circle cx=\"%.1f\" cy=\"%.1f\" r=\"4.5\" fill=\"", x, y) + colour + "\" stroke=\"#000\" stroke-width=\"0.6\"/>\n";
             if (c.error < panel.floor)
                 s += fmt("<path d=\"M %.1f %.1f v 12 m -4 -5 l 4 5 l 4 -5\" fill=\"none\" stroke=\"#333\"/>\n", x, y + 5);
+            if (c.label.empty()) continue;   // a marker only: one of a cluster that a neighbour's label names
             const double width = 5.6 * static_cast<double>(c.label.size()), height = 11;
             const double places[][2] = {{7, -6}, {-7, -6}, {7, 14}, {-7, 14}, {7, -18}, {-7, -18}, {7, 26}, {-7, 26}};
             int chosen = 0;

@@ -5,7 +5,7 @@
 //
 // Interface:
 //   LogPanel p{"frequency error (cents)", points};            // one point per method, labelled
-//   std::string svg = cost_error_chart(title, {p1, p2});      // side by side, cost (p.x_label) on x
+//   std::string svg = cost_error_chart(title, {p1, p2});      // two panels a row, cost (p.x_label) on x
 //   StabilitySeries s{"explicit Verlet", omega_t, measured, theory};
 //   std::string svg = stability_chart(title, {s, ...});       // growth per step against omega_max T
 //
@@ -22,10 +22,11 @@
 namespace ameoto::client {
 
 struct ChartPoint {
-    std::string label;
+    std::string label;    // empty: the marker alone (a cluster named by one of its points)
     double cost = 0.0;    // ns per sample
     double error = 0.0;
     bool front = false;
+    std::string colour;   // the marker's fill; empty: green on the front, blue off it
 };
 
 struct LogPanel {

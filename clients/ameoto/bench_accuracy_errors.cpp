@@ -54,6 +54,18 @@ std::vector<double> record_response(TransverseNetwork& net, int node, long sampl
     return y;
 }
 
+// Each reference mode's frequency in the method (NaN: a mode the method leaves out, modal truncation,
+// whose answer is rounding noise only).
+std::vector<double> mode_frequencies(TransverseNetwork& net, const AccuracyReference& reference, double fs) {
+    std::vector<double> hz;
+    for (std::size_t k = 0; k < reference.mode_hz.size(); ++k) {
+        const std::vector<double> x = record_position(net, reference.shapes[k], reference.listen[k], frequency_samples);
+        hz.push_back(peak_of(x) > 1e-6 * reference.mode_peak[k] ? zero_crossing_hz(dominant_part(x), fs)
+                                                                : std::numeric_limits<double>::quiet_NaN());
+    }
+    return hz;
+}
+
 }  // namespace
 
 TransverseNetwork build_network(const BenchMesh& mesh, const MethodSetting& setting) {
@@ -96,11 +108,9 @@ MethodErrors measure_errors(const BenchMesh& mesh, const MethodSetting& setting,
     e.sub_steps = net.stability().sub_steps;
     e.modes_kept = net.integrator() == Integrator::modal ? net.modal().mode_count() : 0;
     const double fs = 1.0 / mesh.time_step;
+    e.mode_hz = mode_frequencies(net, reference, fs);
     for (std::size_t k = 0; k < reference.mode_hz.size(); ++k) {
-        const std::vector<double> x = record_position(net, reference.shapes[k], reference.listen[k], frequency_samples);
-        // A mode the method leaves out (modal truncation) answers with rounding noise only: missing.
-        const double hz = peak_of(x) > 1e-6 * reference.mode_peak[k] ? zero_crossing_hz(dominant_part(x), fs)
-                                                                     : std::numeric_limits<double>::quiet_NaN();
+        const double hz = e.mode_hz[k];
         const double cents = std::isfinite(hz) ? std::abs(1200.0 * std::log2(hz / reference.mode_hz[k]))
                                                : std::numeric_limits<double>::infinity();
         e.cents = std::max(e.cents, cents);

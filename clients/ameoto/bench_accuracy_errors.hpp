@@ -8,7 +8,7 @@
 // Interface:
 //   TransverseNetwork net = build_network(mesh, setting);   // the panel in that method; guard off
 //   AccuracyReference ref = make_reference(mesh, 5000);     // exact: audible modes below 5 kHz, response
-//   MethodErrors e = measure_errors(mesh, setting, ref);    // e.cents, e.decibels, e.modes_kept
+//   MethodErrors e = measure_errors(mesh, setting, ref);    // e.cents, e.decibels, e.modes_kept, e.mode_hz
 //   double hz = zero_crossing_hz(x, fs);                    // from zero crossings; NaN if < 3
 //   double d = log_spectral_distance_db(x, reference, fs);  // dB
 //   double g = growth_factor(integrator, omega_max_T);      // per step, on an 8-mass chain
@@ -54,6 +54,7 @@ struct MethodErrors {
     double decibels = 0.0;
     int sub_steps = 1;
     int modes_kept = 0;   // modal: the modes it runs
+    std::vector<double> mode_hz;   // each reference mode's frequency in the method (NaN: left out)
 };
 
 constexpr double pitch_band_hz = 5000.0;   // modes heard as pitch (see above)
