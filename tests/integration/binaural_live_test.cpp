@@ -80,6 +80,18 @@ TEST_CASE("ameotod --format binaural, null backend: rain on a plate 3 m to the l
     CHECK(f.itd_s < 0.8e-3);
 }
 
+TEST_CASE("ameotod --format binaural: --record-score is refused with the reason, an unreadable --hrtf before the backend opens") {
+    ameoto::test::ChildProcess take({ameoto::test::ameotod, "--backend", "null", "--output", "-", "--duration", "0.1", "--format", "binaural",
+                                     "--record-score", ameoto::test::temp_path("binaural.take"), "--port", "0"});
+    CHECK(take.wait(30s) == 1);
+    CHECK(take.output().find("--record-score: a take does not record the binaural decode yet") != std::string::npos);
+    ameoto::test::ChildProcess hrtf({ameoto::test::ameotod, "--backend", "null", "--output", "-", "--duration", "0.1", "--format", "binaural",
+                                     "--hrtf", "/nonexistent/x.sofa", "--port", "0"});
+    CHECK(hrtf.wait(30s) == 1);
+    CHECK(hrtf.output().find("--format binaural: cannot read the HRTF set /nonexistent/x.sofa (No such file or directory") != std::string::npos);
+    CHECK(hrtf.output().find("backend null") == std::string::npos);
+}
+
 TEST_CASE("ameotod --format binaural: a /scene/load plays on, through the same two ears") {
     const std::string scene = binaural_plate_scene();
     ameoto::test::DaemonProcess d({"--backend", "null", "--output", "-", "--realtime", "--format", "binaural", "--scene", scene});
