@@ -124,7 +124,7 @@ public:
     bool take_meter(MeterWindow& window) { return meter_.take(window); }
     LoudnessTap& loudness_tap() { return loudness_; }   // /meter's loudness: set_wanted, drain (loudness_tap.hpp)
     double sample_rate() const { return sample_rate_; }
-    int channels() const { return channels_; }
+    int channels() const { return channels_; }   // the outputs': binaural 2 (the renderer's bus: config().channels)
     const RendererConfig& config() const { return renderer_->config(); }   // fixed at construction
     // Before the backend starts (allocates a ring of `capacity` records): from then on every block's wall
     // and CPU time, page faults and work go into it, for --block-trace.
