@@ -19,6 +19,10 @@ void BinauralSupply::watch(int backend_block) {
     if (waiting_ && bridge_.offer_binaural(waiting_)) ++changes_;
     seen_ = backend_block;
     if (building_ || backend_block <= 0 || backend_block == wanted_) return;
+    if (!waiting_ && backend_block == bridge_.binaural_block()) {   // back to the size playing (a change undone)
+        wanted_ = backend_block;
+        return;
+    }
     wanted_ = backend_block;
     building_ = true;
     say("the backend's block size is now " + std::to_string(backend_block) + " frames: building the binaural decoder for it");
