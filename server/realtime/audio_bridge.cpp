@@ -38,7 +38,8 @@ AudioBridge::AudioBridge(std::unique_ptr<Renderer> renderer, std::size_t queue_c
 }
 
 bool AudioBridge::offer_binaural(std::unique_ptr<BinauralStage>& stage) {
-    if (!stage || !binaural_ || stage->bus_channels() != renderer_->config().channels) return false;
+    // binaural_ itself is the audio thread's; channels_ is fixed at construction (2 when binaural).
+    if (!stage || binaural_block() == 0 || stage->bus_channels() != renderer_->config().channels) return false;
     if (!binaural_in_.try_push(stage.get())) return false;
     (void)stage.release();   // the audio thread owns it now
     return true;
