@@ -11,6 +11,7 @@
 #include "engine/render/renderer.hpp"
 #include "server/audio_events.hpp"
 #include "server/backend_life.hpp"
+#include "server/binaural_supply.hpp"
 #include "server/block_tracing.hpp"
 #include "server/control_loop.hpp"
 #include "server/log_lines.hpp"
@@ -65,7 +66,24 @@ int Daemon::run() {
     // The scene, and the bridge the audio thread plays it through.
     const std::optional<FirstScene> first = read_first_scene(options_, life->backend().sample_rate(), life->live());
     if (!first) return 1;
-    AudioBridge bridge(std::make_unique<Renderer>(first->config), 4096);
+    // --format binaural: the decoder for the backend's block size, built before audio starts (libmysofa reads
+    // and resamples the SOFA file: about 2 s the first time at a rate); the renderer makes its AmbiX bus.
+    std::unique_ptr<BinauralStage> ears;
+    const int binaural_order = options_.format->kind == OutputKind::binaural ? options_.format->order : 0;
+    if (binaural_order > 0) {
+        BinauralStage::Made made =
+            BinauralStage::create(options_.hrtf, binaural_order, life->backend().sample_rate(), life->backend().block_size());
+        if (!made.stage) {
+            warn("--format binaural: " + made.error);
+            return 1;
+        }
+        say("binaural: " + options_.hrtf + ", order " + std::to_string(binaural_order) + ", blocks of " +
+            std::to_string(made.stage->block_frames()) + " frames, " + std::to_string(made.stage->filter_frames()) + "-tap filters");
+        ears = std::move(made.stage);
+    }
+    AudioBridge bridge(std::make_unique<Renderer>(first->config), 4096, std::move(ears));
+    std::optional<BinauralSupply> binaural;
+    if (binaural_order > 0) binaural.emplace(loop.io(), bridge, options_.hrtf, binaural_order, life->backend().sample_rate());
     BlockTracing tracing(bridge);
     if (!tracing.open(options_, life->backend().sample_rate())) return 1;
     SceneRecord record(first->scene, first->config.liquid, first->config.material);
@@ -109,6 +127,7 @@ int Daemon::run() {
         record.apply_due(s.frames);
         subscriptions.send_meters();
         life->watch(s, replies);   // "running" and READY=1 after the first block; WAV and JACK faults
+        if (binaural) binaural->watch(life->backend().block_size());   // JACK's buffer size changed: a new decoder
     });
     auto traffic_reported = std::chrono::steady_clock::now();
     loop.every(1s, [&] {

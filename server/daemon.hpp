@@ -17,6 +17,8 @@
 //   ameotod: backend null, writing FILE.wav   |   ameotod: backend jack, client NAME
 //   ameotod: running
 //   ameotod: stopped
+//   ameotod: binaural decoder for blocks of N frames handed to the audio thread   (--format binaural, after
+//            the backend's block size changed: tests/integration/binaural_live_test.cpp waits for it)
 //
 // Thread: run() on the main thread, which becomes the control thread for the loop's lifetime.
 

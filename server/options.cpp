@@ -70,10 +70,16 @@ Options:
                       ears (two points 0.18 m apart), ring:N (N = 1..16 speakers on a
                       ring), ambix:ORDER (Ambisonics, ORDER 1..3: 4, 9 or 16 channels,
                       ACN order, SN3D, no Condon-Shortley phase; /listener/orientation
-                      turns it), binaural (not yet for the live stream: refused;
-                      ameoto render scene --format binaural decodes it offline).
+                      turns it), binaural (headphones: the ambix:3 bus decoded to two
+                      ears through measured HRIRs, --hrtf; ports out_1, out_2 named
+                      "left ear", "right ear"; /listener/orientation turns the head).
                       Default: the scene file's 'output format=', else stereo. JACK
                       ports stay out_1..out_N with pretty names ("ACN 0 W", ...)
+  --hrtf FILE.sofa    binaural: the head-related impulse responses (AES69 SOFA, two
+                      ears; default /usr/share/libmysofa/default.sofa, MIT KEMAR). The
+                      decoder is built at start for the backend's block size (JACK's
+                      buffer size, the null backend's --block), and again off the audio
+                      thread when JACK's buffer size changes (docs/binaural.md)
   --scene NAME|FILE.scene
                       scene to start with: umbrella (default: light rain, 2 mm/h, on
                       an 8-panel nylon umbrella of 0.5 m radius), pond, tin-roof,
@@ -267,6 +273,9 @@ ParsedOptions parse_options(int argc, const char* const* argv) {
             if (o.channels_given) return fail("give --format or --channels, not both (ring:N is N channels)");
             o.format = *f;
             o.channels = f->channels;
+        } else if (arg == "--hrtf") {
+            if (!value(v) || v.empty()) return fail("--hrtf needs a SOFA file");
+            o.hrtf = v;
         } else if (arg == "--rain") {
             if (!value(v) || !parse_double(v, 0, 500, d)) return fail("--rain needs a rain rate 0..500 mm/h");
             o.rain_mm_per_h = d;

@@ -39,6 +39,7 @@ struct DaemonOptions {
     int channels = 2;                     // the output format's (resolve_output_format sets it)
     std::optional<OutputFormat> format;   // --format; none: the scene file's `output format=`, else
                                           // --channels' meaning (stereo for 2, ring:N)
+    std::string hrtf = "/usr/share/libmysofa/default.sofa";   // --hrtf: binaural's SOFA file (BinauralDecoder::default_sofa_path)
     bool channels_given = false;          // --channels on the command line (it and --format exclude each other)
     int node = 0;                         // --node K: only the scene's surfaces on node K (0: all)
     std::optional<std::int64_t> start_at_unix_ns;   // --start-at: JACK plays silence until then (start_gate.hpp)

@@ -1,6 +1,10 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "server/output_choice.hpp"
 
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
 #include <filesystem>
 #include <stdexcept>
 
@@ -25,9 +29,11 @@ bool resolve_output_format(DaemonOptions& options) {
         }
     }
     if (!options.format) options.format = output_format_for_channels(options.channels);
-    if (options.format->kind == OutputKind::binaural) {
-        warn("--format binaural: the live stream does not decode to two ears yet (ameoto render scene --format binaural "
-             "does, offline); use --format ambix:3 and a binaural decoder (docs/output-formats.md)");
+    // Binaural: a SOFA file that is not there is said before the ports open; what is wrong inside one is
+    // said when the decoder is built (BinauralDecoder::create), before audio starts.
+    if (options.format->kind == OutputKind::binaural && ::access(options.hrtf.c_str(), R_OK) != 0) {
+        warn("--format binaural: cannot read the HRTF set " + options.hrtf + " (" + std::strerror(errno) +
+             "; --hrtf FILE.sofa, or install libmysofa1 for the default)");
         return false;
     }
     options.channels = options.format->channels;

@@ -5,7 +5,8 @@
 //
 // Interface (control thread, at start):
 //   if (!resolve_output_format(options)) return 1;   // options.format and options.channels set; false:
-//                                                    // a format this ameotod cannot play (logged)
+//                                                    // a format this ameotod cannot play (logged):
+//                                                    // binaural with an --hrtf file it cannot read
 //   std::vector<std::string> labels = output_channel_names(*options.format);   // JACK pretty names
 // A scene that cannot be read is left to read_first_scene, which names its file and line.
 

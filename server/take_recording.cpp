@@ -19,6 +19,13 @@ TakeRecording::~TakeRecording() {
 
 bool TakeRecording::open(const DaemonOptions& options) {
     if (!options.record_score) return true;
+    // A take names its channels, not its output format, and `render score` renders it with the renderer
+    // alone: a binaural take would come back as 16 channels of a ring, not as the two ears that played.
+    if (options.format && options.format->kind == OutputKind::binaural) {
+        warn("--record-score: a take does not record the binaural decode yet (it would render again as 16 channels, "
+             "not two ears): play binaural without --record-score");
+        return false;
+    }
     path_ = *options.record_score;
     fd_ = ::open(path_.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
     if (fd_ < 0) {

@@ -18,7 +18,7 @@
 #include "clients/ameoto/number_text.hpp"
 #include "clients/ameoto/option_reader.hpp"
 #include "clients/ameoto/progress_line.hpp"
-#include "engine/render/binaural_decoder.hpp"
+#include "clients/ameoto/render_output.hpp"
 #include "engine/render/level_choice.hpp"
 #include "engine/render/loudness.hpp"
 #include "engine/render/renderer.hpp"
@@ -258,16 +258,13 @@ int run_render_scene(const RenderSceneOptions& o, const CommandIo& io) {
         return exit_status::refused;
     }
     constexpr int block = 512;
-    // Binaural: the renderer's third-order bus, decoded to two ears block by block (binaural_decoder.hpp;
+    // Binaural: the renderer's third-order bus, decoded to two ears block by block (render_output.hpp;
     // built here, before any sample: libmysofa reads and resamples the SOFA file).
-    std::unique_ptr<BinauralDecoder> binaural;
-    if (format.kind == OutputKind::binaural) {
-        auto made = BinauralDecoder::create(o.hrtf, format.order, o.rate, block);
-        if (!made.decoder) {
-            io.err << "ameoto render scene: --format binaural: " << made.error << "\n";
-            return exit_status::refused;
-        }
-        binaural = std::move(made.decoder);
+    std::string error;
+    std::optional<RenderOutput> output = RenderOutput::make(format, renderer->config().channels, o.hrtf, o.rate, block, error);
+    if (!output) {
+        io.err << "ameoto render scene: " << error << "\n";
+        return exit_status::refused;
     }
     SF_INFO info{};
     info.samplerate = o.rate;
@@ -287,29 +284,18 @@ int run_render_scene(const RenderSceneOptions& o, const CommandIo& io) {
                                            .c_str());
     LoudnessMeter loudness(format.channels, o.rate, LoudnessMeter::integrated | LoudnessMeter::peaks);
     const long total = std::max(1L, std::lround(o.seconds * o.rate));
-    const int channels = format.channels;   // the file's (2 for binaural)
-    const int bus = renderer->config().channels;   // the renderer's (16 for binaural)
-    std::vector<std::vector<float>> planar(static_cast<std::size_t>(bus), std::vector<float>(block));
-    std::vector<float*> out(static_cast<std::size_t>(bus));
-    for (int c = 0; c < bus; ++c) out[static_cast<std::size_t>(c)] = planar[static_cast<std::size_t>(c)].data();
-    std::vector<std::vector<float>> ears(2, std::vector<float>(block));
+    const int channels = output->channels();   // the file's (2 for binaural; the renderer's bus is 16)
     std::vector<float> interleaved(static_cast<std::size_t>(block * channels));
     ProgressLine progress(io.err, !o.quiet && isatty(STDERR_FILENO) && &io.err == &std::cerr, o.rate);
     double peak = 0.0;
     bool finite = true;
     for (long done = 0; done < total;) {
         const int n = static_cast<int>(std::min<long>(block, total - done));
-        renderer->process(n, out.data());
-        const std::vector<std::vector<float>>* heard = &planar;
-        if (binaural) {
-            // The decoder takes whole blocks: a last short block is padded with silence (its tail unwritten).
-            for (auto& p : planar) std::fill(p.begin() + n, p.end(), 0.0f);
-            binaural->process(out.data(), block, ears[0].data(), ears[1].data());
-            heard = &ears;
-        }
+        renderer->process(n, output->bus());
+        output->finish(n);
         for (int i = 0; i < n; ++i)
             for (int c = 0; c < channels; ++c) {
-                const float s = (*heard)[static_cast<std::size_t>(c)][static_cast<std::size_t>(i)];
+                const float s = output->channel(c)[i];
                 if (!std::isfinite(s)) finite = false;
                 peak = std::max(peak, static_cast<double>(std::fabs(s)));
                 interleaved[static_cast<std::size_t>(i * channels + c)] = s;

@@ -17,6 +17,7 @@
 #include "clients/ameoto/number_text.hpp"
 #include "clients/ameoto/option_reader.hpp"
 #include "clients/ameoto/progress_line.hpp"
+#include "clients/ameoto/render_output.hpp"
 #include "clients/ameoto/render_take.hpp"
 #include "clients/ameoto/score_file.hpp"
 #include "engine/models/canopy.hpp"
@@ -65,7 +66,7 @@ bool read_scene(const std::string& name, SceneDescription& scene, std::string& e
 std::string render_score_usage() {
     return "usage: ameoto render score FILE -o OUT.wav [--scene NAME|FILE.scene] [--rain MM/H]\n"
            "           [--seconds S] [--rate HZ] [--seed N] [--channels N | --format F]\n"
-           "           [--block FRAMES] [--quiet]\n"
+           "           [--block FRAMES] [--hrtf FILE.sofa] [--quiet]\n"
            "\n"
            "Renders a score of timed OSC messages offline (no server needed) with the engine ameotod\n"
            "runs, every message at its sample: round(time x rate). FILE is scsynth's binary score (what\n"
@@ -87,9 +88,12 @@ std::string render_score_usage() {
            "  --seed N            random seed, 0..2^64-1 (default 1)\n"
            "  --channels N        1..16 (default 2): stereo for 2, else ring:N\n" +
            format_option_usage() +
-           "                      With ambix:N, /listener/orientation messages turn the bus\n"
+           "                      With ambix:N and binaural, /listener/orientation messages turn the bus\n"
+           "  --hrtf FILE.sofa    binaural: the head-related impulse responses (AES69 SOFA; default\n"
+           "                      /usr/share/libmysofa/default.sofa, MIT KEMAR; docs/binaural.md)\n"
            "  --block FRAMES      frames per engine call, 1..8192 (default 512; the samples are the same\n"
-           "                      at any block size)\n"
+           "                      at any block size; binaural's ears, decoded in blocks of this size,\n"
+           "                      within float rounding)\n"
            "  --quiet             no progress on stderr\n"
            "  -o FILE.wav         the output (32-bit float WAV)\n"
            "\n"
@@ -139,6 +143,13 @@ RenderParse parse_render_score_options(const CommandWords& words, RenderScoreOpt
             const auto v = reader.number_into(0.0, 500.0, "mm/h", error);
             if (!v) return RenderParse::error;
             o.rain_mm_per_h = *v;
+        } else if (name == "--hrtf") {
+            if (!take_value()) return RenderParse::error;
+            if (value.empty()) {
+                error = "--hrtf needs a SOFA file";
+                return RenderParse::error;
+            }
+            o.hrtf = value;
         } else if (name == "--format") {
             if (!take_value()) return RenderParse::error;
             if (!o.format.take_format(value, error)) return RenderParse::error;
@@ -227,9 +238,6 @@ int run_render_score(const RenderScoreOptions& o, const CommandIo& io) {
         RendererConfig base;
         base.sample_rate = o.rate;
         format = o.format.resolve(scene.output_format);
-        if (format.kind == OutputKind::binaural)
-            throw std::invalid_argument("--format binaural: render score does not decode to two ears yet (ameoto render scene "
-                                        "--format binaural does); use ambix:3 and a binaural decoder");
         apply_output_format(base, format);
         base.seed = o.seed;
         base.adaptive_lod = false;   // offline: every drop at its full detail, whatever the machine's load
@@ -246,7 +254,7 @@ int run_render_score(const RenderScoreOptions& o, const CommandIo& io) {
                                       [](const SurfaceDescription& s) { return s.kind == SurfaceKind::umbrella; });
     context.surfaces = umbrella ? std::vector<std::string>{"umbrella"} : std::vector<std::string>{};
     context.on_surface = [&](const std::string&, double x, double y) { return geometry->locate(x, y).panel >= 0; };
-    context.ambisonic_order = format.kind == OutputKind::ambix ? format.order : 0;
+    context.ambisonic_order = format.kind == OutputKind::ambix || format.kind == OutputKind::binaural ? format.order : 0;
 
     // Every message checked before a sample is written.
     std::vector<Command> commands;
@@ -307,6 +315,13 @@ int run_render_score(const RenderScoreOptions& o, const CommandIo& io) {
     const double seconds = o.seconds ? *o.seconds : end_marker ? std::max(0.01, *end_marker) : last + 3.0;
     const long total = std::max(1L, std::lround(seconds * o.rate));
 
+    // Binaural: the third-order bus decoded to two ears, block by block (render_output.hpp), built before
+    // the file is opened: a SOFA file that cannot be used leaves nothing behind.
+    std::optional<RenderOutput> output = RenderOutput::make(format, renderer->config().channels, o.hrtf, o.rate, o.block, error);
+    if (!output) {
+        io.err << me << error << "\n";
+        return exit_status::refused;
+    }
     SF_INFO info{};
     info.samplerate = o.rate;
     info.channels = format.channels;
@@ -319,38 +334,42 @@ int run_render_score(const RenderScoreOptions& o, const CommandIo& io) {
     sf_set_string(wav, SF_STR_SOFTWARE, "ameoto render score");
     sf_set_string(wav, SF_STR_COMMENT, ("ameoto render score. Channels: " + output_channel_summary(format)).c_str());
     const int block = o.block;
-    const int channels = format.channels;
-    std::vector<std::vector<float>> planar(static_cast<std::size_t>(channels), std::vector<float>(static_cast<std::size_t>(block)));
-    std::vector<float*> out(static_cast<std::size_t>(channels));
-    for (int c = 0; c < channels; ++c) out[static_cast<std::size_t>(c)] = planar[static_cast<std::size_t>(c)].data();
+    const int channels = output->channels();   // the file's (binaural: 2 ears of the renderer's 16-channel bus)
     std::vector<float> interleaved(static_cast<std::size_t>(block * channels));
     ProgressLine progress(io.err, !o.quiet && isatty(STDERR_FILENO) && &io.err == &std::cerr, o.rate);
-    // The renderer holds at most pending_capacity commands waiting for their sample: a block is cut short
-    // before the command that would overfill it (cutting a block changes no sample).
+    // The renderer holds at most pending_capacity commands waiting for their sample: an engine call is cut
+    // short before the command that would overfill it, and the block filled in pieces (cutting a call
+    // changes no sample; the binaural decoder still gets whole blocks).
     constexpr std::size_t room = Renderer::pending_capacity / 2;
     std::size_t next = 0;
     double peak = 0.0;
     for (long done = 0; done < total;) {
-        long n = std::min<long>(block, total - done);
-        std::size_t queued = 0;
-        while (next < commands.size() && commands[next].frame < static_cast<std::uint64_t>(done + n)) {
-            if (queued == room) {
-                n = std::max<long>(1, static_cast<long>(commands[next].frame) - done);
-                break;
+        const long n = std::min<long>(block, total - done);
+        for (long filled = 0; filled < n;) {
+            long piece = n - filled;
+            const long at = done + filled;
+            std::size_t queued = 0;
+            while (next < commands.size() && commands[next].frame < static_cast<std::uint64_t>(at + piece)) {
+                if (queued == room) {
+                    piece = std::max<long>(1, static_cast<long>(commands[next].frame) - at);
+                    break;
+                }
+                Command c = commands[next++];
+                // The head's rotation, built here off the renderer's calls as ameotod builds it (packet_dispatch.cpp).
+                if (c.kind == CommandKind::orientation)
+                    c.object = new AmbixRotation(AmbixRotation::from_orientation(c.values[0], c.values[1], c.values[2], format.order));
+                renderer->schedule(c);
+                ++queued;
             }
-            Command c = commands[next++];
-            // The head's rotation, built here off the renderer's calls as ameotod builds it (packet_dispatch.cpp).
-            if (c.kind == CommandKind::orientation)
-                c.object = new AmbixRotation(AmbixRotation::from_orientation(c.values[0], c.values[1], c.values[2], format.order));
-            renderer->schedule(c);
-            ++queued;
+            renderer->process(static_cast<int>(piece), output->bus(static_cast<int>(filled)));
+            for (RendererEvent e; renderer->poll_event(e);)   // the rotations come back to be freed
+                if (e.kind == RendererEventKind::retired && e.object_type == RetiredObject::rotation) delete static_cast<AmbixRotation*>(e.object);
+            filled += piece;
         }
-        renderer->process(static_cast<int>(n), out.data());
-        for (RendererEvent e; renderer->poll_event(e);)   // the rotations come back to be freed
-            if (e.kind == RendererEventKind::retired && e.object_type == RetiredObject::rotation) delete static_cast<AmbixRotation*>(e.object);
+        output->finish(static_cast<int>(n));
         for (long i = 0; i < n; ++i)
             for (int c = 0; c < channels; ++c) {
-                const float s = planar[static_cast<std::size_t>(c)][static_cast<std::size_t>(i)];
+                const float s = output->channel(c)[i];
                 peak = std::max(peak, static_cast<double>(std::fabs(s)));
                 interleaved[static_cast<std::size_t>(i * channels + c)] = s;
             }

@@ -44,6 +44,7 @@ struct RenderScoreOptions {
     std::uint64_t seed = 1;
     FormatChoice format;                   // --format or --channels; default: the scene's, else stereo
     int block = 512;                       // frames per renderer call, 1..8192 (changes nothing in the samples)
+    std::string hrtf = "/usr/share/libmysofa/default.sofa";   // --hrtf FILE.sofa: binaural's HRIRs
     bool quiet = false;
     std::string setup_option;              // the first of --scene, --rain, --rate, --seed, --channels given
                                            // (a recorded take names its own: render_take.hpp)

@@ -16,8 +16,9 @@
 //   ring:N     N = 1..16 speakers on a ring (1: mono), panned pairwise (panning.hpp)
 //   ambix:N    Ambisonics of order N = 1..3, AmbiX (ACN order, SN3D, no Condon-Shortley phase):
 //              (N + 1)^2 channels (models/ambisonics.hpp)
-//   binaural   headphones: third-order Ambisonics decoded to two ears through measured HRIRs (a SOFA
-//              file, --hrtf); parsed here, refused by the renderers until the decoder is built in
+//   binaural   headphones: the renderer makes the third-order bus (apply_output_format: 16 channels) and
+//              the caller decodes it to two ears through measured HRIRs (a SOFA file, --hrtf;
+//              engine/render/binaural_decoder.hpp): ameotod's audio bridge, the renders' render_output
 
 #include <optional>
 #include <string>

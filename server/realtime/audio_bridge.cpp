@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 #include "server/realtime/rt_probe.hpp"
 
@@ -17,15 +19,35 @@ std::int64_t now_ns(clockid_t clock) {
 }
 }  // namespace
 
-AudioBridge::AudioBridge(std::unique_ptr<Renderer> renderer, std::size_t queue_capacity)
+AudioBridge::AudioBridge(std::unique_ptr<Renderer> renderer, std::size_t queue_capacity, std::unique_ptr<BinauralStage> binaural)
     : renderer_(std::move(renderer)),
       sample_rate_(renderer_->config().sample_rate),
-      channels_(renderer_->config().channels),
+      channels_(binaural ? 2 : renderer_->config().channels),
       commands_(queue_capacity),
       events_(queue_capacity),
       meter_(sample_rate_, channels_),
       loudness_(channels_, sample_rate_) {
     output_gain_db_.store(renderer_->level_gain_db() + renderer_->output().gain_db());
+    if (binaural) {
+        if (binaural->bus_channels() != renderer_->config().channels)
+            throw std::invalid_argument("the binaural stage decodes " + std::to_string(binaural->bus_channels()) +
+                                        " channels but the renderer makes " + std::to_string(renderer_->config().channels));
+        binaural_block_.store(binaural->block_frames());
+        binaural_ = binaural.release();
+    }
+}
+
+bool AudioBridge::offer_binaural(std::unique_ptr<BinauralStage>& stage) {
+    // binaural_ itself is the audio thread's; channels_ is fixed at construction (2 when binaural).
+    if (!stage || binaural_block() == 0 || stage->bus_channels() != renderer_->config().channels) return false;
+    if (!binaural_in_.try_push(stage.get())) return false;
+    (void)stage.release();   // the audio thread owns it now
+    return true;
+}
+
+std::unique_ptr<BinauralStage> AudioBridge::take_retired_binaural() {
+    BinauralStage* old = nullptr;
+    return binaural_out_.try_pop(old) ? std::unique_ptr<BinauralStage>(old) : nullptr;
 }
 
 double AudioBridge::take_cpu_peak_percent() { return 100.0 * load_peak_.exchange(0.0, std::memory_order_relaxed); }
@@ -42,6 +64,9 @@ AudioBridge::~AudioBridge() {
         else if (command.kind == CommandKind::orientation)
             delete static_cast<AmbixRotation*>(command.object);
     }
+    for (BinauralStage* stage = nullptr; binaural_in_.try_pop(stage);) delete stage;
+    for (BinauralStage* stage = nullptr; binaural_out_.try_pop(stage);) delete stage;
+    delete binaural_;
     RendererEvent event;
     while (events_.try_pop(event)) {
         if (event.kind != RendererEventKind::retired) continue;
@@ -121,7 +146,28 @@ void AudioBridge::process(int frames, float* const* outputs, const BlockTime& ti
             if (!take_->try_push(AppliedCommand{at, command})) take_lost_.fetch_add(1, std::memory_order_relaxed);
         }
     }
-    renderer_->process(frames, outputs);
+    if (binaural_) {
+        // A stage for a new block size, when the control thread has built one; the old one goes back to be
+        // freed (taken only when the return queue has room, so no stage is ever lost).
+        BinauralStage* next = nullptr;
+        while (binaural_out_.size_approx() < binaural_out_.capacity() && binaural_in_.try_pop(next)) {
+            (void)binaural_out_.try_push(binaural_);
+            binaural_ = next;
+            binaural_block_.store(next->block_frames(), std::memory_order_relaxed);
+        }
+        const int block = binaural_->block_frames();
+        if (frames != block) binaural_unmatched_.fetch_add(1, std::memory_order_relaxed);
+        if (frames <= block) {
+            renderer_->process(frames, binaural_->bus());
+            binaural_->decode(frames, outputs[0], outputs[1]);
+        } else {
+            for (int done = 0; done < frames; done += block) renderer_->process(std::min(block, frames - done), binaural_->bus());
+            std::fill(outputs[0], outputs[0] + frames, 0.0f);
+            std::fill(outputs[1], outputs[1] + frames, 0.0f);
+        }
+    } else {
+        renderer_->process(frames, outputs);
+    }
     meter_.measure(frames, outputs, renderer_->frame());
     loudness_.feed(frames, outputs);
     // Take an event from the renderer only when the queue has room for it: events that hand back an

@@ -6,6 +6,8 @@
 //
 // Interface:
 //   AudioBridge bridge(std::make_unique<Renderer>(config), 4096);   // control thread, allocates
+//   AudioBridge bridge(renderer, 4096, std::move(stage));   // --format binaural: the renderer's AmbiX bus
+//                                                           // decoded to two ears (binaural_stage.hpp)
 //   control thread:  bridge.send(command)  -> false when the queue is full (answer /fail busy)
 //                    bridge.poll_event(e)  -> replies decided on the audio thread (/synced, busy)
 //                    bridge.snapshot()     -> counters and load for /status (reads only)
@@ -19,8 +21,19 @@
 //                    bridge.enable_take(n)  -> before audio starts: record every command applied (--record-score)
 //                    bridge.take()         -> that record's queue (null when off), read by one thread
 //                    bridge.take_lost()    -> commands applied that found the queue full (the take is incomplete)
+//                    bridge.offer_binaural(stage) -> binaural: a stage for a new block size (JACK's buffer size
+//                                           changed), swapped in at the next block; false: the queue is full
+//                    bridge.take_retired_binaural() -> the stage it replaced, to be freed here (null: none yet)
+//                    bridge.binaural_block()  -> the block size of the stage playing (0: not binaural)
+//                    bridge.binaural_unmatched_blocks() -> blocks of another size than the stage's (silence
+//                                           or padded, binaural_stage.hpp)
 //   audio thread:    bridge.process(frames, outputs, time)   // never allocates, frees, locks, blocks or logs
 //                    time: the backend's filtered clock for this block (BlockTime), or {} for none
+//
+// Binaural: the renderer writes its (N+1)^2-channel bus into the stage's own preallocated bus, and the
+// stage decodes it into outputs[0] and outputs[1]; the meter, the loudness tap and channels() are the two
+// ears'. A block longer than the stage's (JACK's buffer grew, the new stage not yet here) is rendered in
+// pieces of the stage's size into its bus, so the scene's time runs on, and plays silence.
 //
 // Load: each process() measures its own duration with the monotonic clock (a vDSO read, no system
 // call) against the block's period; the average is an exponential mean over about one second, the
@@ -40,6 +53,7 @@
 #include <type_traits>
 
 #include "engine/render/renderer.hpp"
+#include "server/realtime/binaural_stage.hpp"
 #include "server/realtime/block_trace.hpp"
 #include "server/realtime/level_meter.hpp"
 #include "server/realtime/loudness_tap.hpp"
@@ -95,7 +109,7 @@ std::uint64_t frame_at(const AudioClock& clock, double unix_seconds);
 
 class AudioBridge {
 public:
-    AudioBridge(std::unique_ptr<Renderer> renderer, std::size_t queue_capacity);
+    AudioBridge(std::unique_ptr<Renderer> renderer, std::size_t queue_capacity, std::unique_ptr<BinauralStage> binaural = nullptr);
     ~AudioBridge();
 
     // control thread
@@ -110,7 +124,7 @@ public:
     bool take_meter(MeterWindow& window) { return meter_.take(window); }
     LoudnessTap& loudness_tap() { return loudness_; }   // /meter's loudness: set_wanted, drain (loudness_tap.hpp)
     double sample_rate() const { return sample_rate_; }
-    int channels() const { return channels_; }
+    int channels() const { return channels_; }   // the outputs': binaural 2 (the renderer's bus: config().channels)
     const RendererConfig& config() const { return renderer_->config(); }   // fixed at construction
     // Before the backend starts (allocates a ring of `capacity` records): from then on every block's wall
     // and CPU time, page faults and work go into it, for --block-trace.
@@ -121,6 +135,10 @@ public:
     void enable_take(std::size_t capacity) { take_ = std::make_unique<SpscQueue<AppliedCommand>>(capacity); }
     SpscQueue<AppliedCommand>* take() { return take_.get(); }
     std::uint64_t take_lost() const { return take_lost_.load(std::memory_order_relaxed); }
+    bool offer_binaural(std::unique_ptr<BinauralStage>& stage);   // true: taken (stage is then null)
+    std::unique_ptr<BinauralStage> take_retired_binaural();
+    int binaural_block() const { return binaural_block_.load(std::memory_order_relaxed); }
+    std::uint64_t binaural_unmatched_blocks() const { return binaural_unmatched_.load(std::memory_order_relaxed); }
 
     // audio thread
     void process(int frames, float* const* outputs, const BlockTime& time = {});
@@ -136,6 +154,13 @@ private:
     std::unique_ptr<BlockTrace> trace_;   // null unless --block-trace
     std::unique_ptr<SpscQueue<AppliedCommand>> take_;   // null unless --record-score
     std::atomic<std::uint64_t> take_lost_{0};
+    // --format binaural: the stage playing (owned: freed by the destructor), and the lock-free handoff of
+    // its replacements (in) and of the stages they replaced (out, freed on the control thread).
+    BinauralStage* binaural_ = nullptr;
+    SpscQueue<BinauralStage*> binaural_in_{4};
+    SpscQueue<BinauralStage*> binaural_out_{8};
+    std::atomic<int> binaural_block_{0};
+    std::atomic<std::uint64_t> binaural_unmatched_{0};
 
     // published by the audio thread
     std::atomic<std::uint64_t> clock_sequence_{0};

@@ -204,7 +204,16 @@ TEST_CASE("--format: every output format, its channels, and --channels not besid
     CHECK(a.options.channels == 16);
     CHECK(parse({"--format", "ring:6"}).options.channels == 6);
     CHECK(parse({"--format", "ears"}).options.format->kind == ameoto::OutputKind::ears);
-    CHECK(parse({"--format", "binaural"}).error.empty());   // parsed; refused at start (resolve_output_format)
+    {
+        const auto b = parse({"--format", "binaural"});   // two ears of the ambix:3 bus (the renderer's 16 channels)
+        REQUIRE(b.error.empty());
+        CHECK(b.options.channels == 2);
+        CHECK(b.options.hrtf == "/usr/share/libmysofa/default.sofa");
+        CHECK(parse({"--format", "binaural", "--hrtf", "/x/y.sofa"}).options.hrtf == "/x/y.sofa");
+        CHECK(parse({"--hrtf"}).error == "--hrtf needs a SOFA file");
+        CHECK(parse({"--hrtf", ""}).error == "--hrtf needs a SOFA file");
+        CHECK(ameoto::usage().find("--hrtf FILE.sofa") != std::string::npos);
+    }
     CHECK(parse({"--format", "ambix:4"}).error == "--format: 'ambix:4': the Ambisonic order is 1, 2 or 3 (ambix:ORDER: 4, 9 or 16 channels)");
     CHECK(parse({"--format", "quad"}).error.find("is not an output format") != std::string::npos);
     CHECK(parse({"--format", "ambix:1", "--channels", "4"}).error == "give --format or --channels, not both (ring:N is N channels)");

@@ -17,6 +17,8 @@
 #include <thread>
 #include <vector>
 
+#include "engine/render/binaural_decoder.hpp"
+#include "server/realtime/binaural_stage.hpp"
 #include "server/realtime/rt_probe.hpp"
 #include "tests/support/rt_probe_scope.hpp"   // the probe's counters (ameoto_rt_probe_*)
 
@@ -198,6 +200,85 @@ TEST_CASE_FIXTURE(ProbeFixture, "AudioBridge::process on an Ambisonic stream, th
     control.join();
     CHECK(returned.load() > 10);   // the turns really reached the audio thread and came back
     CHECK(ameoto_rt_probe_entries() == 500);
+    INFO("first violation: " << std::string(ameoto_rt_probe_first_violation()));
+    CHECK(ameoto_rt_probe_violations() == 0);
+}
+
+TEST_CASE_FIXTURE(ProbeFixture, "AudioBridge::process on a binaural stream, its block size changing, never allocates, frees, locks or sleeps") {
+    // --format binaural: the renderer's third-order bus into the stage's own bus, decoded to two ears; the
+    // head turning meanwhile; then JACK's buffer size halves (a stage for 128 frames handed over as
+    // server/binaural_supply.cpp does), then doubles back before a stage for it came (rendered in pieces,
+    // silence), and a short last block (padded). Every block under the probe.
+    ameoto::RendererConfig config;
+    config.rain_rate_mm_per_h = 50.0;
+    std::string error;
+    ameoto::apply_output_format(config, *ameoto::parse_output_format("binaural", error));
+    REQUIRE(config.channels == 16);
+    auto first = ameoto::BinauralStage::create(ameoto::BinauralDecoder::default_sofa_path, 3, config.sample_rate, 256);
+    INFO(first.error);
+    REQUIRE(first.stage);
+    auto second = ameoto::BinauralStage::create(ameoto::BinauralDecoder::default_sofa_path, 3, config.sample_rate, 128);
+    REQUIRE(second.stage);
+    ameoto::AudioBridge bridge(std::make_unique<ameoto::Renderer>(config), 256, std::move(first.stage));
+    CHECK(bridge.channels() == 2);
+    CHECK(bridge.binaural_block() == 256);
+    std::vector<std::vector<float>> ears(2, std::vector<float>(256));
+    std::vector<float*> outputs{ears[0].data(), ears[1].data()};
+    std::atomic<bool> done{false};
+    std::atomic<int> returned{0};
+    std::thread control([&] {
+        int i = 0;
+        while (!done.load()) {
+            ameoto::Command c;
+            c.kind = ameoto::CommandKind::orientation;
+            c.values[0] = 0.1 * (i % 60);
+            c.object = new ameoto::AmbixRotation(ameoto::AmbixRotation::from_orientation(c.values[0], 0.0, 0.0, 3));
+            if (!bridge.send(c)) delete static_cast<ameoto::AmbixRotation*>(c.object);
+            ameoto::RendererEvent e;
+            while (bridge.poll_event(e))
+                if (e.kind == ameoto::RendererEventKind::retired && e.object_type == ameoto::RetiredObject::rotation) {
+                    delete static_cast<ameoto::AmbixRotation*>(e.object);
+                    returned.fetch_add(1);
+                }
+            ++i;
+            std::this_thread::sleep_for(std::chrono::microseconds(500));
+        }
+    });
+    double heard = 0.0, over_long = 0.0;
+    auto energy = [&](int frames) {
+        double e = 0.0;
+        for (const auto& ear : ears)
+            for (int n = 0; n < frames; ++n) e += static_cast<double>(ear[static_cast<std::size_t>(n)]) * ear[static_cast<std::size_t>(n)];
+        return e;
+    };
+    std::thread audio([&] {
+        for (int n = 0; n < 200; ++n) bridge.process(256, outputs.data());
+        heard = energy(256);
+    });
+    audio.join();
+    CHECK(bridge.offer_binaural(second.stage));   // the control thread's handoff (binaural_supply.cpp)
+    CHECK(!second.stage);
+    std::thread audio2([&] {
+        for (int n = 0; n < 200; ++n) bridge.process(128, outputs.data());
+        heard += energy(128);
+        for (int n = 0; n < 20; ++n) {
+            bridge.process(256, outputs.data());   // longer than the stage's: pieces rendered, silence out
+            over_long += energy(256);
+        }
+        bridge.process(100, outputs.data());       // shorter: decoded padded
+    });
+    audio2.join();
+    done.store(true);
+    control.join();
+    CHECK(bridge.binaural_block() == 128);
+    CHECK(bridge.binaural_unmatched_blocks() == 21);
+    CHECK(bridge.take_retired_binaural() != nullptr);   // the 256-frame stage, back to be freed here
+    CHECK(bridge.take_retired_binaural() == nullptr);
+    CHECK(heard > 0.0);           // the ears really carry the rain
+    CHECK(over_long == 0.0);
+    CHECK(bridge.snapshot().frames == 200 * 256 + 200 * 128 + 20 * 256 + 100);   // the scene's time ran on throughout
+    CHECK(returned.load() > 10);
+    CHECK(ameoto_rt_probe_entries() == 421);
     INFO("first violation: " << std::string(ameoto_rt_probe_first_violation()));
     CHECK(ameoto_rt_probe_violations() == 0);
 }

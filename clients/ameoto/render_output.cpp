@@ -1,0 +1,48 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "clients/ameoto/render_output.hpp"
+
+#include <algorithm>
+
+namespace ameoto::client {
+
+std::optional<RenderOutput> RenderOutput::make(const OutputFormat& format, int bus_channels, const std::string& hrtf_path, int rate,
+                                               int block, std::string& error) {
+    RenderOutput out;
+    out.block_ = block;
+    const auto frames = static_cast<std::size_t>(block);
+    out.planar_.assign(static_cast<std::size_t>(bus_channels), std::vector<float>(frames, 0.0f));
+    out.pointers_.resize(out.planar_.size());
+    if (format.kind == OutputKind::binaural) {
+        auto made = BinauralDecoder::create(hrtf_path, format.order, rate, block);
+        if (!made.decoder) {
+            error = "--format binaural: " + made.error;
+            return std::nullopt;
+        }
+        if (made.decoder->channels() != bus_channels) {
+            error = "--format binaural: the decoder takes " + std::to_string(made.decoder->channels()) + " channels, the renderer makes " +
+                    std::to_string(bus_channels);
+            return std::nullopt;
+        }
+        out.decoder_ = std::move(made.decoder);
+        for (const auto& c : out.planar_) out.inputs_.push_back(c.data());
+        out.ears_.assign(2, std::vector<float>(frames, 0.0f));
+        for (const auto& ear : out.ears_) out.heard_.push_back(ear.data());
+    } else {
+        for (const auto& c : out.planar_) out.heard_.push_back(c.data());
+    }
+    return std::optional<RenderOutput>(std::move(out));   // the vectors' buffers move with it
+}
+
+float* const* RenderOutput::bus(int offset) {
+    for (std::size_t c = 0; c < planar_.size(); ++c) pointers_[c] = planar_[c].data() + offset;
+    return pointers_.data();
+}
+
+void RenderOutput::finish(int frames) {
+    if (!decoder_) return;
+    // The decoder takes whole blocks: a last short block is padded with silence (its tail not written).
+    for (auto& p : planar_) std::fill(p.begin() + std::clamp(frames, 0, block_), p.end(), 0.0f);
+    decoder_->process(inputs_.data(), block_, ears_[0].data(), ears_[1].data());
+}
+
+}  // namespace ameoto::client
