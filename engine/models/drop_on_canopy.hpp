@@ -208,12 +208,12 @@ public:
     int latency_samples() const { return latency_samples_; }
     int guard();                                   // the canopy's guard now: panels reset (counted in stats)
     // The listener's head turned by `head` (ambisonics.hpp's head_rotation, row-major) within the body
-    // that holds the umbrella: on the panned formats (2+ channels, ListenerStyle::panned, in vacuum) each
+    // that holds the umbrella: on the panned formats (2+ channels, ListenerStyle::panned, in vacuum or air) each
     // panel is re-panned by the azimuth its centre is heard from, H^T d (the full rotation, so a pitch or
     // roll moves an overhead panel's azimuth), the gains gliding over glide_frames samples. Audio thread,
-    // no allocation. Returns false where it has nothing to turn or cannot: mono, ears (the two ear points
-    // are built into the radiator's taps), ambix (the renderer rotates the bus), in air (the dipole
-    // model's panel gains are folded into its modal filters). drop_on_canopy_turn.cpp.
+    // no allocation; in air the dipole model's taps are re-mixed from each panel's own. Returns false
+    // where it has nothing to turn: mono, ears (the two ear points are built into the radiator's taps),
+    // ambix (the renderer rotates the bus). drop_on_canopy_turn.cpp.
     bool turn_head(const std::array<double, 9>& head, int glide_frames);
     // N: the sum of the collision forces the last sample put on drop masses (the membrane took the
     // opposite); what impact_templates.hpp records.
@@ -225,6 +225,7 @@ public:
     const DropOnCanopyConfig& config() const { return config_; }
     const Canopy& canopy() const { return canopy_; }
     const DropPool& pool() const { return pool_; }
+    const DipoleRadiation& dipole() const { return dipole_; }   // in air: its taps (turn_head re-mixes them)
     int channels() const { return config_.channels; }
     double time_step() const { return dt_; }
 

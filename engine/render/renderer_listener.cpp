@@ -30,10 +30,12 @@ void Renderer::encode_grains(const Canopy& canopy) {
 // The head turned (/listener/orientation). Ambisonics: the bus glides from where it is now to the new
 // rotation. The panned formats: every direction is turned by the new H^T and re-panned, the gains
 // gliding (the command's angles give H: head_rotation is a few products, no allocation); the matrix the
-// command carries (order 0 there) only goes back.
+// command carries (order 0 there) only goes back. Ears: nothing turns (the protocol refuses it there;
+// turning the surfaces without the two ear points under the umbrella would split the scene).
 void Renderer::set_orientation(const Command& c) {
     auto* target = static_cast<AmbixRotation*>(c.object);
-    if (!ambisonic()) {
+    const bool ears = config_.listener == ListenerStyle::ears && config_.channels == 2;
+    if (!ambisonic() && !ears) {
         head_ = head_rotation(c.values[0], c.values[1], c.values[2]);
         head_turned_ = head_ != std::array<double, 9>{1, 0, 0, 0, 1, 0, 0, 0, 1};
         surfaces_->set_head(head_);
