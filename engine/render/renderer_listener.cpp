@@ -84,7 +84,6 @@ void Renderer::rotate(float* frame) {
     for (int ch = 0; ch < channels; ++ch) frame[ch] = static_cast<float>(to[ch]);
 }
 
-
 // /listener: the umbrella is held by the listener, so it moves and turns along; only the other surfaces'
 // paths change (they glide there, propagation.hpp). On an Ambisonic stream the facing turns the world
 // bus (the surfaces encode in the scene's frame); on the others the surfaces re-pan, gliding.

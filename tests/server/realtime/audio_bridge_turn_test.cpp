@@ -18,6 +18,8 @@
 
 namespace turn_probe {
 
+constexpr int blocks = 120;   // 0.64 s of audio: dozens of turns, each starting mid-glide
+
 // The umbrella with a plate 3 m to the left: a held umbrella and a world surface, both turned.
 ameoto::RendererConfig umbrella_and_plate(const char* format) {
     ameoto::SceneDescription scene = *ameoto::builtin_scene("umbrella");
@@ -37,7 +39,7 @@ ameoto::RendererConfig umbrella_and_plate(const char* format) {
     return config;
 }
 
-// Runs 300 blocks while the control thread turns the body and the head over and over; returns the
+// Runs `blocks` blocks while the control thread turns the body and the head over and over; returns the
 // rotations that came back (proof the turns reached the audio thread).
 int turn_while_playing(const ameoto::RendererConfig& config) {
     const auto listener = config.scene.listener;
@@ -76,7 +78,7 @@ int turn_while_playing(const ameoto::RendererConfig& config) {
         }
     });
     std::thread audio([&] {
-        for (int n = 0; n < 300; ++n) bridge.process(block, outputs.data());
+        for (int n = 0; n < blocks; ++n) bridge.process(block, outputs.data());
     });
     audio.join();
     done.store(true);
@@ -95,7 +97,7 @@ TEST_CASE("AudioBridge::process with the body and the head turning, stereo and a
         ameoto_rt_probe_reset();
         const int returned = turn_probe::turn_while_playing(config);
         CHECK(returned > 10);
-        CHECK(ameoto_rt_probe_entries() == 300);
+        CHECK(ameoto_rt_probe_entries() == turn_probe::blocks);
         INFO("first violation: " << std::string(ameoto_rt_probe_first_violation()));
         CHECK(ameoto_rt_probe_violations() == 0);
     }
