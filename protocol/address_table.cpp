@@ -46,17 +46,20 @@ std::vector<AddressSpec> make_table() {
                  {{"yaw", ArgumentKind::number, "deg", -720.0, 720.0, false, "the head turned left (counter-clockwise from above)"},
                   {"pitch", ArgumentKind::number, "deg", -90.0, 90.0, false, "the nose raised"},
                   {"roll", ArgumentKind::number, "deg", -180.0, 180.0, false, "the right ear lowered"}},
-                 "Turn the listener's head (a head tracker): the Ambisonic bus is rotated, the scene is not rebuilt; "
-                 "the turn glides over 256 samples. Ambisonic streams only (ameotod --format ambix:N).",
+                 "Turn the listener's head within the body (a head tracker): Ambisonics rotates the bus, stereo and "
+                 "ring:N re-pan every sound by its turned direction; the scene is not rebuilt; the turn glides over 256 "
+                 "samples. Refused on ears (docs/output-formats.md).",
                  "",
                  [](const ValidatedArguments& a, const ProtocolContext& context, Request& r) -> std::optional<std::string> {
-                     if (context.ambisonic_order == 0)
-                         return "the head's orientation turns an Ambisonic stream only (start ameotod with --format ambix:N); "
-                                "/listener's facing turns the listener in any format";
+                     if (context.ears)
+                         return "the ears format hears the umbrella at two ear points fixed under it, so a head cannot turn "
+                                "between them; use stereo, ring:N, ambix:N or binaural to track a head (/listener's facing "
+                                "turns the listener in any format)";
                      r.command.kind = CommandKind::orientation;
                      for (int k = 0; k < 3; ++k) r.command.values[k] = units::deg_to_rad(a.numbers[static_cast<std::size_t>(k)]);
                      return std::nullopt;
                  }});
+    t.back().query = {true, {}, "/listener/orientation.reply f yaw, f pitch, f roll (deg): the head's orientation last applied"};
     entries::add_surface_entries(t);
     entries::add_level_entries(t);
     entries::add_material_entries(t);

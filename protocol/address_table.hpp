@@ -114,7 +114,8 @@ struct ProtocolContext {
     // true when (x, y) in m lies on the named surface; the daemon asks the engine's geometry.
     std::function<bool(const std::string& surface, double x, double y)> on_surface;
     int ambisonic_order = 0;   // the stream's Ambisonic order (1..3; --format ambix:N), 0 for the other
-                               // formats: /listener/orientation turns an Ambisonic bus only
+                               // formats (/listener/orientation's rotation matrix is built for it)
+    bool ears = false;         // --format ears: /listener/orientation is refused (two fixed ear points)
 };
 
 struct ValidatedArguments {

@@ -12,7 +12,7 @@ std::string packet_address(const unsigned char* data, std::size_t size) {
 
 bool changes_scene(CommandKind kind) {
     return kind == CommandKind::rain_rate || kind == CommandKind::wind || kind == CommandKind::listener || kind == CommandKind::lod ||
-           kind == CommandKind::gain;
+           kind == CommandKind::gain || kind == CommandKind::orientation;
 }
 
 SceneDescription scene_after(SceneDescription scene, const Command& c) {

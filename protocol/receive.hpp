@@ -47,7 +47,8 @@ ReceivedPacket receive_packet(const void* data, std::size_t size, const Protocol
 // daemon refuses the command when the result does not validate (a listener moved so far that the
 // carried umbrella would leave the scene's range), so /scene/save always has a valid scene to write.
 SceneDescription scene_after(SceneDescription scene, const Command& command);
-bool changes_scene(CommandKind kind);   // rain_rate, wind, listener, lod, gain
+bool changes_scene(CommandKind kind);   // rain_rate, wind, listener, lod, gain, orientation (the
+                                        // head's: not in the scene, but kept with it for its query)
 
 // The address a /fail for an undecodable packet names (at most 64 characters of it).
 std::string packet_address(const unsigned char* data, std::size_t size);

@@ -44,6 +44,9 @@ void Queries::answer(const Peer& to, const std::string& address, const std::stri
     } else if (address == "/listener") {
         const ListenerDescription& l = scene.listener;
         reply(reply_address, {f(l.x_m), f(l.y_m), f(l.z_m), f(degrees(l.facing_rad))});
+    } else if (address == "/listener/orientation") {
+        const auto& o = record_.orientation();
+        reply(reply_address, {f(degrees(o[0])), f(degrees(o[1])), f(degrees(o[2]))});
     } else if (address == "/gain") {
         reply(reply_address, {f(scene.gain_db)});
     } else if (address == "/loudness") {

@@ -101,6 +101,7 @@ SceneManager::SceneManager(boost::asio::io_context& io, const FirstScene& first,
       worker_(io) {
     use_geometry(first.config, has_umbrella(first.scene));
     context_.ambisonic_order = first.config.listener == ListenerStyle::ambix ? ambix_order(first.config.channels) : 0;
+    context_.ears = first.config.listener == ListenerStyle::ears && first.config.channels == 2;
     context_.on_surface = [this](const std::string&, double x, double y) { return geometry_->locate(x, y).panel >= 0; };
     context_.custom_liquid = [this](const std::string& name) -> std::optional<Liquid> {
         const auto found = custom_liquids_.find(name);

@@ -11,7 +11,10 @@ namespace ameoto {
 // umbrella out of range).
 std::string SceneRecord::refusal(const Command& c) const { return validate_scene(protocol::scene_after(scene_, c)); }
 
-void SceneRecord::apply(const Command& c) { scene_ = protocol::scene_after(scene_, c); }
+void SceneRecord::apply(const Command& c) {
+    if (c.kind == CommandKind::orientation) orientation_ = {c.values[0], c.values[1], c.values[2]};
+    scene_ = protocol::scene_after(scene_, c);
+}
 
 // Timed changes whose frame has played, in the order of their frames (ties: as sent).
 void SceneRecord::apply_due(std::uint64_t frame) {

@@ -8,6 +8,9 @@
 // Interface:
 //   SceneRecord record(scene, liquid, material);
 //   record.scene()  record.liquid()  record.material()   // material: the umbrella's, when there is one
+//   record.orientation()                         // the head's yaw, pitch, roll (rad): not part of the
+//                                                // scene (never saved), kept across scene loads as the
+//                                                // renderer keeps it
 //   std::string why = record.refusal(command);   // "" when the scene after it is still valid
 //   record.apply(command);                       // rain, wind, listener, lod: in effect from now
 //   record.apply_at_frame(command);              // timed: waits (at most 4096) for apply_due(frame)
@@ -17,6 +20,7 @@
 //
 // Thread: the control thread only.
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <string>
@@ -39,6 +43,7 @@ public:
     const SceneDescription& scene() const { return scene_; }
     const Liquid& liquid() const { return liquid_; }
     const MembraneMaterial& material() const { return material_; }
+    const std::array<double, 3>& orientation() const { return orientation_; }
 
     std::string refusal(const Command& c) const;
     void apply(const Command& c);
@@ -57,6 +62,7 @@ private:
     SceneDescription scene_;
     Liquid liquid_;
     MembraneMaterial material_;
+    std::array<double, 3> orientation_{};   // /listener/orientation: yaw, pitch, roll, rad
     std::vector<Command> timed_settings_;   // rain, wind, listener, lod changes waiting for their frame
 };
 

@@ -88,7 +88,7 @@ std::string render_score_usage() {
            "  --seed N            random seed, 0..2^64-1 (default 1)\n"
            "  --channels N        1..16 (default 2): stereo for 2, else ring:N\n" +
            format_option_usage() +
-           "                      With ambix:N and binaural, /listener/orientation messages turn the bus\n"
+           "                      /listener/orientation messages turn the head in any format but ears\n"
            "  --hrtf FILE.sofa    binaural: the head-related impulse responses (AES69 SOFA; default\n"
            "                      /usr/share/libmysofa/default.sofa, MIT KEMAR; docs/binaural.md)\n"
            "  --block FRAMES      frames per engine call, 1..8192 (default 512; the samples are the same\n"
@@ -255,6 +255,7 @@ int run_render_score(const RenderScoreOptions& o, const CommandIo& io) {
     context.surfaces = umbrella ? std::vector<std::string>{"umbrella"} : std::vector<std::string>{};
     context.on_surface = [&](const std::string&, double x, double y) { return geometry->locate(x, y).panel >= 0; };
     context.ambisonic_order = format.kind == OutputKind::ambix || format.kind == OutputKind::binaural ? format.order : 0;
+    context.ears = format.kind == OutputKind::ears;   // the head cannot turn between its fixed ear points: refused
 
     // Every message checked before a sample is written.
     std::vector<Command> commands;

@@ -941,7 +941,7 @@
       440,
       22.0
      ],
-     "text": "the head turned (ambix streams): yaw pitch roll degrees",
+     "text": "the head turned (every format but ears): yaw pitch roll degrees; alone, it asks",
      "linecount": 1
     }
    }

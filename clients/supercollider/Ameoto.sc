@@ -110,10 +110,17 @@ Ameoto {
 	listener_ { |x = 0, y = 0, z = 1.6, facingDeg = 0|
 		addr.sendMsg('/listener', x.asFloat, y.asFloat, z.asFloat, facingDeg.asFloat)
 	}
-	// The head turned (a head tracker), degrees: yaw left, pitch nose up, roll right ear down. An
-	// Ambisonic stream only (ameotod --format ambix:N): the bus is rotated (docs/output-formats.md).
+	// The head turned within the body (a head tracker), degrees: yaw left, pitch nose up, roll right ear
+	// down. Every format but ears: Ambisonics rotates the bus, stereo and rings re-pan every sound by its
+	// turned direction, gliding over 256 samples (docs/output-formats.md, "Turning the head").
 	orientation { |yawDeg = 0, pitchDeg = 0, rollDeg = 0|
 		addr.sendMsg('/listener/orientation', yawDeg.asFloat, pitchDeg.asFloat, rollDeg.asFloat)
+	}
+	// action.value(event): yaw, pitch, roll (degrees) of the head as last applied; nil after timeout seconds.
+	headOrientation { |action, timeout = 2|
+		this.query('/listener/orientation', { |msg|
+			action.value(msg !? { (yaw: msg[1], pitch: msg[2], roll: msg[3]) })
+		}, timeout)
 	}
 	lod { |budgetPercent = 50, full = 4| addr.sendMsg('/lod', budgetPercent.asFloat, full.asInteger) }
 

@@ -90,7 +90,9 @@ std::array<double, 9> head_rotation(double yaw, double pitch, double roll) {
 }
 
 AmbixRotation AmbixRotation::identity(int order) {
-    if (order < 1 || order > max_ambix_order) throw std::invalid_argument("ambisonic order must be 1 to 3");
+    // Order 0 (W alone, which no rotation changes) is what a stream of another format is handed with
+    // /listener/orientation: the renderer turns its panning from the command's angles instead.
+    if (order < 0 || order > max_ambix_order) throw std::invalid_argument("ambisonic order must be 0 to 3");
     AmbixRotation r;
     r.order = order;
     for (int k = 0; k < ambix_channels(order); ++k) r.m[static_cast<std::size_t>(k * max_ambix_channels + k)] = 1.0;
@@ -99,6 +101,7 @@ AmbixRotation AmbixRotation::identity(int order) {
 
 AmbixRotation AmbixRotation::from_orientation(double yaw, double pitch, double roll, int order) {
     AmbixRotation r = identity(order);
+    if (order == 0) return r;
     const std::array<double, 9> h = head_rotation(yaw, pitch, roll);
     // 64 directions of a Fibonacci lattice (golden-angle spiral, equal areas): enough for the 7 x 7
     // third-order block to be well determined.

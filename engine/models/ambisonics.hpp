@@ -12,7 +12,8 @@
 //   std::array<double, 16> g = direction_gains(az, el, channels, ambisonic);   // the renderer's one entry:
 //                                             // SH gains (ambisonic) or pan_gains(az, channels) (panning.hpp)
 //   AmbixRotation r = AmbixRotation::from_orientation(yaw, pitch, roll, order);  // control thread: allocates
-//                                             // while it is built (a least-squares fit, Eigen)
+//                                             // while it is built (a least-squares fit, Eigen); order 0:
+//                                             // W alone, the identity (what a panned stream is sent)
 //   r.apply(in, out);                         // any thread, never allocates: out = R in, per order block
 //
 // Directions: azimuth counter-clockwise from +x (front) towards +y (left), elevation up from the

@@ -27,14 +27,11 @@ DipoleRadiation::DipoleRadiation(const Canopy& canopy, const ListenerLayout& lay
     delay_.assign(static_cast<std::size_t>(channels_), 0);
     const std::complex<double> i1(0.0, 1.0);
     std::vector<double> r(static_cast<std::size_t>(panels * nodes)), cos_theta(r.size()), gain(r.size());
-    for (int ch = 0; ch < channels_; ++ch) {
-        const Vec3 x = layout.points[static_cast<std::size_t>(layout.channel_point[static_cast<std::size_t>(ch)])];
+    // One point's taps: r, cos(theta) per element, its delay D, and each mode's {A, B} for the element
+    // weights w (a panel gain per element; 0 skips the element).
+    auto distances = [&](const Vec3& x, int& delay) {
         double nearest = 1e300;
-        for (int k = 0; k < panels; ++k) {
-            const double g = layout.panel_gain.empty() ? 1.0
-                                                       : layout.panel_gain[static_cast<std::size_t>(ch)].at(static_cast<std::size_t>(k));
-            if (!layout.panel_gain.empty() && layout.panel_gain[static_cast<std::size_t>(ch)].size() != static_cast<std::size_t>(panels))
-                throw std::invalid_argument("panel gains: one per panel");
+        for (int k = 0; k < panels; ++k)
             for (int i = 0; i < nodes; ++i) {
                 const std::size_t e = static_cast<std::size_t>(k * nodes + i);
                 const Vec3 y = canopy.rest_position(k, i), n = canopy.normal(k, i);
@@ -43,12 +40,11 @@ DipoleRadiation::DipoleRadiation(const Canopy& canopy, const ListenerLayout& lay
                 const double dist = norm(d);
                 r[e] = std::max(dist, floor);
                 cos_theta[e] = dist > 0.0 ? dot(d, n) / dist : 0.0;
-                gain[e] = g;
                 nearest = std::min(nearest, r[e]);
             }
-        }
-        const int delay = static_cast<int>(std::floor(nearest / (c * t)));
-        delay_[static_cast<std::size_t>(ch)] = delay;
+        delay = static_cast<int>(std::floor(nearest / (c * t)));
+    };
+    auto taps = [&](int delay, double* a, double* b) {
         for (int q = 0; q < modes_; ++q) {
             const double w = m->omega[q], s = m->rate[q];
             const std::complex<double> lambda = -s + i1 * std::sqrt(std::complex<double>(w * w - s * s));
@@ -65,16 +61,53 @@ DipoleRadiation::DipoleRadiation(const Canopy& canopy, const ListenerLayout& lay
             const std::complex<double> lt = lambda * t;
             const std::complex<double> mean_to_end = std::abs(lt) < 1e-9 ? std::complex<double>(1.0) : lt / (1.0 - z1);
             const std::complex<double> total = h * mean_to_end;
-            const std::size_t at = static_cast<std::size_t>(ch) * static_cast<std::size_t>(modes_) + static_cast<std::size_t>(q);
             // A + B z1 = total: two real unknowns for the complex equation (z1 is not real below Nyquist).
             if (std::abs(z1.imag()) > 1e-12 * std::abs(z1)) {
-                b_[at] = total.imag() / z1.imag();
-                a_[at] = total.real() - b_[at] * z1.real();
+                b[q] = total.imag() / z1.imag();
+                a[q] = total.real() - b[q] * z1.real();
             } else {   // at 0 or Nyquist (or overdamped): the real part alone
-                a_[at] = total.real();
-                b_[at] = 0.0;
+                a[q] = total.real();
+                b[q] = 0.0;
             }
         }
+    };
+    for (int ch = 0; ch < channels_; ++ch) {
+        const Vec3 x = layout.points[static_cast<std::size_t>(layout.channel_point[static_cast<std::size_t>(ch)])];
+        for (int k = 0; k < panels; ++k) {
+            const double g = layout.panel_gain.empty() ? 1.0
+                                                       : layout.panel_gain[static_cast<std::size_t>(ch)].at(static_cast<std::size_t>(k));
+            if (!layout.panel_gain.empty() && layout.panel_gain[static_cast<std::size_t>(ch)].size() != static_cast<std::size_t>(panels))
+                throw std::invalid_argument("panel gains: one per panel");
+            for (int i = 0; i < nodes; ++i) gain[static_cast<std::size_t>(k * nodes + i)] = g;
+        }
+        int delay = 0;
+        distances(x, delay);
+        delay_[static_cast<std::size_t>(ch)] = delay;
+        const std::size_t at = static_cast<std::size_t>(ch) * static_cast<std::size_t>(modes_);
+        taps(delay, a_.data() + at, b_.data() + at);
+    }
+    // One point heard through panel gains (the panned formats): each panel's own taps at unit gain, so a
+    // head's turn re-mixes them (set_panel_gains) as the Rayleigh path re-mixes its panel sums. The
+    // taps are linear in the weights: the channels' own are these mixed by their gains (to rounding).
+    const bool one_point = std::all_of(layout.channel_point.begin(), layout.channel_point.end(), [](int p) { return p == 0; });
+    if (!layout.panel_gain.empty() && one_point && channels_ > 1) {
+        panel_a_.assign(static_cast<std::size_t>(panels) * static_cast<std::size_t>(modes_), 0.0);
+        panel_b_.assign(panel_a_.size(), 0.0);
+        int delay = 0;
+        distances(layout.points[0], delay);
+        for (int k = 0; k < panels; ++k) {
+            std::fill(gain.begin(), gain.end(), 0.0);
+            for (int i = 0; i < nodes; ++i) gain[static_cast<std::size_t>(k * nodes + i)] = 1.0;
+            const std::size_t at = static_cast<std::size_t>(k) * static_cast<std::size_t>(modes_);
+            taps(delay, panel_a_.data() + at, panel_b_.data() + at);
+        }
+        panels_ = panels;
+        rest_a_ = a_;
+        rest_b_ = b_;
+        target_a_ = a_;
+        target_b_ = b_;
+        step_a_.assign(a_.size(), 0.0);
+        step_b_.assign(b_.size(), 0.0);
     }
     previous_.assign(static_cast<std::size_t>(modes_), 0.0);
     int longest = 0;
@@ -105,6 +138,17 @@ void DipoleRadiation::process(const Canopy& canopy, double* pressures_pa) {
     }
     const double* acc = canopy.air_state().accelerations();
     const auto modes = static_cast<std::size_t>(modes_);
+    if (glide_left_ > 0) {   // a head's turn: the taps glide to their new mix (set_panel_gains)
+        if (--glide_left_ == 0) {
+            a_ = target_a_;   // same sizes: copies, no allocation
+            b_ = target_b_;
+        } else {
+            for (std::size_t i = 0; i < a_.size(); ++i) {
+                a_[i] += step_a_[i];
+                b_[i] += step_b_[i];
+            }
+        }
+    }
     for (int ch = 0; ch < channels_; ++ch) {
         const std::size_t base = static_cast<std::size_t>(ch) * modes;
         double* const row = ring_.data() + static_cast<std::size_t>(ch) * static_cast<std::size_t>(length_);
@@ -120,6 +164,46 @@ void DipoleRadiation::process(const Canopy& canopy, double* pressures_pa) {
 void DipoleRadiation::reset() {
     std::fill(previous_.begin(), previous_.end(), 0.0);
     std::fill(ring_.begin(), ring_.end(), 0.0);
+}
+
+bool DipoleRadiation::set_panel_gains(const double* gains, int glide_frames) {
+    if (panels_ == 0) return false;
+    const auto modes = static_cast<std::size_t>(modes_);
+    for (int ch = 0; ch < channels_; ++ch)
+        for (std::size_t q = 0; q < modes; ++q) {
+            double a = 0.0, b = 0.0;
+            for (int k = 0; k < panels_; ++k) {
+                const double g = gains[ch * panels_ + k];
+                a += g * panel_a_[static_cast<std::size_t>(k) * modes + q];
+                b += g * panel_b_[static_cast<std::size_t>(k) * modes + q];
+            }
+            target_a_[static_cast<std::size_t>(ch) * modes + q] = a;
+            target_b_[static_cast<std::size_t>(ch) * modes + q] = b;
+        }
+    start_glide(glide_frames);
+    return true;
+}
+
+bool DipoleRadiation::set_rest_gains(int glide_frames) {
+    if (panels_ == 0) return false;
+    target_a_ = rest_a_;
+    target_b_ = rest_b_;
+    start_glide(glide_frames);
+    return true;
+}
+
+void DipoleRadiation::start_glide(int glide_frames) {
+    if (glide_frames <= 0) {
+        a_ = target_a_;
+        b_ = target_b_;
+        glide_left_ = 0;
+        return;
+    }
+    for (std::size_t i = 0; i < a_.size(); ++i) {   // from where the taps are now (mid-glide too)
+        step_a_[i] = (target_a_[i] - a_[i]) / glide_frames;
+        step_b_[i] = (target_b_[i] - b_[i]) / glide_frames;
+    }
+    glide_left_ = glide_frames;
 }
 
 }  // namespace ameoto

@@ -61,6 +61,12 @@ public:
 
     void process(const Canopy& canopy, double* pressures_pa);
     void reset();
+    // One point heard through panel gains (the panned formats) only, else false: the taps glide over
+    // glide_frames samples (0: at once) to the mix of each panel's own taps by gains[channel * panels +
+    // panel] (a head's turn, DropOnCanopy::turn_head), or back to the layout's own taps, bit for bit.
+    // Audio thread: no allocation (channels x modes x panels products, once per turn).
+    bool set_panel_gains(const double* gains, int glide_frames);
+    bool set_rest_gains(int glide_frames);
 
     int channels() const { return channels_; }
     int modes() const { return modes_; }
@@ -77,6 +83,11 @@ private:
     std::vector<int> delay_;         // per channel
     std::vector<double> ring_;       // [channel * length_ + slot]
     int length_ = 1, mask_ = 0, now_ = 0;
+    // set_panel_gains: each panel's taps at unit gain [panel * modes + mode], the layout's own taps, the
+    // glide's targets and steps [channel * modes + mode].
+    int panels_ = 0, glide_left_ = 0;
+    std::vector<double> panel_a_, panel_b_, rest_a_, rest_b_, target_a_, target_b_, step_a_, step_b_;
+    void start_glide(int glide_frames);
 };
 
 }  // namespace ameoto

@@ -179,6 +179,7 @@ DropOnCanopy::DropOnCanopy(Built, const DropOnCanopyConfig& config, Canopy&& can
     latency_samples_ = config_.output == SceneOutput::far_field ? static_cast<int>(std::floor(shortest)) : 0;
     scan_.assign(static_cast<std::size_t>(pool_.max_masses()), 0);
     node_velocities_.assign(static_cast<std::size_t>(canopy_.lanes() * canopy_.nodes_per_panel()), 0.0);
+    prepare_turn();
 }
 
 bool DropOnCanopy::drop(double diameter_m, double speed_m_per_s, double x_m, double y_m) {

@@ -99,6 +99,7 @@
 // totals are equal exactly while no drop has retired (a drop retires when all its masses fall below
 // retire_below_m, or after max_lifetime_s).
 
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <vector>
@@ -206,6 +207,14 @@ public:
     bool full() const { return static_cast<int>(pool_.active().size()) >= pool_.capacity(); }
     int latency_samples() const { return latency_samples_; }
     int guard();                                   // the canopy's guard now: panels reset (counted in stats)
+    // The listener's head turned by `head` (ambisonics.hpp's head_rotation, row-major) within the body
+    // that holds the umbrella: on the panned formats (2+ channels, ListenerStyle::panned, in vacuum or air) each
+    // panel is re-panned by the azimuth its centre is heard from, H^T d (the full rotation, so a pitch or
+    // roll moves an overhead panel's azimuth), the gains gliding over glide_frames samples. Audio thread,
+    // no allocation; in air the dipole model's taps are re-mixed from each panel's own. Returns false
+    // where it has nothing to turn: mono, ears (the two ear points are built into the radiator's taps),
+    // ambix (the renderer rotates the bus). drop_on_canopy_turn.cpp.
+    bool turn_head(const std::array<double, 9>& head, int glide_frames);
     // N: the sum of the collision forces the last sample put on drop masses (the membrane took the
     // opposite); what impact_templates.hpp records.
     Vec3 contact_force() const { return contact_force_; }
@@ -216,6 +225,7 @@ public:
     const DropOnCanopyConfig& config() const { return config_; }
     const Canopy& canopy() const { return canopy_; }
     const DropPool& pool() const { return pool_; }
+    const DipoleRadiation& dipole() const { return dipole_; }   // in air: its taps (turn_head re-mixes them)
     int channels() const { return config_.channels; }
     double time_step() const { return dt_; }
 
@@ -224,6 +234,7 @@ private:
     struct Built {};   // the delegated constructor's tag: config already checked, canopy given
     DropOnCanopy(Built, const DropOnCanopyConfig& config, Canopy&& canopy);
     void collide();
+    void prepare_turn();   // constructor: turn_head's buffers (drop_on_canopy_turn.cpp)
     void set_drop_floors(bool have_u, double above, double skin, double per_normal);
     DropOnCanopyConfig config_;
     double dt_;
@@ -235,6 +246,8 @@ private:
     MassPickup pickup_;
     int liquid_ = 0;
     std::vector<double> panel_forces_, pressures_;
+    std::vector<Vec3> panel_directions_;  // turn_head: each panel's centre from the head (panned formats)
+    std::vector<double> turn_gains_;      // turn_head's gains [channel * panels + panel]
     std::vector<int> spawn_masses_;       // per slot
     std::vector<double> spawn_mass_kg_;   // per slot
     double top_ = 0.0, bottom_ = 0.0, reach_ = 0.05;   // m: the band where masses can collide

@@ -213,6 +213,8 @@ FarFieldRadiation::FarFieldRadiation(const Canopy& canopy, const ListenerLayout&
         std::copy(layout.panel_gain[c].begin(), layout.panel_gain[c].end(),
                   flat_gain_.begin() + static_cast<std::ptrdiff_t>(c) * panels_);
     }
+    gain_target_ = flat_gain_;
+    gain_step_.assign(flat_gain_.size(), 0.0);
     // The radiator reads the canopy's node-major velocities' layout directly (element k * nodes + i, the
     // order of canopy_elements, is input i * lanes + k): no per-panel copy each sample.
     lanes_ = canopy.lanes();
@@ -264,6 +266,13 @@ void FarFieldRadiation::process(const Canopy& canopy, double* pressures_pa) {
     canopy.velocities(velocity_.data());
     accelerations(velocity_.size(), velocity_.data(), previous_velocity_.data(), inverse_dt_, radiator_.inputs());
     radiator_.process_inputs(sums_.data());
+    if (glide_left_ > 0) {
+        if (--glide_left_ == 0) {
+            flat_gain_ = gain_target_;   // same size: a copy, no allocation; exactly the target at the end
+        } else {
+            for (std::size_t i = 0; i < flat_gain_.size(); ++i) flat_gain_[i] += gain_step_[i];
+        }
+    }
     const int channels = layout_.channels();
     for (int c = 0; c < channels; ++c) {
         const double* row = sums_.data() + static_cast<std::size_t>(layout_.channel_point[static_cast<std::size_t>(c)] * panels_);
@@ -272,6 +281,19 @@ void FarFieldRadiation::process(const Canopy& canopy, double* pressures_pa) {
         for (int k = 0; k < panels_; ++k) p += gain[k] * row[k];
         pressures_pa[c] = p;
     }
+}
+
+void FarFieldRadiation::set_panel_gains(const double* gains, int glide_frames) {
+    if (layout_.panel_gain.empty()) return;
+    for (std::size_t i = 0; i < gain_target_.size(); ++i) gain_target_[i] = gains[i];
+    if (glide_frames <= 0) {
+        flat_gain_ = gain_target_;
+        glide_left_ = 0;
+        return;
+    }
+    // From where the gains are now (mid-glide too): no jump.
+    for (std::size_t i = 0; i < flat_gain_.size(); ++i) gain_step_[i] = (gain_target_[i] - flat_gain_[i]) / glide_frames;
+    glide_left_ = glide_frames;
 }
 
 }  // namespace ameoto

@@ -181,6 +181,13 @@ public:
     // canopy, off the audio thread); a canopy of another shape (panels, nodes) is not read: silence.
     void process(const Canopy& canopy, double* pressures_pa);
 
+    // Any thread that owns it (the audio thread), no allocation: the panel gains glide linearly from where
+    // they are to gains[channel * panels + panel] over glide_frames samples (0: at once). The head's turn
+    // on the panned formats (DropOnCanopy::turn_head): the pressures summed per panel are the same, only
+    // their mix over the speakers moves. A layout without panel gains (ears, mono) keeps its own.
+    void set_panel_gains(const double* gains, int glide_frames);
+    bool gains_gliding() const { return glide_left_ > 0; }
+
     int channels() const { return layout_.channels(); }
     const RayleighRadiator& radiator() const { return radiator_; }
     const ListenerLayout& layout() const { return layout_; }
@@ -193,6 +200,8 @@ private:
     // The canopy's node-major layout (Canopy::velocities): [node * lanes_ + panel], padding lanes unread.
     std::vector<double> velocity_, previous_velocity_, sums_;
     std::vector<double> flat_gain_;                 // [channel * panels + panel]
+    std::vector<double> gain_target_, gain_step_;   // the glide of set_panel_gains (same layout)
+    int glide_left_ = 0;
     std::vector<std::uint64_t> resets_seen_;        // per panel: the guard's reset count at the last sample
 };
 

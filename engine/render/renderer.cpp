@@ -40,6 +40,7 @@ Renderer::Renderer(const RendererConfig& config)
                                   config_.node, ambisonic());
     if (ambisonic()) {
         rotation_from_ = rotation_to_ = AmbixRotation::identity(ambix_order(config_.channels));
+        facing_turn_.reset(ambix_order(config_.channels), config_.scene.listener.facing_rad);
         encode_grains(scene_->drops.canopy());
     }
     has_umbrella_ = umbrella_on_node(config_.scene, config_.node);
@@ -110,6 +111,7 @@ void Renderer::swap_scene(const Command& c) {
     scene_ = incoming;
     grains_->set_calibration(scene_->texture);
     if (ambisonic()) encode_grains(scene_->drops.canopy());
+    hand_over_listener();
     push_event({RendererEventKind::swapped, c.kind, c.reply_to, c.id});
 }
 
@@ -137,68 +139,6 @@ void Renderer::set_level_db(double db, bool ramp) {
     level_ramp_left_ = frames;
 }
 
-// The texture bed's ring: direction v at the ring speaker's azimuth (panning.hpp's layout: the first
-// at half a spacing left of front, then clockwise) and the canopy's mean elevation seen from the head.
-// A loop over the canopy's nodes, no allocation (it runs on the audio thread after a scene change).
-void Renderer::encode_grains(const Canopy& canopy) {
-    const Vec3 head{0.0, 0.0, -config_.listener_below_m};
-    double up = 0.0, out = 0.0;
-    for (int k = 0; k < canopy.panel_count(); ++k)
-        for (int i = 0; i < canopy.nodes_per_panel(); ++i) {
-            const Vec3 d = canopy.rest_position(k, i) - head;
-            up += d.z;
-            out += std::hypot(d.x, d.y);
-        }
-    const double elevation = std::atan2(up, out), spacing = 2.0 * constants::pi / grain_ring;
-    const int order = ambix_order(config_.channels);
-    for (int v = 0; v < grain_ring; ++v)
-        grain_encoding_[static_cast<std::size_t>(v)] = ambix_gains(spacing / 2.0 - v * spacing, elevation, order);
-}
-
-// The head turned (/listener/orientation): the bus glides from where it is now to the new rotation.
-void Renderer::set_orientation(const Command& c) {
-    auto* target = static_cast<AmbixRotation*>(c.object);
-    if (!target) return;
-    if (ambisonic() && target->order == rotation_to_.order) {
-        // Mid-turn, the glide starts again from the matrix it had reached (the crossfade's weights
-        // applied to the matrices), so a stream of tracker updates never jumps.
-        if (rotation_ramp_left_ > 0) {
-            const double t = 1.0 - static_cast<double>(rotation_ramp_left_) / rotation_ramp_frames;
-            for (std::size_t i = 0; i < rotation_from_.m.size(); ++i)
-                rotation_from_.m[i] = (1.0 - t) * rotation_from_.m[i] + t * rotation_to_.m[i];
-        } else {
-            rotation_from_ = rotation_to_;
-        }
-        rotation_to_ = *target;
-        rotation_ramp_left_ = rotation_ramp_frames;
-        rotating_ = true;
-    }
-    if (retire(target, RetiredObject::rotation)) return;
-    for (AmbixRotation*& slot : unreturned_)
-        if (!slot) {
-            slot = target;
-            return;
-        }
-    // Every slot taken and the event list full: the control thread has stopped reading; the object
-    // stays with the command's owner (the destructor frees the slots, never the audio thread).
-}
-
-void Renderer::rotate(float* frame) {
-    double in[max_ambix_channels] = {}, to[max_ambix_channels] = {};
-    const int channels = config_.channels;
-    for (int ch = 0; ch < channels; ++ch) in[ch] = frame[ch];
-    rotation_to_.apply(in, to);
-    if (rotation_ramp_left_ > 0) {
-        double from[max_ambix_channels] = {};
-        rotation_from_.apply(in, from);
-        const double t = 1.0 - static_cast<double>(--rotation_ramp_left_) / rotation_ramp_frames;
-        for (int ch = 0; ch < channels; ++ch) frame[ch] = static_cast<float>((1.0 - t) * from[ch] + t * to[ch]);
-        if (rotation_ramp_left_ == 0 && rotation_to_.is_identity()) rotating_ = false;   // back at rest: the encoder's samples
-        return;
-    }
-    for (int ch = 0; ch < channels; ++ch) frame[ch] = static_cast<float>(to[ch]);
-}
-
 void Renderer::load_scene(const Command& c) {
     auto* loaded = static_cast<LoadedScene*>(c.object);
     if (!loaded || !loaded->umbrella || !loaded->surfaces || loaded->umbrella->drops.channels() != config_.channels ||
@@ -223,6 +163,7 @@ void Renderer::load_scene(const Command& c) {
     has_umbrella_ = loaded->has_umbrella;
     grains_->set_calibration(scene_->texture);
     if (ambisonic()) encode_grains(scene_->drops.canopy());
+    hand_over_listener();
     rain_rate_ = loaded->rain_rate_mm_per_h;
     // The new rain spawner takes over; the old one goes back in the envelope (no allocation here).
     RainSpawner* old_rain = rain_;
@@ -271,13 +212,7 @@ void Renderer::apply(const Command& c) {
             break;
         case CommandKind::load_scene: load_scene(c); break;
         case CommandKind::wind: set_wind(c.values[0], c.values[1], c.values[2]); break;
-        case CommandKind::listener: {
-            // The umbrella is held by the listener: it moves along, so only the other surfaces' paths
-            // change (they glide there, propagation.hpp).
-            surfaces_->set_listener(c.values[0], c.values[1], c.values[2], c.values[3]);
-            if (fading_surfaces_) fading_surfaces_->set_listener(c.values[0], c.values[1], c.values[2], c.values[3]);
-            break;
-        }
+        case CommandKind::listener: move_listener(c); break;
         case CommandKind::sync: push_event({RendererEventKind::synced, c.kind, c.reply_to, c.id}); break;
         case CommandKind::swap_surface:
         case CommandKind::swap_liquid: swap_scene(c); break;
@@ -306,8 +241,14 @@ void Renderer::render_sample(float* const* outputs, int offset) {
     impacts_.emit(scene_->templates, [&surface](CanopyHit hit, double force) { surface.apply_force(hit, force); });
     float frame[max_channels] = {};
     const int channels = config_.channels;
+    // Ambisonics with the body turned: the surfaces on their world bus, turned by the facing into the
+    // body bus (renderer.hpp, "Ambisonics"); otherwise straight into the frame.
+    const bool turn_world = facing_turn_.active();
+    float world[max_channels] = {};
+    if (turn_world) facing_turn_.step();
     if (has_umbrella_) scene_->drops.process_frame(frame);
-    surfaces_->render(frame, wind_);
+    surfaces_->render(turn_world ? world : frame, wind_);
+    if (turn_world) facing_turn_.add_turned(world, frame);
     if (level_ramp_left_ > 0) {
         level_ *= level_step_;
         if (--level_ramp_left_ == 0) level_ = level_target_;
@@ -317,7 +258,11 @@ void Renderer::render_sample(float* const* outputs, int offset) {
     if (fading_) {
         float old[max_channels] = {};
         if (fading_has_umbrella_) fading_->drops.process_frame(old);
-        if (fading_surfaces_) fading_surfaces_->render(old, wind_);
+        if (fading_surfaces_) {
+            float old_world[max_channels] = {};
+            fading_surfaces_->render(turn_world ? old_world : old, wind_);
+            if (turn_world) facing_turn_.add_turned(old_world, old);
+        }
         for (int ch = 0; ch < channels; ++ch) frame[ch] = scaled(frame[ch], level_) + scaled(old[ch], fading_level_);
         if (--fade_left_ <= 0) {
             // If the event list is full they ring on and are handed back at a later sample.

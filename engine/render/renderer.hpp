@@ -46,14 +46,22 @@
 // then goes back to the control thread in a `retired` event to be freed there. Nothing is allocated
 // or freed here.
 //
-// Ambisonics (listener = ListenerStyle::ambix, 4, 9 or 16 channels: orders 1 to 3, ACN/SN3D): the umbrella's
-// panels by their centres' directions from the head, each surface by its direction relative to the
-// facing (/listener re-encodes it, as it re-pans the other formats), the texture grains over a virtual
-// ring of 8 directions at the canopy's mean elevation, each encoded (an approximation: a grain's
-// direction is its ring neighbours', as on a ring of speakers). The bus is then rotated by the head's
-// orientation (CommandKind::orientation, /listener/orientation), the matrix built off the audio thread
-// and reached over rotation_ramp_frames by crossfading the old matrix's output into the new one's (no
-// click); at the identity the rotation is skipped and the samples are the encoder's.
+// Ambisonics (listener = ListenerStyle::ambix, 4, 9 or 16 channels: orders 1 to 3, ACN/SN3D): two buses,
+// summed before the head's rotation. The body bus: the umbrella's panels by their centres' directions
+// from the head and the texture grains over a virtual ring of 8 directions at the canopy's mean
+// elevation, each encoded (an approximation: a grain's direction is its ring neighbours', as on a ring of
+// speakers); the umbrella is held, so it turns with the body. The world bus: each other surface by its
+// direction in the scene's frame, turned by the body's facing (/listener: a FacingTurn,
+// listener_rotation.hpp, gliding over its 256 samples) and added to the body bus. Then the whole bus is
+// rotated by the head's orientation (CommandKind::orientation, /listener/orientation), the matrix built
+// off the audio thread and reached over rotation_ramp_frames by crossfading the old matrix's output into
+// the new one's (no click). At facing 0 the world bus is the body bus (no extra pass); at the identity
+// the head's rotation is skipped: the samples are the encoder's. Nothing is re-encoded or rebuilt.
+// The panned formats (stereo, ring:N) turn the head by re-panning: each sound's direction is turned by
+// H^T (the full rotation) and panned by the azimuth that results, the gains gliding over 256 samples
+// (the umbrella's panels: DropOnCanopy::turn_head; the surfaces: SceneSurfaces::set_head; a grain at
+// its start). Ears and mono have nothing to turn (the protocol refuses the orientation on ears).
+// renderer_listener.cpp holds all of it.
 // Output: full scale (1.0) is `full_scale_pa` pascals at level gain and gain 0 dB (output_stage.hpp
 // states the calibration); the output stage (gain, limiter) is the last thing a sample passes. Mono: one listening point; stereo and more:
 // one point, each panel panned by its azimuth over the speakers (ListenerStyle::panned), or for two
@@ -70,6 +78,7 @@
 #include "engine/models/panning.hpp"
 #include "engine/models/texture_grains.hpp"
 #include "engine/render/command.hpp"
+#include "engine/render/listener_rotation.hpp"
 #include "engine/render/loaded_scene.hpp"
 #include "engine/render/lod_governor.hpp"
 #include "engine/render/output_stage.hpp"
@@ -213,6 +222,7 @@ public:
     const OutputStage& output() const { return output_; }
     bool ambisonic() const { return config_.listener == ListenerStyle::ambix; }
     const AmbixRotation& rotation() const { return rotation_to_; }   // the bus's rotation (its target while it turns)
+    const FacingTurn& facing_turn() const { return facing_turn_; }   // ambix: the world bus's turn
     double level_gain_db() const { return level_db_; }   // the current scene's level gain (the target of a ramp)
 
 private:
@@ -224,7 +234,11 @@ private:
     void load_scene(const Command& command);
     void set_wind(double speed, double direction, double gustiness);
     void set_level_db(double db, bool ramp);
+    // renderer_listener.cpp: the listener's turns (facing, head) on every format.
     void set_orientation(const Command& command);
+    void move_listener(const Command& command);
+    void hand_over_listener();               // a swapped-in scene hears the head as it is turned now
+    double grain_azimuth(Point2 at, double height) const;
     void rotate(float* frame);
     void encode_grains(const Canopy& canopy);
     bool retire(void* object, RetiredObject type);
@@ -274,6 +288,9 @@ private:
     bool rotating_ = false;
     std::array<std::array<double, max_ambix_channels>, grain_ring> grain_encoding_{};
     std::array<AmbixRotation*, 8> unreturned_{};
+    FacingTurn facing_turn_;                     // ambix: the world bus's turn by the body's facing
+    std::array<double, 9> head_{1, 0, 0, 0, 1, 0, 0, 0, 1};   // the head's rotation (head_rotation), panned formats
+    bool head_turned_ = false;                   // head_ is not the identity
 
     // Commands waiting for their sample, sorted by frame (stable for equal frames).
     std::array<Command, pending_capacity> pending_{};

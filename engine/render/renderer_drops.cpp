@@ -47,7 +47,7 @@ void Renderer::start_rain_drop(double diameter, Point2 at) {
         case LodTier::texture:
             ++stats_.drops;
             ++stats_.rain_tiers.texture;
-            if (!grains_->add(diameter, speed, density, std::atan2(at.y, at.x), ambisonic() ? grain_ring : config_.channels, grain_noise_))
+            if (!grains_->add(diameter, speed, density, grain_azimuth(at, height), ambisonic() ? grain_ring : config_.channels, grain_noise_))
                 ++stats_.grains_dropped;
             return;
     }

@@ -38,7 +38,7 @@ SceneSurfaces::SceneSurfaces(const SceneDescription& scene, double sample_rate, 
         pc.sample_rate = sample_rate;
         pc.max_distance_m = 2000.0;   // the scene file's positions reach 1000 m each way
         pc.min_distance_m = min_distance_m;
-        placed_.push_back(Placed{std::move(source), std::move(rain), Random(stream), Propagation(pc), Vec3{s.x_m, s.y_m, s.z_m}, 1.0, {}});
+        placed_.push_back(Placed{std::move(source), std::move(rain), Random(stream), Propagation(pc), Vec3{s.x_m, s.y_m, s.z_m}, 1.0, {}, {}, {}});
         place(placed_.back(), true);
     }
 }
@@ -51,15 +51,50 @@ void SceneSurfaces::place(Placed& p, bool now) {
     } else {
         p.path.set_listener(listener_);
     }
-    // Relative to the facing; the elevation only an Ambisonic bus hears (the panned formats are rings).
-    const auto g = direction_gains(std::atan2(d.y, d.x) - facing_rad_, std::atan2(d.z, std::hypot(d.x, d.y)), channels_, ambisonic_);
-    for (int c = 0; c < channels_; ++c) p.pan[static_cast<std::size_t>(c)] = static_cast<float>(g[static_cast<std::size_t>(c)]);
+    std::array<double, max_ambix_channels> g{};
+    if (ambisonic_) {
+        // The world bus: the scene's frame; the renderer turns it (facing, head).
+        g = direction_gains(std::atan2(d.y, d.x), std::atan2(d.z, std::hypot(d.x, d.y)), channels_, true);
+    } else if (head_identity_) {
+        g = direction_gains(std::atan2(d.y, d.x) - facing_rad_, 0.0, channels_, false);   // the rings: azimuth only
+    } else {
+        // The body's frame (turned by the facing about z), then the head's: H^T b; panned by its azimuth.
+        const double cf = std::cos(facing_rad_), sf = std::sin(facing_rad_);
+        const Vec3 b{cf * d.x + sf * d.y, -sf * d.x + cf * d.y, d.z};
+        const std::array<double, 9>& h = head_;
+        const double x = h[0] * b.x + h[3] * b.y + h[6] * b.z, y = h[1] * b.x + h[4] * b.y + h[7] * b.z;
+        g = direction_gains(std::atan2(y, x), 0.0, channels_, false);
+    }
+    for (int c = 0; c < channels_; ++c) {
+        const auto to = static_cast<float>(g[static_cast<std::size_t>(c)]);
+        p.pan_to[static_cast<std::size_t>(c)] = to;
+        if (now) p.pan[static_cast<std::size_t>(c)] = to;
+    }
+}
+
+// Every surface's gains glide from where they are (mid-glide too) to their new targets.
+void SceneSurfaces::glide_all() {
+    for (Placed& p : placed_)
+        for (int c = 0; c < channels_; ++c) {
+            const auto k = static_cast<std::size_t>(c);
+            p.pan_step[k] = (p.pan_to[k] - p.pan[k]) / static_cast<float>(pan_glide_frames);
+        }
+    glide_left_ = pan_glide_frames;
 }
 
 void SceneSurfaces::set_listener(double x_m, double y_m, double z_m, double facing_rad) {
     listener_ = Vec3{x_m, y_m, z_m};
     facing_rad_ = facing_rad;
     for (Placed& p : placed_) place(p, false);
+    glide_all();
+}
+
+void SceneSurfaces::set_head(const std::array<double, 9>& head) {
+    if (ambisonic_) return;   // the renderer rotates the bus
+    head_ = head;
+    head_identity_ = head == std::array<double, 9>{1, 0, 0, 0, 1, 0, 0, 0, 1};
+    for (Placed& p : placed_) place(p, false);
+    glide_all();
 }
 
 void SceneSurfaces::set_rate(double mm_per_h) {
@@ -91,6 +126,14 @@ void SceneSurfaces::render(float* frame, const Wind& wind) {
         const double now = p.source->sample();
         const auto s = static_cast<float>(p.path.process(std::isfinite(now) ? now : 0.0) * inverse_full_scale_);
         for (int c = 0; c < channels_; ++c) frame[c] += p.pan[static_cast<std::size_t>(c)] * s;
+    }
+    if (glide_left_ > 0) {   // the gains step towards their targets; exactly there at the end
+        const bool last = --glide_left_ == 0;
+        for (Placed& p : placed_)
+            for (int c = 0; c < channels_; ++c) {
+                const auto k = static_cast<std::size_t>(c);
+                p.pan[k] = last ? p.pan_to[k] : p.pan[k] + p.pan_step[k];
+            }
     }
 }
 

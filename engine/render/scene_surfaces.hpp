@@ -5,9 +5,13 @@
 // distribution (rain_spawner.hpp), strike it at a uniform point (u, v) with the speed the wind gives
 // them along its normal (wind.hpp), and its sound (Pa at 1 m, surface_source.hpp) reaches the listener
 // through open air (propagation.hpp: 1/r, the delay r/c, ISO 9613-1 air absorption, gliding when the
-// listener moves) and, over 2 channels or more, panned by its azimuth relative to the listener's facing
-// (panning.hpp), or, on an Ambisonic bus (ambisonic = true: 4, 9 or 16 channels), encoded by its
-// direction from the listener, relative to the facing, elevation included (ambisonics.hpp).
+// listener moves) and, over 2 channels or more, panned by the azimuth its direction has for the
+// listener's head: relative to the facing, then turned by the head's orientation (set_head; the full
+// rotation, then the azimuth: panning.hpp), or, on an Ambisonic bus (ambisonic = true: 4, 9 or 16
+// channels), encoded by its direction from the listener in the scene's frame, elevation included
+// (ambisonics.hpp): the renderer turns that world bus by the facing and the head (listener_rotation.hpp),
+// so a turn re-encodes nothing here. A change of direction (a move, a facing, a head turn) glides the
+// gains over pan_glide_frames (no click).
 //
 // Interface:
 //   SceneSurfaces s(scene_description, sample_rate, channels, seed);   // off the audio thread; throws
@@ -21,6 +25,8 @@
 //   s.render(frame, wind);                  // adds this sample of every surface into frame[channel], in
 //                                           // full-scale units (1.0 = full_scale_pa)
 //   s.set_listener(x, y, z, facing_rad);    // the paths glide there (20 ms); the panning follows
+//   s.set_head(h);                          // the head's rotation (head_rotation, row-major): the
+//                                           // panned formats' gains glide to it; ignored on a bus
 //   s.drops()                               // drops struck so far
 //   s.count(), s.distance_m(i), s.delay_samples(i)
 //
@@ -60,11 +66,14 @@ public:
     void set_rate_now(double mm_per_h);
     void render(float* frame, const Wind& wind);
     void set_listener(double x_m, double y_m, double z_m, double facing_rad);
+    void set_head(const std::array<double, 9>& head);
+    static constexpr int pan_glide_frames = 256;   // as the bus's rotation (Renderer::rotation_ramp_frames)
 
     int count() const { return static_cast<int>(placed_.size()); }
     double distance_m(int i) const { return placed_[static_cast<std::size_t>(i)].distance_m; }
     double delay_samples(int i) const { return placed_[static_cast<std::size_t>(i)].path.delay_samples(); }
     std::uint64_t drops() const { return drops_; }
+    double facing_rad() const { return facing_rad_; }
 
 private:
     struct Placed {
@@ -75,11 +84,16 @@ private:
         Vec3 centre;
         double distance_m = 1.0;
         std::array<float, max_pan_channels> pan{};   // pan gains, or SH gains (ACN) on an Ambisonic bus
+        std::array<float, max_pan_channels> pan_to{}, pan_step{};   // the glide to a new direction
     };
     void place(Placed& p, bool now);
+    void glide_all();
     std::vector<Placed> placed_;
     Vec3 listener_{};
     double facing_rad_ = 0.0;
+    std::array<double, 9> head_{1, 0, 0, 0, 1, 0, 0, 0, 1};
+    bool head_identity_ = true;
+    int glide_left_ = 0;
     int channels_ = 1;
     bool ambisonic_ = false;
     double dt_ = 0.0;

@@ -62,8 +62,12 @@ TEST_CASE("each setting's query answers the value in effect, in the units it was
     c.send("/rain/rate", {f(30)});
     c.send("/rain/wind", {f(5), f(90), f(0.3)});
     c.send("/listener", {f(1), f(2), f(1.5), f(45)});
+    r = ask(c, "/listener/orientation");   // the head at rest until a tracker turns it
+    REQUIRE(r.types == "fff");
+    CHECK(r.args[0].number == 0.0);
     c.send("/lod", {f(50), i(2)});
-    REQUIRE(c.request("/sync", {i(1)}, "/synced", 2s));   // all four applied by the audio thread
+    c.send("/listener/orientation", {f(30), f(-10), f(5)});   // accepted on stereo: it re-pans
+    REQUIRE(c.request("/sync", {i(1)}, "/synced", 2s));   // all five applied by the audio thread
     r = ask(c, "/rain/rate");
     CHECK(r.args[0].number == doctest::Approx(30));
     r = ask(c, "/rain/wind");
@@ -77,6 +81,11 @@ TEST_CASE("each setting's query answers the value in effect, in the units it was
     CHECK(r.args[1].number == doctest::Approx(2));
     CHECK(r.args[2].number == doctest::Approx(1.5));
     CHECK(r.args[3].number == doctest::Approx(45).epsilon(float_tolerance));
+    r = ask(c, "/listener/orientation");
+    REQUIRE(r.types == "fff");
+    CHECK(r.args[0].number == doctest::Approx(30).epsilon(float_tolerance));
+    CHECK(r.args[1].number == doctest::Approx(-10).epsilon(float_tolerance));
+    CHECK(r.args[2].number == doctest::Approx(5).epsilon(float_tolerance));
     r = ask(c, "/lod");
     REQUIRE(r.types == "fi");
     CHECK(r.args[0].number == doctest::Approx(50));

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// /listener/orientation: degrees in, radians out, on an Ambisonic stream; refused with the reason on others.
+// /listener/orientation: degrees in, radians out, on every format but ears (refused with the reason);
+// its query form.
 
 #include <doctest/doctest.h>
 
@@ -35,9 +36,32 @@ TEST_CASE("/listener/orientation: an Ambisonic stream gets the head's yaw, pitch
     CHECK(v.request.command.object == nullptr);   // the daemon attaches the matrix (packet_dispatch.cpp)
     CHECK_FALSE(validate(orientation(0.0f, 91.0f, 0.0f), ambisonic).ok);   // pitch past the zenith
 
+    // Stereo and rings turn by re-panning: accepted the same way.
     ProtocolContext stereo = test::round_surface_context();
     stereo.ambisonic_order = 0;
-    const Validation refused = validate(orientation(90.0f, 0.0f, 0.0f), stereo);
+    const Validation panned = validate(orientation(90.0f, 0.0f, 0.0f), stereo);
+    REQUIRE_MESSAGE(panned.ok, panned.reason);
+    CHECK(panned.request.command.kind == CommandKind::orientation);
+    CHECK(panned.request.command.values[0] == doctest::Approx(M_PI / 2));
+
+    // Ears: two fixed ear points under the umbrella; refused, and the reason says what does turn.
+    ProtocolContext ears = stereo;
+    ears.ears = true;
+    const Validation refused = validate(orientation(90.0f, 0.0f, 0.0f), ears);
     CHECK_FALSE(refused.ok);
-    CHECK(refused.reason.find("Ambisonic stream only") != std::string::npos);
+    CHECK(refused.reason.find("two ear points") != std::string::npos);
+    CHECK(refused.reason.find("stereo, ring:N, ambix:N or binaural") != std::string::npos);
+}
+
+TEST_CASE("/listener/orientation with no value is its query; two values are neither") {
+    const ProtocolContext stereo;
+    DecodedMessage m;
+    m.address = "/listener/orientation";
+    const Validation q = validate(m, stereo);
+    REQUIRE_MESSAGE(q.ok, q.reason);
+    CHECK(q.request.action == Action::query);
+    CHECK(q.request.query_address == "/listener/orientation");
+    m.types = "ff";
+    m.args = {OscArgument::from_float(1.0f), OscArgument::from_float(2.0f)};
+    CHECK_FALSE(validate(m, stereo).ok);
 }

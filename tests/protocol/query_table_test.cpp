@@ -15,7 +15,7 @@ using namespace ameoto::protocol;
 TEST_CASE("every settable value has a query: the address with no value asks for what is in effect") {
     const ProtocolContext c;
     for (const char* address : {"/rain/rate", "/rain/wind", "/rain/dsd", "/listener", "/lod", "/material/liquid", "/scene",
-                                "/scene/load", "/notify", "/reply/port", "/gain", "/loudness"}) {
+                                "/scene/load", "/notify", "/reply/port", "/gain", "/loudness", "/listener/orientation"}) {
         INFO(address);
         const AddressSpec* spec = find_address(address);
         REQUIRE(spec);
@@ -47,7 +47,8 @@ TEST_CASE("the table's queries are exactly the settable addresses; actions that 
         const bool settable_value = a == "/rain/rate" || a == "/rain/wind" || a == "/rain/dsd" || a == "/listener" || a == "/lod" ||
                                     a == "/material/liquid" || a == "/material/surface" || a == "/scene" || a == "/scene/load" ||
                                     a == "/surface/set" || a == "/notify" || a == "/accuracy" || a == "/reply/port" ||
-                                    a == "/gain" || a == "/loudness" || a == "/canopy/air" || a == "/canopy/impact";
+                                    a == "/gain" || a == "/loudness" || a == "/canopy/air" || a == "/canopy/impact" ||
+                                    a == "/listener/orientation";
         if (!settable_value) {
             CHECK_FALSE(spec.query.available);
             continue;

@@ -15,7 +15,7 @@ namespace ameoto::test {
 inline protocol::ProtocolContext round_surface_context() {
     protocol::ProtocolContext c;
     c.on_surface = [](const std::string&, double x, double y) { return x * x + y * y <= 0.25; };
-    c.ambisonic_order = 1;   // an Ambisonic stream: /listener/orientation is accepted
+    c.ambisonic_order = 1;   // an Ambisonic stream (first order)
 
     return c;
 }

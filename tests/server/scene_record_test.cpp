@@ -73,3 +73,24 @@ TEST_CASE("scene record: refusals name what would break; a material renames the 
     record.apply_due(500);   // the renderer keeps its scheduled commands across a load, and so does the record
     CHECK(record.scene().rain.rate_mm_per_h == 42);
 }
+
+TEST_CASE("scene record: the head's orientation is kept for its query, timed like the rest, outside the scene") {
+    ameoto::SceneRecord record = street_record();
+    const ameoto::SceneDescription before = record.scene();
+    ameoto::Command c;
+    c.kind = ameoto::CommandKind::orientation;
+    c.values[0] = 0.5;
+    c.values[1] = -0.2;
+    c.values[2] = 0.1;
+    CHECK(record.refusal(c).empty());
+    c.timed = true;
+    c.frame = 1000;
+    record.apply_at_frame(c);
+    record.apply_due(999);
+    CHECK(record.orientation()[0] == 0.0);
+    record.apply_due(1000);
+    CHECK(record.orientation() == std::array<double, 3>{0.5, -0.2, 0.1});
+    CHECK(ameoto::format_scene(record.scene()) == ameoto::format_scene(before));   // never in the saved scene
+    record.loaded(before, record.material());   // a new scene: the head stays as it is turned
+    CHECK(record.orientation()[1] == -0.2);
+}
