@@ -8,6 +8,7 @@
 #include <complex>
 #include <limits>
 #include <stdexcept>
+#include <utility>
 
 #include "engine/core/modal_decomposition.hpp"
 #include "engine/core/physical_constants.hpp"
@@ -123,7 +124,7 @@ CanopyInAirResult run_canopy_in_air(const CanopyInAirSetup& setup) {
     return r;
 }
 
-std::vector<PanelMode> panel_modes_in_air(const CanopyInAirSetup& setup, int modes) {
+PanelProjections panel_projections_in_air(const CanopyInAirSetup& setup, int modes) {
     CanopyInAirSetup s = setup;
     s.record_every = 1;
     s.record_nodes = true;
@@ -146,23 +147,34 @@ std::vector<PanelMode> panel_modes_in_air(const CanopyInAirSetup& setup, int mod
     Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(K / m);
     modes = std::clamp(modes, 1, n);
     const CanopyInAirResult r = run_canopy_in_air(s);
-    std::vector<PanelMode> out;
+    PanelProjections out;
+    out.sample_interval_s = r.sample_interval_s;
     for (int q = 0; q < modes; ++q) {
-        PanelMode mode;
-        mode.vacuum_hz = std::sqrt(std::max(0.0, eig.eigenvalues()(q))) / (2.0 * constants::pi);
+        out.vacuum_hz.push_back(std::sqrt(std::max(0.0, eig.eigenvalues()(q))) / (2.0 * constants::pi));
         std::vector<double> projection(r.node_velocity.front().size(), 0.0);
         for (int i = 0; i < n; ++i) {
             const double w = eig.eigenvectors()(i, q);
             const auto& v = r.node_velocity[static_cast<std::size_t>(s.panel * n + i)];
             for (std::size_t t = 0; t < v.size(); ++t) projection[t] += w * v[t];
         }
-        mode.air_hz = peak_frequency(projection, r.sample_interval_s, 0.2 * mode.vacuum_hz, 1.05 * mode.vacuum_hz);
+        out.velocity.push_back(std::move(projection));
+    }
+    return out;
+}
+
+std::vector<PanelMode> panel_modes_in_air(const CanopyInAirSetup& setup, int modes) {
+    const PanelProjections p = panel_projections_in_air(setup, modes);
+    std::vector<PanelMode> out;
+    for (std::size_t q = 0; q < p.velocity.size(); ++q) {
+        PanelMode mode;
+        mode.vacuum_hz = p.vacuum_hz[q];
+        mode.air_hz = panel_mode_frequency(p.velocity[q], p.sample_interval_s, mode.vacuum_hz, kPeakRecordS);
         out.push_back(mode);
     }
     return out;
 }
 
-std::vector<double> modal_panel_modes(const CanopyInAirSetup& s, const Canopy& canopy, const AirLoadedModes& air, int modes) {
+PanelProjections modal_panel_projections(const CanopyInAirSetup& s, const Canopy& canopy, const AirLoadedModes& air, int modes) {
     const int nodes = canopy.nodes_per_panel();
     if (air.shapes.rows() != canopy.panel_count() * nodes)
         throw std::invalid_argument("modal_panel_modes: the modes are not the canopy's");
@@ -197,7 +209,8 @@ std::vector<double> modal_panel_modes(const CanopyInAirSetup& s, const Canopy& c
             velocity(t, m) = (gain * std::exp(lambda * time) * f).real() * s.pulse_s / quadrature;
         }
     }
-    std::vector<double> out;
+    PanelProjections out;
+    out.sample_interval_s = dt;
     for (int q = 0; q < modes; ++q) {
         // The struck panel's vacuum shape q against each mode, times the struck node's share of it.
         Eigen::VectorXd weight(count);
@@ -207,11 +220,34 @@ std::vector<double> modal_panel_modes(const CanopyInAirSetup& s, const Canopy& c
             weight[m] = sum * air.shapes(struck, m);
         }
         const Eigen::VectorXd p = velocity * weight;
-        const std::vector<double> projection(p.data(), p.data() + p.size());
-        const double f_vac = vac.omega[q] / (2.0 * constants::pi);
-        out.push_back(peak_frequency(projection, dt, 0.2 * f_vac, 1.05 * f_vac));
+        out.vacuum_hz.push_back(vac.omega[q] / (2.0 * constants::pi));
+        out.velocity.emplace_back(p.data(), p.data() + p.size());
     }
     return out;
+}
+
+std::vector<double> modal_panel_modes(const CanopyInAirSetup& s, const Canopy& canopy, const AirLoadedModes& air, int modes) {
+    const PanelProjections p = modal_panel_projections(s, canopy, air, modes);
+    std::vector<double> out;
+    for (std::size_t q = 0; q < p.velocity.size(); ++q)
+        out.push_back(panel_mode_frequency(p.velocity[q], p.sample_interval_s, p.vacuum_hz[q], kPeakRecordS));
+    return out;
+}
+
+double panel_mode_frequency(const std::vector<double>& projection, double dt, double vacuum_hz, double record_s) {
+    const auto n = std::min(projection.size(), static_cast<std::size_t>(std::llround(record_s / dt)));
+    const std::vector<double> head(projection.begin(), projection.begin() + static_cast<std::ptrdiff_t>(n));
+    return peak_frequency(head, dt, 0.2 * vacuum_hz, 1.05 * vacuum_hz);
+}
+
+std::vector<DampedSinusoid> panel_mode_components(const std::vector<double>& projection, double dt, double vacuum_hz, double pulse_s) {
+    PencilSettings p;
+    p.f_lo_hz = 0.2 * vacuum_hz;
+    p.f_hi_hz = 1.05 * vacuum_hz;
+    p.start_s = pulse_s;
+    p.relative_threshold = 1e-4;
+    p.max_components = 400;
+    return fit_damped_sinusoids(projection, dt, p);
 }
 
 }  // namespace ameoto::reference

@@ -29,6 +29,7 @@
 #include "engine/models/air_loading.hpp"
 #include "engine/models/canopy.hpp"
 #include "engine/models/membrane.hpp"
+#include "engine/reference/matrix_pencil.hpp"
 
 namespace ameoto::reference {
 
@@ -78,7 +79,32 @@ std::vector<PanelMode> panel_modes_in_air(const CanopyInAirSetup& setup, int mod
 // and material): the struck panel's velocity after the same pulse at the same node, by modal
 // superposition (each mode's impulse response e^(-s t) (cos w_d t - (s / w_d) sin w_d t) for velocity,
 // convolved with the pulse by a 40-point midpoint rule, sampled at 40 kHz for setup.duration_s),
-// projected on the panel's vacuum modes and peaked in the same windows. Hz, `modes` of them.
+// projected on the panel's vacuum modes and estimated alike. Hz, `modes` of them.
 std::vector<double> modal_panel_modes(const CanopyInAirSetup& setup, const Canopy& canopy, const AirLoadedModes& air, int modes);
+
+// What the two above estimate from: the struck panel's velocity projected on each of its vacuum mode
+// shapes (unit-norm over the panel's nodes), m/s, sample n at time (n + 1) * sample_interval_s.
+struct PanelProjections {
+    double sample_interval_s = 0.0;
+    std::vector<double> vacuum_hz;                  // [mode]
+    std::vector<std::vector<double>> velocity;      // [mode][sample]
+};
+PanelProjections panel_projections_in_air(const CanopyInAirSetup& setup, int modes);   // the reference
+PanelProjections modal_panel_projections(const CanopyInAirSetup& setup, const Canopy& canopy, const AirLoadedModes& air, int modes);
+
+// The estimator both models share: the frequency of the largest peak of the projection's first record_s
+// (Hann window, band 0.2 to 1.05 of the vacuum frequency), Hz. panel_modes_in_air and modal_panel_modes
+// use kPeakRecordS, the window of the cached figures, whatever setup.duration_s is (a longer record serves
+// panel_mode_components). In air a panel mode is no single mode: the air couples the eight panels into
+// canopy modes (the panels' Fourier copies, 2-8 % apart) and mixes the panel's own shapes, so the peak is
+// a blend of the copies that the window cannot separate (docs/canopy.md).
+inline constexpr double kPeakRecordS = 0.1;
+double panel_mode_frequency(const std::vector<double>& projection, double dt, double vacuum_hz, double record_s);
+
+// The canopy modes in a projection: damped sinusoids fitted from the end of the pulse by the matrix
+// pencil (matrix_pencil.hpp; band 0.2 to 1.05 of the vacuum frequency, singular values above 1e-4 of the
+// largest), sorted by frequency. It separates the copies given 0.4 s of record (in 0.1 s it cannot:
+// they lie 8-20 Hz apart, about 1 / 0.1 s); record_energy gives each one's share.
+std::vector<DampedSinusoid> panel_mode_components(const std::vector<double>& projection, double dt, double vacuum_hz, double pulse_s);
 
 }  // namespace ameoto::reference
