@@ -245,10 +245,10 @@ void accelerations(std::size_t cells, const double* __restrict v, double* __rest
 
 // The two passes above in one: v = (x - x_prev) * inv_dt (LanedNetwork::velocities' backward
 // difference), then accelerations()'s a = (v - v_prev) * inverse_dt, the same operations on the same
-// values in the same order (so the same bits), without storing v in between. Compiled for AVX-512, AVX2
-// and the baseline, picked once by the loader (target_clones: an ifunc); no FMA can form (a product is
+// values in the same order (so the same bits), without storing v in between. Compiled for AVX2 and the
+// baseline, picked once by the loader (target_clones: an ifunc); no FMA can form (a product is
 // never added to), so every clone gives the same bits.
-__attribute__((target_clones("avx512f", "avx2", "default"))) void velocities_and_accelerations(
+__attribute__((target_clones("avx2", "default"))) void velocities_and_accelerations(
     std::size_t cells, const double* __restrict x, const double* __restrict xp, double lane_inv_dt,
     double* __restrict previous, double inverse_dt, double* __restrict a) {
     for (std::size_t c = 0; c < cells; ++c) {
