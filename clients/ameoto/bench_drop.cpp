@@ -10,6 +10,7 @@
 #include "clients/ameoto/bench_timer.hpp"
 #include "clients/ameoto/exit_status.hpp"
 #include "clients/ameoto/json_text.hpp"
+#include "engine/core/integrators/laned_network.hpp"
 #include "engine/core/physical_constants.hpp"
 #include "engine/models/drop_on_canopy.hpp"
 
@@ -20,7 +21,10 @@ constexpr double window_s = 0.1;   // from placement through impact and breakup
 
 // CPU seconds to render window_s of a fresh scene holding `drops` 5 mm drops; `settle`: the model
 // (true, the default) or the model before settling (every mass stepped until its drop retires).
-double time_window(int drops, bool settle = true) {
+// `ceiling`: the widest vectors of the laned canopy's kernels (laned_network.hpp): 32, AVX2 where the CPU
+// has it (the default), or 64, the opt-in AVX-512 kernels (the same bits), timed beside it.
+double time_window(int drops, bool settle = true, int ceiling = 32) {
+    LanedNetwork::set_default_kernel_ceiling(ceiling);
     DropOnCanopyConfig config;
     config.settle = settle;
     config.sample_rate = bench_sample_rate;
@@ -36,7 +40,9 @@ double time_window(int drops, bool settle = true) {
     const int blocks = static_cast<int>(window_s * bench_sample_rate / 64);
     const double start = thread_cpu_seconds();
     for (int b = 0; b < blocks; ++b) scene.process(64, outputs);
-    return thread_cpu_seconds() - start;
+    const double cpu = thread_cpu_seconds() - start;
+    LanedNetwork::set_default_kernel_ceiling(32);
+    return cpu;
 }
 
 // The three scenes timed in rounds, one of each back to back, so that a round's three figures see the
@@ -45,6 +51,7 @@ double time_window(int drops, bool settle = true) {
 struct Rounds {
     std::vector<double> base, one, eight;   // CPU s per window, one entry per round
     std::vector<double> one_before, eight_before;   // the same without settling (the model before it)
+    std::vector<double> base_avx512, eight_avx512;      // the canopy's opt-in AVX-512 kernels
 };
 
 Rounds time_rounds(int runs) {
@@ -55,6 +62,8 @@ Rounds time_rounds(int runs) {
         r.eight.push_back(time_window(8));
         r.one_before.push_back(time_window(1, false));
         r.eight_before.push_back(time_window(8, false));
+        r.base_avx512.push_back(time_window(0, true, 64));
+        r.eight_avx512.push_back(time_window(8, true, 64));
     }
     return r;
 }
@@ -90,6 +99,9 @@ int run_drop_bench(const BenchOptions& options, const CommandIo& io) {
     const double at_once_before = drops_at_once(base, eight_before);
     const double at_once_before_median = drops_at_once(base_med, eight_before_med);
     const double speedup = std::max(eight_before - base, 1e-12) / std::max(eight - base, 1e-12);
+    // The canopy's AVX-512 kernels, same rounds: its own baseline and 8 drops.
+    const double base_avx512 = least(r.base_avx512) / samples, eight_avx512 = least(r.eight_avx512) / samples;
+    const double at_once_avx512 = drops_at_once(base_avx512, eight_avx512);
     double round_low = 1e300, round_high = -1e300;   // each round's own figure
     for (int i = 0; i < runs; ++i) {
         const double a = drops_at_once(r.base[static_cast<std::size_t>(i)] / samples, r.eight[static_cast<std::size_t>(i)] / samples);
@@ -127,6 +139,7 @@ int run_drop_bench(const BenchOptions& options, const CommandIo& io) {
                << ",\"drops_median\":" << json_number(at_once_median) << ",\"drops_round_low\":" << json_number(round_low)
                << ",\"drops_round_high\":" << json_number(round_high) << ",\"runs\":" << runs << ",\"target\":16,\"drops_before\":" << json_number(at_once_before)
                << ",\"drops_before_median\":" << json_number(at_once_before_median) << ",\"speedup\":" << json_number(speedup)
+               << ",\"drops_avx512\":" << json_number(at_once_avx512) << ",\"canopy_ns_per_sample_avx512\":" << json_number(base_avx512 * 1e9)
                << "}\n";
         return exit_status::ok;
     }
@@ -154,6 +167,11 @@ int run_drop_bench(const BenchOptions& options, const CommandIo& io) {
                   "the model before settling (resting and departed liquid stepped every sample), same rounds: %.0f ns per drop "
                   "per sample, %.1f drops at once (medians %.1f); settling makes a drop %.2f times cheaper\n",
                   per_drop_before_ns(rows[2]), at_once_before, at_once_before_median, speedup);
+    io.out << line;
+    std::snprintf(line, sizeof line,
+                  "the canopy's opt-in AVX-512 kernels (same bits), same rounds: canopy %.0f ns per sample against %.0f, "
+                  "%.1f drops at once\n",
+                  base_avx512 * 1e9, base * 1e9, at_once_avx512);
     io.out << line;
     io.out << "limit: each drop's per-mass passes over its 122 masses (drag's square root, update) and its sparse link "
               "pass, every sample until the splash is in the air, then steps of 3-4 samples (coarse steps; choosing them "

@@ -9,6 +9,7 @@
 #include "clients/ameoto/bench_timer.hpp"
 #include "clients/ameoto/exit_status.hpp"
 #include "clients/ameoto/json_text.hpp"
+#include "engine/core/integrators/laned_network.hpp"
 #include "engine/render/renderer.hpp"
 
 namespace ameoto::client {
@@ -45,8 +46,11 @@ Run run_umbrella(double rate, double full_level_db, double texture_margin_db, in
 // `ameoto render scene`'s work: the default umbrella scene as configure_for_scene makes it (seed 1,
 // 4096-frame blocks, no adaptive LOD), at `rate` mm/h; CPU seconds per second of audio, over `seconds`
 // of audio after the scene is built (its build, about 0.3 s, is not counted). `settle`: the lattice
-// drops' settling (drop_on_canopy.hpp), or the model before it.
-double time_render(double rate, bool settle, double seconds) {
+// drops' settling (drop_on_canopy.hpp), or the model before it. `ceiling`: the widest vectors the laned
+// canopy's kernels may use (laned_network.hpp): 32 (AVX2 where the CPU has it, the default) or 64 (the
+// opt-in AVX-512 kernels, same bits: timed beside the default, as they may win on another CPU).
+double time_render(double rate, bool settle, double seconds, int ceiling = 32) {
+    LanedNetwork::set_default_kernel_ceiling(ceiling);
     RendererConfig c = configure_for_scene(RendererConfig{}, *builtin_scene("umbrella"));
     c.sample_rate = bench_sample_rate;
     c.channels = 2;
@@ -60,22 +64,27 @@ double time_render(double rate, bool settle, double seconds) {
     const long blocks = std::max(1L, static_cast<long>(seconds * bench_sample_rate / frames));
     const double start = thread_cpu_seconds();
     for (long b = 0; b < blocks; ++b) r.process(frames, out);
-    return (thread_cpu_seconds() - start) / (static_cast<double>(blocks * frames) / bench_sample_rate);
+    const double cpu = thread_cpu_seconds() - start;
+    LanedNetwork::set_default_kernel_ceiling(32);
+    return cpu / (static_cast<double>(blocks * frames) / bench_sample_rate);
 }
 
 struct RenderRow {
     double rate = 0.0, target = 0.0;
     double per_s = 0.0, per_s_before = 0.0, dry_per_s = 0.0;   // CPU s per audio s: least of 3 rounds
+    double per_s_avx512 = 0.0, dry_per_s_avx512 = 0.0;   // the same with the canopy's AVX-512 kernels
 };
 
 // Three rounds of (settling, the model before it, the dry scene) back to back; the least of each
 // (bench drop's estimator: docs/bench.md).
 RenderRow render_row(double rate, double target, double seconds) {
-    RenderRow row{rate, target, 1e300, 1e300, 1e300};
+    RenderRow row{rate, target, 1e300, 1e300, 1e300, 1e300, 1e300};
     for (int i = 0; i < 3; ++i) {
         row.per_s = std::min(row.per_s, time_render(rate, true, seconds));
         row.per_s_before = std::min(row.per_s_before, time_render(rate, false, seconds));
         row.dry_per_s = std::min(row.dry_per_s, time_render(0.0, true, seconds));
+        row.per_s_avx512 = std::min(row.per_s_avx512, time_render(rate, true, seconds, 64));
+        row.dry_per_s_avx512 = std::min(row.dry_per_s_avx512, time_render(0.0, true, seconds, 64));
     }
     return row;
 }
@@ -180,7 +189,9 @@ int run_scene_bench(const BenchOptions& options, const CommandIo& io) {
             io.out << "{\"suite\":\"scene\",\"measurement\":\"render\",\"rain_mm_per_h\":" << json_number(r.rate)
                    << ",\"realtime_factor\":" << json_number(1.0 / r.per_s) << ",\"realtime_factor_before\":"
                    << json_number(1.0 / r.per_s_before) << ",\"speedup\":" << json_number(r.per_s_before / r.per_s)
-                   << ",\"dry_share\":" << json_number(r.dry_per_s / r.per_s) << ",\"target\":" << json_number(r.target) << "}\n";
+                   << ",\"dry_share\":" << json_number(r.dry_per_s / r.per_s) << ",\"target\":" << json_number(r.target)
+                   << ",\"realtime_factor_avx512\":" << json_number(1.0 / r.per_s_avx512) << ",\"dry_percent_core\":"
+                   << json_number(100.0 * r.dry_per_s) << ",\"dry_percent_core_avx512\":" << json_number(100.0 * r.dry_per_s_avx512) << "}\n";
         io.out << "{\"suite\":\"scene\",\"measurement\":\"dry umbrella\",\"percent_core\":" << json_number(100.0 * dry_share) << "}\n";
         for (const Tier& t : tiers)
             io.out << "{\"suite\":\"scene\",\"measurement\":\"tier\",\"tier\":" << json_string(t.name) << ",\"rain_mm_per_h\":"
@@ -226,6 +237,11 @@ int run_scene_bench(const BenchOptions& options, const CommandIo& io) {
                       "scene (canopy, far field, texture bed) is %.0f %% of it\n",
                       r.rate, 1.0 / r.per_s, r.target, 1.0 / r.per_s >= r.target ? "met" : "not met", 1.0 / r.per_s_before,
                       r.per_s_before / r.per_s, 100.0 * r.dry_per_s / r.per_s);
+        io.out << line;
+        std::snprintf(line, sizeof line,
+                      "             the canopy's opt-in AVX-512 kernels (same bits), same rounds: %.1f x (%.2f of the default's "
+                      "time); the dry scene %.1f %% of a core (AVX-512 %.1f %%)\n",
+                      1.0 / r.per_s_avx512, r.per_s_avx512 / r.per_s, 100.0 * r.dry_per_s, 100.0 * r.dry_per_s_avx512);
         io.out << line;
     }
     return exit_status::ok;

@@ -30,7 +30,8 @@
 //   ---- every panel at once, node-major (the far field, the collision broad phase) ----
 //   canopy.lanes()                 // the layout's stride: panels rounded up to a multiple of 4
 //   canopy.velocities(out)         // out[node * lanes() + panel] (padding lanes: 0)
-//   canopy.laned(), canopy.set_portable_kernels(true), canopy.avx2_kernels()
+//   canopy.laned(), canopy.set_portable_kernels(true), canopy.set_kernel_ceiling(32), canopy.avx2_kernels(),
+//   canopy.kernel_width()          // the lanes' kernels (laned_network.hpp): 16, 32 or 64-byte vectors
 //   ---- in air (air_canopy.hpp) ----
 //   canopy.set_air(build_air_canopy_modes(canopy, T))   // build phase: from now on the canopy runs its
 //                                  // modes in air instead of the lattice (nullptr: the lattice again);
@@ -138,7 +139,12 @@ public:
     int lanes() const { return lanes_; }
     void velocities(double* out) const;
     bool laned() const { return laned_; }
+    // The lanes' state when laned() and not in air (else nullptr): the far field reads x and the previous
+    // sub-step's x to form the velocities and accelerations in one pass (radiation.cpp).
+    const LanedNetwork* lanes_state() const { return laned_ && !air_ ? &lanes_state_ : nullptr; }
     void set_portable_kernels(bool on) { lanes_state_.set_portable_kernels(on); }
+    void set_kernel_ceiling(int bytes) { lanes_state_.set_kernel_ceiling(bytes); }
+    int kernel_width() const { return laned_ ? lanes_state_.kernel_width() : 0; }
     bool avx2_kernels() const { return laned_ && lanes_state_.avx2_kernels(); }
 
     void set_air(std::shared_ptr<const AirCanopyModes> modes);

@@ -245,6 +245,22 @@ void accelerations(std::size_t cells, const double* __restrict v, double* __rest
     }
 }
 
+// The two passes above in one: v = (x - x_prev) * inv_dt (LanedNetwork::velocities' backward
+// difference), then accelerations()'s a = (v - v_prev) * inverse_dt, the same operations on the same
+// values in the same order (so the same bits), without storing v in between. Compiled for AVX2 and the
+// baseline, picked once by the loader (target_clones: an ifunc); no FMA can form (a product is
+// never added to), so every clone gives the same bits.
+__attribute__((target_clones("avx2", "default"))) void velocities_and_accelerations(
+    std::size_t cells, const double* __restrict x, const double* __restrict xp, double lane_inv_dt,
+    double* __restrict previous, double inverse_dt, double* __restrict a) {
+    for (std::size_t c = 0; c < cells; ++c) {
+        const double v = (x[c] - xp[c]) * lane_inv_dt;
+        const double acceleration = (v - previous[c]) * inverse_dt;
+        a[c] = std::isfinite(acceleration) ? acceleration : 0.0;
+        previous[c] = v;
+    }
+}
+
 }  // namespace
 
 void FarFieldRadiation::process(const Canopy& canopy, double* pressures_pa) {
@@ -262,9 +278,18 @@ void FarFieldRadiation::process(const Canopy& canopy, double* pressures_pa) {
                 previous_velocity_[i * stride + static_cast<std::size_t>(k)] = 0.0;
         resets_seen_[static_cast<std::size_t>(k)] = resets;
     }
-    // Every panel's velocities in one pass (the lanes' own layout), then every acceleration in another.
-    canopy.velocities(velocity_.data());
-    accelerations(velocity_.size(), velocity_.data(), previous_velocity_.data(), inverse_dt_, radiator_.inputs());
+    // Every panel's velocities and accelerations in one pass over the lanes' own layout (explicit Verlet,
+    // laned: from the positions, as Canopy::velocities forms them), else the velocities, then the
+    // accelerations.
+    const LanedNetwork* lanes = canopy.lanes_state();
+    if (lanes != nullptr && lanes->previous_positions() != nullptr &&
+        static_cast<std::size_t>(lanes->mass_count() * lanes->lanes()) == velocity_.size()) {
+        velocities_and_accelerations(velocity_.size(), lanes->positions(), lanes->previous_positions(), lanes->inverse_dt(),
+                                     previous_velocity_.data(), inverse_dt_, radiator_.inputs());
+    } else {
+        canopy.velocities(velocity_.data());
+        accelerations(velocity_.size(), velocity_.data(), previous_velocity_.data(), inverse_dt_, radiator_.inputs());
+    }
     radiator_.process_inputs(sums_.data());
     if (glide_left_ > 0) {
         if (--glide_left_ == 0) {

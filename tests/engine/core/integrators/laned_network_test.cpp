@@ -11,6 +11,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "engine/core/cpu_features.hpp"
 #include "engine/core/integrators/laned_network.hpp"
 #include "test_bodies.hpp"
 #include "tests/support/test_constants.hpp"
@@ -47,10 +48,15 @@ struct Comparison {
 // Steps `lanes` and `count` copies of `proto` for `steps` samples with a pseudo-random schedule of forces
 // on several lanes and masses (a few large, so the damping and every link act), comparing every net
 // force, position and velocity bit for bit each sample, and the energies and finiteness every 64.
-Comparison run_both(const TransverseNetwork& proto, int count, bool portable, int steps) {
+Comparison run_both(const TransverseNetwork& proto, int count, int ceiling, int steps) {
     LanedNetwork lanes;
-    lanes.set_portable_kernels(portable);
+    lanes.set_kernel_ceiling(ceiling);
     lanes.init(proto, count);
+    // The widest kernels the ceiling, the CPU and the padded lanes allow (AVX-512: a multiple of 8).
+    const int expected = ceiling >= 64 && lanes.lanes() % 8 == 0 && ameoto::cpu_has_avx512f() ? 64
+                         : ceiling >= 32 && ameoto::cpu_has_avx2()                              ? 32
+                                                                                                : 16;
+    CHECK(lanes.kernel_width() == expected);
     std::vector<TransverseNetwork> reference(static_cast<std::size_t>(count), proto);
     std::vector<double> forces(static_cast<std::size_t>(count));
     const int n = proto.mass_count();
@@ -92,18 +98,19 @@ Comparison run_both(const TransverseNetwork& proto, int count, bool portable, in
 
 TEST_CASE("laned network: every lane is bit-identical to its own TransverseNetwork") {
     // Explicit Verlet and symplectic Euler, one and three sub-steps, lane counts that fill the padded
-    // width (8) and that do not (6, 7), the baseline (SSE2) and the AVX2 kernels (where the CPU has it).
+    // width (8) and that do not (6, 7), the baseline (SSE2), AVX2 and AVX-512 kernels (where the CPU has
+    // them).
     for (Integrator integrator : {Integrator::explicit_verlet, Integrator::symplectic_euler}) {
         for (int sub_steps : {1, 3}) {
             const TransverseNetwork proto = prototype(integrator, sub_steps);
             REQUIRE(proto.stability().sub_steps == sub_steps);
             for (int count : {6, 7, 8}) {
-                for (bool portable : {true, false}) {
+                for (int ceiling : {16, 32, 64}) {
                     CAPTURE(ameoto::integrator_name(integrator));
                     CAPTURE(sub_steps);
                     CAPTURE(count);
-                    CAPTURE(portable);
-                    const Comparison c = run_both(proto, count, portable, 2000);
+                    CAPTURE(ceiling);
+                    const Comparison c = run_both(proto, count, ceiling, 2000);
                     CHECK(c.compared > 2000L * count * 2 * proto.mass_count());
                     CHECK(c.differing == 0);
                 }
@@ -116,8 +123,11 @@ TEST_CASE("laned network: generic lane counts (not 4, 8, 12, 16) and one lane ar
     const TransverseNetwork proto = prototype(Integrator::explicit_verlet, 1);
     for (int count : {1, 3, 17, 21}) {
         CAPTURE(count);
-        const Comparison c = run_both(proto, count, false, 300);
-        CHECK(c.differing == 0);
+        for (int ceiling : {32, 64}) {   // 17 and 21 pad to 20 and 24 lanes: AVX2, then AVX-512 for 24
+            CAPTURE(ceiling);
+            const Comparison c = run_both(proto, count, ceiling, 300);
+            CHECK(c.differing == 0);
+        }
     }
 }
 
