@@ -82,13 +82,14 @@ TEST_CASE("ameotod --format binaural, null backend: rain on a plate 3 m to the l
 }
 
 TEST_CASE("ameotod --format binaural, null backend: the limiter holds the ears under -1 dBFS; --limiter off, they pass full scale") {
-    // Heavy rain on the tin roof 20 dB over --level auto's gain. The limiter acts on the decoded ears
+    // Heavy rain on the tin roof at the physical scale +78 dB (about 20 dB over --level auto's gain, without
+    // its 3 s measurement). The limiter acts on the decoded ears
     // (server/realtime/binaural_stage.hpp), not on the bus: sample peak at or under the ceiling by
     // construction (engine/render/output_stage.hpp).
     auto peak_of = [](const std::string& limiter, const std::string& name) {
         const std::string wav = ameoto::test::temp_path(name);
-        ameoto::test::ChildProcess p({ameoto::test::ameotod, "--backend", "null", "--offline", "--duration", "0.6", "--format", "binaural",
-                                      "--scene", "tin-roof", "--rain", "100", "--gain", "20", "--limiter", limiter, "--output", wav, "--port", "0"});
+        ameoto::test::ChildProcess p({ameoto::test::ameotod, "--backend", "null", "--offline", "--duration", "0.4", "--format", "binaural",
+                                      "--scene", "tin-roof", "--rain", "100", "--level", "physical", "--gain", "78", "--limiter", limiter, "--output", wav, "--port", "0"});
         REQUIRE_MESSAGE(p.wait(60s) == 0, p.output());
         const auto w = ameoto::test::read_wav(wav);
         REQUIRE_MESSAGE(w.ok, w.error);
@@ -98,7 +99,7 @@ TEST_CASE("ameotod --format binaural, null backend: the limiter holds the ears u
         return peak;
     };
     const float on = peak_of("on", "binaural-live-limited.wav"), off = peak_of("off", "binaural-live-unlimited.wav");
-    MESSAGE("live binaural tin roof, 100 mm/h, +20 dB: ears' sample peak " << 20 * std::log10(off) << " dBFS unlimited, "
+    MESSAGE("live binaural tin roof, 100 mm/h, physical +78 dB: ears' sample peak " << 20 * std::log10(off) << " dBFS unlimited, "
                                                                           << 20 * std::log10(on) << " dBFS limited");
     CHECK(on <= static_cast<float>(std::pow(10.0, -1.0 / 20.0)));
     CHECK(on > static_cast<float>(std::pow(10.0, -1.5 / 20.0)));   // at the ceiling, not far under it
