@@ -102,7 +102,8 @@ std::vector<OscArgument> take_start_arguments(const TakeStart& s) {
             take_real(s.full_scale_pa),
             take_real(s.level_gain_db),
             OscArgument::from_int(s.adaptive_detail ? 1 : 0),
-            OscArgument::from_string(s.scene)};
+            OscArgument::from_string(s.scene),
+            OscArgument::from_string(s.format)};
 }
 
 std::vector<OscArgument> take_command_arguments(std::uint64_t frame, const Command& c) {
@@ -123,9 +124,11 @@ std::vector<OscArgument> take_frames_arguments(std::uint64_t frames, std::uint64
 }
 
 std::string read_take_start(const DecodedMessage& m, TakeStart& s) {
-    if (!m.args.empty() && (m.args[0].type == 'i' || m.args[0].type == 'h') && m.args[0].integer != take_format_version)
-        return "take format " + std::to_string(m.args[0].integer) + ": this ameoto reads format " + std::to_string(take_format_version);
-    TakeArgumentReader r(m, "idihiiddis");
+    // Format 1 is format 2 without the output format (the renderer's channels alone, as it rendered then).
+    const bool first_format = !m.args.empty() && (m.args[0].type == 'i' || m.args[0].type == 'h') && m.args[0].integer == 1;
+    if (!m.args.empty() && (m.args[0].type == 'i' || m.args[0].type == 'h') && m.args[0].integer != take_format_version && !first_format)
+        return "take format " + std::to_string(m.args[0].integer) + ": this ameoto reads formats 1 and " + std::to_string(take_format_version);
+    TakeArgumentReader r(m, first_format ? "idihiiddis" : "idihiiddiss");
     if (!r.error().empty()) return r.error();
     (void)r.integer();
     s.rate_hz = r.number();
@@ -137,6 +140,8 @@ std::string read_take_start(const DecodedMessage& m, TakeStart& s) {
     s.level_gain_db = r.number();
     s.adaptive_detail = r.integer() != 0;
     s.scene = r.text();
+    s.format = first_format ? std::string() : r.text();
+    if (!first_format && s.format.empty()) return "the output format is empty (\"stereo\", \"ambix:1\", \"binaural\", ...)";
     if (!(s.rate_hz >= 8000.0 && s.rate_hz <= 192000.0)) return "rate " + std::to_string(s.rate_hz) + " Hz is not 8000..192000";
     if (s.channels < 1 || s.channels > 16) return "channels " + std::to_string(s.channels) + " is not 1..16";
     if (s.node < 0 || s.node > 16) return "node " + std::to_string(s.node) + " is not 0..16";
@@ -153,7 +158,7 @@ std::string read_take_command(const DecodedMessage& m, std::uint64_t& frame, Com
     using K = CommandKind;
     const bool plain = kind == static_cast<int>(K::drop) || kind == static_cast<int>(K::rain_rate) || kind == static_cast<int>(K::lod) ||
                        kind == static_cast<int>(K::wind) || kind == static_cast<int>(K::listener) || kind == static_cast<int>(K::gain) ||
-                       kind == static_cast<int>(K::level);
+                       kind == static_cast<int>(K::level) || kind == static_cast<int>(K::orientation);
     if (!plain) return "command kind " + std::to_string(kind) + " is not one a take records as a command";
     frame = static_cast<std::uint64_t>(f);
     c = Command{};

@@ -7,9 +7,14 @@
 // the other, each preceded by its size as a big-endian int32, its timetag the time from the start of
 // the take in seconds (OSC's 32.32 fixed point, no 1900 epoch). Each bundle holds one message:
 //   /take/start   i:version d:rate_hz i:channels h:seed i:node i:limiter d:full_scale_pa d:level_gain_db
-//                 i:adaptive_detail s:scene        -- first, at 0 s: the state the stream started from
+//                 i:adaptive_detail s:scene s:format
+//                 -- first, at 0 s: the state the stream started from; format: the output format's text
+//                 (output_format.hpp: "stereo", "ring:6", "ambix:1", "binaural", ...). Take format 1 (before
+//                 2026-12-02) has no format: read as today, the renderer's channels alone (stereo, a ring)
 //   /take/command h:frame i:kind d d d d           -- a command as the engine applied it: its kind
-//                 (CommandKind) and its four values in SI units (command.hpp), at the sample it took effect
+//                 (CommandKind) and its four values in SI units (command.hpp), at the sample it took effect;
+//                 orientation (/listener/orientation: yaw, pitch, roll in radians) too, its rotation rebuilt
+//                 by the reader for the format's order
 //   /take/scene   h:frame i:kind d:level_gain_db s:scene MATERIAL LIQUID
 //                 -- a scene swapped in at that sample: kind load_scene (scene: its full description, built
 //                 on the stream's base with that material for its umbrella and that liquid), or
@@ -40,7 +45,7 @@
 
 namespace ameoto::protocol {
 
-inline constexpr int take_format_version = 1;
+inline constexpr int take_format_version = 2;   // 1: no format in /take/start (still read)
 inline constexpr const char* take_start_address = "/take/start";
 inline constexpr const char* take_command_address = "/take/command";
 inline constexpr const char* take_scene_address = "/take/scene";
@@ -57,6 +62,7 @@ struct TakeStart {
     double level_gain_db = 0.0;
     bool adaptive_detail = false;   // the live stream shed detail by load (then a render is at full detail)
     std::string scene;              // format_scene of the first scene (with --rain and --gain in it)
+    std::string format = "stereo";  // the output format's text (OutputFormat::name()); "": read from a format-1 take
 };
 
 struct TakeSceneChange {

@@ -5,11 +5,12 @@
 
 namespace ameoto {
 
-BinauralSupply::BinauralSupply(boost::asio::io_context& io, AudioBridge& bridge, std::string sofa_path, int order, double rate_hz)
+BinauralSupply::BinauralSupply(boost::asio::io_context& io, AudioBridge& bridge, std::string sofa_path, int order, double rate_hz, bool limiter)
     : bridge_(bridge),
       sofa_path_(std::move(sofa_path)),
       order_(order),
       rate_hz_(rate_hz),
+      limiter_(limiter),
       wanted_(bridge.binaural_block()),
       seen_(bridge.binaural_block()),
       worker_(io) {}
@@ -29,7 +30,10 @@ void BinauralSupply::watch(int backend_block) {
     const std::string path = sofa_path_;
     const int order = order_;
     const double rate = rate_hz_;
-    worker_.submit<BinauralStage::Made>([path, order, rate, backend_block] { return BinauralStage::create(path, order, rate, backend_block); },
+    const bool limiter = limiter_;
+    worker_.submit<BinauralStage::Made>([path, order, rate, backend_block, limiter] {
+                                            return BinauralStage::create(path, order, rate, backend_block, limiter);
+                                        },
                                         [this, backend_block](BinauralStage::Made made) { built(std::move(made), backend_block); },
                                         [this, backend_block](const std::string& error) {
                                             built(BinauralStage::Made{nullptr, error}, backend_block);

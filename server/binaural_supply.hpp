@@ -10,8 +10,8 @@
 // decoded padded (a shorter one): about 0.3 s after a change.
 //
 // Interface (control thread):
-//   auto m = BinauralStage::create(options.hrtf, order, rate_hz, backend.block_size());   // the first, for the bridge
-//   BinauralSupply supply(io, bridge, options.hrtf, order, rate_hz);
+//   auto m = BinauralStage::create(options.hrtf, order, rate_hz, backend.block_size(), limiter);   // the first, for the bridge
+//   BinauralSupply supply(io, bridge, options.hrtf, order, rate_hz, limiter);
 //   every poll: supply.watch(backend.block_size());   // builds, hands over, frees; logs each change
 
 #include <boost/asio/io_context.hpp>
@@ -27,7 +27,7 @@ namespace ameoto {
 
 class BinauralSupply {
 public:
-    BinauralSupply(boost::asio::io_context& io, AudioBridge& bridge, std::string sofa_path, int order, double rate_hz);
+    BinauralSupply(boost::asio::io_context& io, AudioBridge& bridge, std::string sofa_path, int order, double rate_hz, bool limiter);
     BinauralSupply(const BinauralSupply&) = delete;
     BinauralSupply& operator=(const BinauralSupply&) = delete;
 
@@ -41,6 +41,7 @@ private:
     const std::string sofa_path_;
     const int order_;
     const double rate_hz_;
+    const bool limiter_;     // the ears' limiter in every stage built
     int wanted_ = 0;         // the block size last built for (or being built)
     int seen_ = 0;           // the backend's block size at the last watch
     bool building_ = false;

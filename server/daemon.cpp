@@ -72,18 +72,21 @@ int Daemon::run() {
     const int binaural_order = options_.format->kind == OutputKind::binaural ? options_.format->order : 0;
     if (binaural_order > 0) {
         BinauralStage::Made made =
-            BinauralStage::create(options_.hrtf, binaural_order, life->backend().sample_rate(), life->backend().block_size());
+            BinauralStage::create(options_.hrtf, binaural_order, life->backend().sample_rate(), life->backend().block_size(),
+                                  options_.limiter_on());   // the limiter acts on the ears (binaural_stage.hpp)
         if (!made.stage) {
             warn("--format binaural: " + made.error);
             return 1;
         }
         say("binaural: " + options_.hrtf + ", order " + std::to_string(binaural_order) + ", blocks of " +
-            std::to_string(made.stage->block_frames()) + " frames, " + std::to_string(made.stage->filter_frames()) + "-tap filters");
+            std::to_string(made.stage->block_frames()) + " frames, " + std::to_string(made.stage->filter_frames()) + "-tap filters" +
+            (made.stage->limiter() ? ", the limiter on the ears (" + std::to_string(made.stage->latency_frames()) + " frames' look-ahead)"
+                                   : ""));
         ears = std::move(made.stage);
     }
     AudioBridge bridge(std::make_unique<Renderer>(first->config), 4096, std::move(ears));
     std::optional<BinauralSupply> binaural;
-    if (binaural_order > 0) binaural.emplace(loop.io(), bridge, options_.hrtf, binaural_order, life->backend().sample_rate());
+    if (binaural_order > 0) binaural.emplace(loop.io(), bridge, options_.hrtf, binaural_order, life->backend().sample_rate(), options_.limiter_on());
     BlockTracing tracing(bridge);
     if (!tracing.open(options_, life->backend().sample_rate())) return 1;
     SceneRecord record(first->scene, first->config.liquid, first->config.material);

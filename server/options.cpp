@@ -117,8 +117,8 @@ Options:
                       it would miss a deadline; /lod sets the budget)
   --record-score FILE
                       write the take to FILE as it plays: every command the engine
-                      applied, at its sample, with the scene, seed, rate, channels and
-                      level it started from (scsynth's binary score format, written
+                      applied, at its sample, with the scene, seed, rate, output format
+                      and level it started from (scsynth's binary score format, written
                       every 0.1 s, so it reads back after a crash); `ameoto render score
                       FILE` renders it again (sample for sample with --fixed-detail;
                       else at the full detail the live stream may have shed)

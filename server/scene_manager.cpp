@@ -51,7 +51,9 @@ std::optional<FirstScene> read_first_scene(const DaemonOptions& options, double 
     // Shedding detail by measured load makes the output depend on the machine: live playback only. An
     // offline render (null backend, not paced) stays reproducible to the sample.
     first.base.adaptive_lod = !options.fixed_detail && live;
-    first.base.limiter = options.limiter_on();
+    // Binaural: the limiter acts on the decoded ears (server/realtime/binaural_stage.hpp), not on the bus.
+    const bool binaural = options.format && options.format->kind == OutputKind::binaural;
+    first.base.limiter = options.limiter_on() && !binaural;
     first.level.automatic = options.level_auto;
     first.level.target_lufs = options.target_lufs;
     first.level.limiter = options.limiter_on();

@@ -19,13 +19,7 @@ TakeRecording::~TakeRecording() {
 
 bool TakeRecording::open(const DaemonOptions& options) {
     if (!options.record_score) return true;
-    // A take names its channels, not its output format, and `render score` renders it with the renderer
-    // alone: a binaural take would come back as 16 channels of a ring, not as the two ears that played.
-    if (options.format && options.format->kind == OutputKind::binaural) {
-        warn("--record-score: a take does not record the binaural decode yet (it would render again as 16 channels, "
-             "not two ears): play binaural without --record-score");
-        return false;
-    }
+    if (options.format) format_ = options.format->name();   // so `render score` renders it in the same format
     path_ = *options.record_score;
     fd_ = ::open(path_.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
     if (fd_ < 0) {
@@ -44,11 +38,12 @@ bool TakeRecording::begin(const FirstScene& first, AudioBridge& bridge) {
     start.channels = first.config.channels;
     start.seed = first.config.seed;
     start.node = first.config.node;
-    start.limiter = first.config.limiter;
+    start.limiter = first.level.limiter;   // the stream's (binaural: on the ears; the renderer's is off)
     start.full_scale_pa = first.config.full_scale_pa;
     start.level_gain_db = first.config.level_gain_db;
     start.adaptive_detail = first.config.adaptive_lod;
     start.scene = format_scene(first.scene);
+    start.format = format_;
     append(0, protocol::take_start_address, protocol::take_start_arguments(start));
     write_pending();
     if (write_failed_) return false;

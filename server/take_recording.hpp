@@ -10,6 +10,10 @@
 // each one's full description here (note_load, note_swap) before it sends the command, and when the
 // audio thread reports that command applied, the note is written at its sample.
 //
+// The output format (--format) is in /take/start, so the take renders again as it played: ambix:N as
+// Ambisonics, binaural decoded to the two ears (ameoto's render_output), its limiter on the ears
+// (server/realtime/binaural_stage.hpp); /listener/orientation is recorded like the other commands.
+//
 // Interface:
 //   TakeRecording take;
 //   if (!take.open(options)) return 1;          // first of all (an unwritable FILE stops ameotod at once):
@@ -63,6 +67,7 @@ private:
 
     AudioBridge* bridge_ = nullptr;
     std::string path_;
+    std::string format_ = "stereo";   // --format's name (OutputFormat::name())
     int fd_ = -1;
     double rate_ = 48000.0;
     std::multimap<const void*, protocol::TakeSceneChange> notes_;   // by the object the command carries

@@ -6,7 +6,7 @@
 namespace ameoto::client {
 
 std::optional<RenderOutput> RenderOutput::make(const OutputFormat& format, int bus_channels, const std::string& hrtf_path, int rate,
-                                               int block, std::string& error) {
+                                               int block, bool limiter, std::string& error) {
     RenderOutput out;
     out.block_ = block;
     const auto frames = static_cast<std::size_t>(block);
@@ -27,6 +27,13 @@ std::optional<RenderOutput> RenderOutput::make(const OutputFormat& format, int b
         for (const auto& c : out.planar_) out.inputs_.push_back(c.data());
         out.ears_.assign(2, std::vector<float>(frames, 0.0f));
         for (const auto& ear : out.ears_) out.heard_.push_back(ear.data());
+        if (limiter) {
+            OutputStageConfig ears;   // the renderer's limiter settings (its defaults), on the two ears, no gain
+            ears.channels = 2;
+            ears.sample_rate = rate;
+            ears.limiter = true;
+            out.limiter_ = std::make_unique<OutputStage>(ears);
+        }
     } else {
         for (const auto& c : out.planar_) out.heard_.push_back(c.data());
     }
@@ -43,6 +50,14 @@ void RenderOutput::finish(int frames) {
     // The decoder takes whole blocks: a last short block is padded with silence (its tail not written).
     for (auto& p : planar_) std::fill(p.begin() + std::clamp(frames, 0, block_), p.end(), 0.0f);
     decoder_->process(inputs_.data(), block_, ears_[0].data(), ears_[1].data());
+    if (!limiter_) return;
+    for (int i = 0; i < std::clamp(frames, 0, block_); ++i) {
+        const auto n = static_cast<std::size_t>(i);
+        float frame[2] = {ears_[0][n], ears_[1][n]};
+        limiter_->process_frame(frame);
+        ears_[0][n] = frame[0];
+        ears_[1][n] = frame[1];
+    }
 }
 
 }  // namespace ameoto::client

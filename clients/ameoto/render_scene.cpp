@@ -239,6 +239,7 @@ int run_render_scene(const RenderSceneOptions& o, const CommandIo& io) {
     OutputFormat format;
     const double default_rain = scene.rain.rate_mm_per_h;
     LevelChoice level;
+    const bool limiter = o.limiter.value_or(o.level_auto);
     try {
         RendererConfig base;
         base.sample_rate = o.rate;
@@ -246,7 +247,8 @@ int run_render_scene(const RenderSceneOptions& o, const CommandIo& io) {
         apply_output_format(base, format);
         base.seed = o.seed;
         base.adaptive_lod = false;   // offline: reproducible, whatever the machine's load
-        base.limiter = o.limiter.value_or(o.level_auto);
+        // Binaural: the limiter acts on the decoded ears (render_output.hpp), the bus is not limited.
+        base.limiter = limiter && format.kind != OutputKind::binaural;
         // --level auto: measured at the scene's own rain, as ameotod does (level_choice.hpp).
         if (o.level_auto) level = choose_level(configure_for_scene(base, scene), o.target_lufs);
         if (o.rain_mm_per_h) scene.rain.rate_mm_per_h = *o.rain_mm_per_h;
@@ -261,7 +263,7 @@ int run_render_scene(const RenderSceneOptions& o, const CommandIo& io) {
     // Binaural: the renderer's third-order bus, decoded to two ears block by block (render_output.hpp;
     // built here, before any sample: libmysofa reads and resamples the SOFA file).
     std::string error;
-    std::optional<RenderOutput> output = RenderOutput::make(format, renderer->config().channels, o.hrtf, o.rate, block, error);
+    std::optional<RenderOutput> output = RenderOutput::make(format, renderer->config().channels, o.hrtf, o.rate, block, limiter, error);
     if (!output) {
         io.err << "ameoto render scene: " << error << "\n";
         return exit_status::refused;
@@ -276,7 +278,7 @@ int run_render_scene(const RenderSceneOptions& o, const CommandIo& io) {
         return exit_status::refused;
     }
     const double spl = full_scale_spl_db(renderer->config().full_scale_pa, level.gain_db + scene.gain_db);
-    const std::string calibration = level_text(o, level, default_rain, scene.gain_db, spl, renderer->config().limiter);
+    const std::string calibration = level_text(o, level, default_rain, scene.gain_db, spl, limiter);
     sf_set_string(wav, SF_STR_SOFTWARE, "ameoto render scene");
     sf_set_string(wav, SF_STR_COMMENT, ("ameoto render scene: " + calibration +
                                         ". Samples are sound pressure at the listener: pressure in Pa = sample x 10^((0 dBFS in "
@@ -289,6 +291,7 @@ int run_render_scene(const RenderSceneOptions& o, const CommandIo& io) {
     ProgressLine progress(io.err, !o.quiet && isatty(STDERR_FILENO) && &io.err == &std::cerr, o.rate);
     double peak = 0.0;
     bool finite = true;
+    std::uint64_t ears_clipped = 0;   // binaural: the ears' samples past full scale (the bus is not limited)
     for (long done = 0; done < total;) {
         const int n = static_cast<int>(std::min<long>(block, total - done));
         renderer->process(n, output->bus());
@@ -298,6 +301,7 @@ int run_render_scene(const RenderSceneOptions& o, const CommandIo& io) {
                 const float s = output->channel(c)[i];
                 if (!std::isfinite(s)) finite = false;
                 peak = std::max(peak, static_cast<double>(std::fabs(s)));
+                ears_clipped += std::fabs(s) > 1.0f;
                 interleaved[static_cast<std::size_t>(i * channels + c)] = s;
             }
         loudness.add(interleaved.data(), static_cast<std::size_t>(n));
@@ -325,7 +329,8 @@ int run_render_scene(const RenderSceneOptions& o, const CommandIo& io) {
     const double integrated = loudness.integrated_lufs();
     io.out << "loudness " << (std::isfinite(integrated) ? fixed(integrated, 2) + " LUFS integrated" : std::string("below the -70 LUFS gate"))
            << ", true peak " << (std::isfinite(loudness.true_peak_dbfs()) ? fixed(loudness.true_peak_dbfs(), 2) + " dBTP" : std::string("none"))
-           << ", " << s.clipped_samples << " samples past full scale; " << calibration << "\n";
+           << ", " << (format.kind == OutputKind::binaural ? ears_clipped : s.clipped_samples) << " samples past full scale; " << calibration
+           << "\n";
     return finite ? exit_status::ok : exit_status::refused;
 }
 

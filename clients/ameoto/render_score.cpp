@@ -98,7 +98,7 @@ std::string render_score_usage() {
            "  -o FILE.wav         the output (32-bit float WAV)\n"
            "\n"
            "A take recorded by `ameotod --record-score FILE` renders again from the state it names (its\n"
-           "scene, seed, rate, channels and level; these options are then refused), every command and\n"
+           "scene, seed, rate, output format and level; these options are then refused), every command and\n"
            "scene change at the sample the live engine applied it, for the take's length (--seconds\n"
            "changes it): sample for sample the live stream when it ran with --fixed-detail, else at\n"
            "full detail. A take cut short by a crash renders up to its last whole record.\n"
@@ -218,7 +218,7 @@ int run_render_score(const RenderScoreOptions& o, const CommandIo& io) {
     }
     if (is_take(score)) {
         if (!o.setup_option.empty()) {
-            io.err << me << o.score_path << " is a recorded take: it names its own scene, rain, rate, seed and channels ("
+            io.err << me << o.score_path << " is a recorded take: it names its own scene, rain, rate, seed and output format ("
                    << o.setup_option << " cannot change them)\n";
             return exit_status::usage;
         }
@@ -318,7 +318,7 @@ int run_render_score(const RenderScoreOptions& o, const CommandIo& io) {
 
     // Binaural: the third-order bus decoded to two ears, block by block (render_output.hpp), built before
     // the file is opened: a SOFA file that cannot be used leaves nothing behind.
-    std::optional<RenderOutput> output = RenderOutput::make(format, renderer->config().channels, o.hrtf, o.rate, o.block, error);
+    std::optional<RenderOutput> output = RenderOutput::make(format, renderer->config().channels, o.hrtf, o.rate, o.block, renderer->config().limiter, error);
     if (!output) {
         io.err << me << error << "\n";
         return exit_status::refused;

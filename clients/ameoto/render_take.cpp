@@ -15,6 +15,7 @@
 #include "clients/ameoto/exit_status.hpp"
 #include "clients/ameoto/number_text.hpp"
 #include "clients/ameoto/progress_line.hpp"
+#include "clients/ameoto/render_output.hpp"
 #include "engine/render/renderer.hpp"
 #include "protocol/take_messages.hpp"
 
@@ -40,6 +41,7 @@ void free_take_retired(const RendererEvent& e) {
     if (e.object_type == RetiredObject::scene_surfaces) delete static_cast<SceneSurfaces*>(e.object);
     else if (e.object_type == RetiredObject::loaded_scene) delete static_cast<LoadedScene*>(e.object);
     else if (e.object_type == RetiredObject::umbrella_scene) delete static_cast<UmbrellaScene*>(e.object);
+    else if (e.object_type == RetiredObject::rotation) delete static_cast<AmbixRotation*>(e.object);
 }
 
 // The object ameotod's worker built for this change (scene_manager.cpp: build_and_load, rebuild).
@@ -125,14 +127,35 @@ int run_render_take(const RenderScoreOptions& o, const ScoreFile& score, const C
         return exit_status::refused;
     }
 
+    // The output format it played in (take format 2); a format-1 take has only its channel count, and
+    // renders as it always did: the renderer's channels (stereo for 2, a ring else).
+    OutputFormat format = output_format_for_channels(start.channels);
+    if (!start.format.empty()) {
+        std::string why;
+        const std::optional<OutputFormat> f = parse_output_format(start.format, why);
+        if (!f) {
+            io.err << me << head.where << ": /take/start: " << why << "\nnothing was rendered\n";
+            return exit_status::refused;
+        }
+        RendererConfig made;   // the renderer's channels for it (binaural: its 16-channel bus, what the take names)
+        apply_output_format(made, *f);
+        if (made.channels != start.channels) {
+            io.err << me << head.where << ": /take/start: " << start.channels << " channels, but " << start.format << " has "
+                   << made.channels << "\nnothing was rendered\n";
+            return exit_status::refused;
+        }
+        format = *f;
+    }
+    const bool binaural = format.kind == OutputKind::binaural;
     std::optional<Renderer> renderer;
     RendererConfig base;
     try {
         base.sample_rate = start.rate_hz;
         base.channels = start.channels;
+        if (!start.format.empty()) apply_output_format(base, format);   // binaural: the 16-channel bus
         base.seed = start.seed;
         base.node = start.node;
-        base.limiter = start.limiter;
+        base.limiter = start.limiter && !binaural;   // binaural: the limiter acts on the ears (render_output.hpp)
         base.full_scale_pa = start.full_scale_pa;
         base.adaptive_lod = false;   // offline: every drop at its full detail
         RendererConfig config = configure_for_scene(base, parse_scene(start.scene, head.where + " (the take's scene)"));
@@ -143,61 +166,80 @@ int run_render_take(const RenderScoreOptions& o, const ScoreFile& score, const C
         return exit_status::refused;
     }
 
+    // Binaural: the bus decoded to two ears block by block (render_output.hpp), the limiter on the ears as
+    // live; built before the file is opened. The take does not name the SOFA file: --hrtf (the default
+    // set unless ameotod played another).
+    const int block = o.block;
+    std::string error;
+    std::optional<RenderOutput> output = RenderOutput::make(format, renderer->config().channels, o.hrtf, static_cast<int>(std::lround(start.rate_hz)),
+                                                            block, start.limiter, error);
+    if (!output) {
+        io.err << me << error << "\nnothing was rendered\n";
+        return exit_status::refused;
+    }
     SF_INFO info{};
     info.samplerate = static_cast<int>(std::lround(start.rate_hz));
-    info.channels = start.channels;
+    info.channels = output->channels();
     info.format = SF_FORMAT_WAV | SF_FORMAT_FLOAT;
     SNDFILE* wav = sf_open(o.wav_path.c_str(), SFM_WRITE, &info);
     if (!wav) {
         io.err << me << "cannot open " << o.wav_path << " for writing: " << sf_strerror(nullptr) << "\n";
         return exit_status::refused;
     }
+    if (!start.format.empty())
+        sf_set_string(wav, SF_STR_COMMENT, ("ameoto render score (a take). Channels: " + output_channel_summary(format)).c_str());
     auto give_up = [&](const std::string& text) {
         sf_close(wav);
         ::unlink(o.wav_path.c_str());
         io.err << me << text << "\nnothing was rendered\n";
         return exit_status::refused;
     };
-    const int block = o.block;
-    const int channels = start.channels;
-    std::vector<std::vector<float>> planar(static_cast<std::size_t>(channels), std::vector<float>(static_cast<std::size_t>(block)));
-    std::vector<float*> out(static_cast<std::size_t>(channels));
-    for (int c = 0; c < channels; ++c) out[static_cast<std::size_t>(c)] = planar[static_cast<std::size_t>(c)].data();
+    const int channels = output->channels();
     std::vector<float> interleaved(static_cast<std::size_t>(block * channels));
     ProgressLine progress(io.err, !o.quiet && isatty(STDERR_FILENO) && &io.err == &std::cerr, info.samplerate);
-    constexpr std::size_t room = Renderer::pending_capacity / 2;   // as render_score.cpp: cut a block rather than overfill
+    // As render_score.cpp: an engine call is cut short before a command that would overfill the renderer's
+    // pending list, and the block filled in pieces (no sample changes; the decoder still gets whole blocks).
+    constexpr std::size_t room = Renderer::pending_capacity / 2;
     std::size_t next = 0, scenes = 0, commands = 0;
     for (long done = 0; done < total;) {
-        long n = std::min<long>(block, total - done);
-        std::size_t queued = 0;
-        while (next < entries.size() && entries[next].frame < static_cast<std::uint64_t>(done + n)) {
-            if (queued == room) {
-                n = std::max<long>(1, static_cast<long>(entries[next].frame) - done);
-                break;
-            }
-            const TakeEntry& e = entries[next++];
-            Command c = e.command;
-            if (e.scene) {
-                try {
-                    c = build_take_change(*e.scene, base, *renderer, e.where);
-                } catch (const std::exception& x) {
-                    return give_up(e.where + ": the scene change at frame " + std::to_string(e.frame) + ": " + x.what());
+        const long n = std::min<long>(block, total - done);
+        for (long filled = 0; filled < n;) {
+            long piece = n - filled;
+            const long at = done + filled;
+            std::size_t queued = 0;
+            while (next < entries.size() && entries[next].frame < static_cast<std::uint64_t>(at + piece)) {
+                if (queued == room) {
+                    piece = std::max<long>(1, static_cast<long>(entries[next].frame) - at);
+                    break;
                 }
-                ++scenes;
-            } else {
-                ++commands;
+                const TakeEntry& e = entries[next++];
+                Command c = e.command;
+                if (e.scene) {
+                    try {
+                        c = build_take_change(*e.scene, base, *renderer, e.where);
+                    } catch (const std::exception& x) {
+                        return give_up(e.where + ": the scene change at frame " + std::to_string(e.frame) + ": " + x.what());
+                    }
+                    ++scenes;
+                } else {
+                    // The head's rotation, built off the renderer's calls as ameotod builds it (packet_dispatch.cpp).
+                    if (c.kind == CommandKind::orientation)
+                        c.object = new AmbixRotation(AmbixRotation::from_orientation(c.values[0], c.values[1], c.values[2], format.order));
+                    ++commands;
+                }
+                c.timed = true;
+                c.frame = e.frame;
+                renderer->schedule(c);
+                ++queued;
             }
-            c.timed = true;
-            c.frame = e.frame;
-            renderer->schedule(c);
-            ++queued;
+            renderer->process(static_cast<int>(piece), output->bus(static_cast<int>(filled)));
+            RendererEvent event;
+            while (renderer->poll_event(event)) free_take_retired(event);
+            filled += piece;
         }
-        renderer->process(static_cast<int>(n), out.data());
-        RendererEvent event;
-        while (renderer->poll_event(event)) free_take_retired(event);
+        output->finish(static_cast<int>(n));
         for (long i = 0; i < n; ++i)
-            for (int c = 0; c < channels; ++c)
-                interleaved[static_cast<std::size_t>(i * channels + c)] = planar[static_cast<std::size_t>(c)][static_cast<std::size_t>(i)];
+            for (int c = 0; c < channels; ++c) interleaved[static_cast<std::size_t>(i * channels + c)] = output->channel(c)[i];
         if (sf_writef_float(wav, interleaved.data(), n) != n) return give_up("cannot write " + o.wav_path + ": " + sf_strerror(wav));
         done += n;
         progress.show(done, total);

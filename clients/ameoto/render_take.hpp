@@ -3,7 +3,7 @@
 // `ameoto render score TAKE -o OUT.wav` where TAKE is what `ameotod --record-score` wrote (its first
 // message /take/start: protocol/take_messages.hpp): the live stream rendered again offline.
 //
-// The render starts from the state the take names (the scene's full description, seed, rate, channels,
+// The render starts from the state the take names (the scene's full description, seed, rate, output format,
 // node, level gain, limiter) and applies every recorded command at the sample the engine applied it, and
 // every scene change at the sample it was swapped in, built from its full description as ameotod built
 // it (a load on the stream's base with its level gain, material and liquid; a material or liquid change

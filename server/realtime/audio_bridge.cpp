@@ -159,7 +159,7 @@ void AudioBridge::process(int frames, float* const* outputs, const BlockTime& ti
         if (frames != block) binaural_unmatched_.fetch_add(1, std::memory_order_relaxed);
         if (frames <= block) {
             renderer_->process(frames, binaural_->bus());
-            binaural_->decode(frames, outputs[0], outputs[1]);
+            ear_clipped_ += static_cast<std::uint64_t>(binaural_->decode(frames, outputs[0], outputs[1]));
         } else {
             for (int done = 0; done < frames; done += block) renderer_->process(std::min(block, frames - done), binaural_->bus());
             std::fill(outputs[0], outputs[0] + frames, 0.0f);
@@ -185,7 +185,8 @@ void AudioBridge::process(int frames, float* const* outputs, const BlockTime& ti
     active_full_drops_.store(st.active_full_drops, std::memory_order_relaxed);
     active_grains_.store(st.active_grains, std::memory_order_relaxed);
     rain_rate_.store(st.rain_rate_mm_per_h, std::memory_order_relaxed);
-    clipped_.store(st.clipped_samples, std::memory_order_relaxed);
+    // Binaural: the ears' samples past full scale (what leaves), not the bus's (not limited there).
+    clipped_.store(binaural_ ? ear_clipped_ : st.clipped_samples, std::memory_order_relaxed);
     output_gain_db_.store(renderer_->level_gain_db() + renderer_->output().gain_db(), std::memory_order_relaxed);
     const std::uint64_t callback = callbacks_.fetch_add(1, std::memory_order_relaxed);
     frames_.store(renderer_->frame(), std::memory_order_release);

@@ -160,6 +160,7 @@ private:
     SpscQueue<BinauralStage*> binaural_in_{4};
     SpscQueue<BinauralStage*> binaural_out_{8};
     std::atomic<int> binaural_block_{0};
+    std::uint64_t ear_clipped_ = 0;   // audio thread's: binaural ear samples past full scale (snapshot's clipped)
     std::atomic<std::uint64_t> binaural_unmatched_{0};
 
     // published by the audio thread

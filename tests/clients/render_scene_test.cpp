@@ -7,6 +7,7 @@
 #include <doctest/doctest.h>
 #include <sndfile.h>
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <string>
@@ -96,4 +97,43 @@ TEST_CASE("render scene --level auto: the gain of the default rain, whatever --r
     CHECK(std::fabs(scene_lufs(auto_light.samples) + 23.0) < 1.0);
     CHECK(auto_light.out.find("loudness ") != std::string::npos);
     CHECK(auto_light.out.find("LUFS integrated") != std::string::npos);
+}
+
+TEST_CASE("render scene --format binaural: the limiter holds the two ears under its ceiling; --limiter off leaves them over it") {
+    // Heavy rain on the tin roof (0.4 s) at the physical scale +78 dB (about 20 dB over --level auto's gain, without
+    // its 3 s measurement, for the test's cost): the decoded ears peak well over full scale
+    // unlimited. The limiter (engine/render/output_stage.hpp) acts on the ears, after the decode
+    // (render_output.hpp): sample peak at or under -1 dBFS by construction, true peak within 0.05 dB of it
+    // (the tolerance of output_stage_test.cpp's true-peak case: libebur128's meter against the stage's
+    // interpolation of the same filter).
+    const std::vector<std::string> loud = {"--scene", "tin-roof", "--format", "binaural", "--rain", "100", "--level", "physical", "--gain", "78",
+                                           "--seconds", "0.4"};
+    auto with = [&](const std::vector<std::string>& more) {
+        std::vector<std::string> w = loud;
+        w.insert(w.end(), more.begin(), more.end());
+        return w;
+    };
+    const RenderedScene on = render_scene_wav(with({"--limiter", "on"}), "binaural-limited.wav");
+    const RenderedScene off = render_scene_wav(with({"--limiter", "off"}), "binaural-unlimited.wav");
+    auto peaks = [](const std::vector<float>& x, double& sample_db, double& true_db) {
+        ameoto::LoudnessMeter meter(2, 48000.0, ameoto::LoudnessMeter::peaks);
+        meter.add(x.data(), x.size() / 2);
+        sample_db = meter.sample_peak_dbfs();
+        true_db = meter.true_peak_dbfs();
+    };
+    double on_sample = 0, on_true = 0, off_sample = 0, off_true = 0;
+    peaks(on.samples, on_sample, on_true);
+    peaks(off.samples, off_sample, off_true);
+    MESSAGE("binaural tin roof, 100 mm/h, physical +78 dB: ears " << off_sample << " dBFS sample peak (" << off_true << " dBTP) unlimited; limited "
+                                                         << on_sample << " dBFS (" << on_true << " dBTP)");
+    float largest = 0.0f;
+    for (const float s : on.samples) largest = std::max(largest, std::fabs(s));
+    CHECK(largest <= static_cast<float>(std::pow(10.0, -1.0 / 20.0)));
+    CHECK(on_true <= -1.0 + 0.05);
+    CHECK(off_sample > 0.0);          // unlimited, the ears pass full scale: the limiter had work to do
+    CHECK(on_sample > -1.5);          // limited to the ceiling, not far under it
+    CHECK(on.comment.find("limiter on") != std::string::npos);
+    CHECK(on.out.find(", 0 samples past full scale") != std::string::npos);    // counted on the ears, not the bus
+    CHECK(off.out.find(", 0 samples past full scale") == std::string::npos);
+    CHECK(off.comment.find("limiter off") != std::string::npos);
 }

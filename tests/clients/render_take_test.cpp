@@ -36,13 +36,14 @@ int render_words(const std::vector<std::string>& words, std::string& out, std::s
 }
 
 // A message as ameotod validates it, to the SI command the engine gets.
-Command validated(const std::string& address, const std::vector<OscArgument>& args) {
+Command validated(const std::string& address, const std::vector<OscArgument>& args, int ambisonic_order = 0) {
     protocol::DecodedMessage m;
     m.address = address;
     m.args = args;
     for (const OscArgument& a : args) m.types += a.type;
     protocol::ProtocolContext context;
     context.on_surface = [](const std::string&, double, double) { return true; };
+    context.ambisonic_order = ambisonic_order;   // an ambix:N stream's (/listener/orientation)
     const protocol::Validation v = protocol::validate(m, context);
     REQUIRE_MESSAGE(v.ok, v.reason);
     return v.request.command;
@@ -97,7 +98,7 @@ TEST_CASE("render score of a take: its commands at their recorded samples, the s
     CHECK(wa.samples == wb.samples);
     // Its setup is its own.
     CHECK(render_words({"score", take_path, "-o", a, "--seed", "3"}, out, err) == exit_status::usage);
-    CHECK(err.find("is a recorded take: it names its own scene, rain, rate, seed and channels (--seed cannot change them)") != std::string::npos);
+    CHECK(err.find("is a recorded take: it names its own scene, rain, rate, seed and output format (--seed cannot change them)") != std::string::npos);
 }
 
 TEST_CASE("render score of a take cut mid-write (ameotod killed): up to its last whole record; a malformed record refuses it") {
@@ -132,4 +133,46 @@ TEST_CASE("render score of a take cut mid-write (ameotod killed): up to its last
     CHECK(render_words({"score", bad_path, "-o", c, "--quiet"}, out, err) == exit_status::refused);
     CHECK(err.find("bad.take: bundle 5, message 1: /take/command: command kind 2 is not one a take records as a command") != std::string::npos);
     CHECK_FALSE(std::filesystem::exists(c));
+}
+
+TEST_CASE("render score of an ambix:1 take: in its own format, the head's turn at its sample, as a score with --format ambix:1") {
+    // Take format 2 names the output format; /listener/orientation is a recorded command (take_messages.hpp).
+    TakeBytes take;
+    protocol::TakeStart start;
+    start.seed = 9;
+    start.channels = 4;
+    start.format = "ambix:1";
+    SceneDescription scene = *builtin_scene("umbrella");
+    scene.rain.rate_mm_per_h = 0.0;
+    start.scene = format_scene(scene);
+    take.add(0, protocol::take_start_address, protocol::take_start_arguments(start));
+    const auto f = [](float v) { return OscArgument::from_float(v); };
+    take.add(624, protocol::take_command_address, protocol::take_command_arguments(624, validated("/drop", {f(3), f(0), f(0.15f), f(0.05f)})));
+    take.add(4800, protocol::take_command_address,
+             protocol::take_command_arguments(4800, validated("/listener/orientation", {f(90), f(10), f(0)}, 1)));
+    take.add(9600, protocol::take_command_address, protocol::take_command_arguments(9600, validated("/drop", {f(4), f(0), f(-0.2f), f(0)})));
+    take.add(19200, protocol::take_end_address, protocol::take_frames_arguments(19200, 0));
+    const std::string take_path = take.write("ambix.take");
+    const std::string score = ameoto::test::temp_path("ambix-turn.txt");
+    std::ofstream(score) << "0.013 /drop 3 0 0.15 0.05\n0.1 /listener/orientation 90 10 0\n0.2 /drop 4 0 -0.2 0\n";
+    const std::string a = ameoto::test::temp_path("ambix-take.wav"), b = ameoto::test::temp_path("ambix-score.wav");
+    std::string out, err;
+    REQUIRE_MESSAGE(render_words({"score", take_path, "-o", a, "--quiet"}, out, err) == exit_status::ok, err);
+    CHECK(out.find("3 commands, 0 scene changes") != std::string::npos);
+    REQUIRE_MESSAGE(render_words({"score", score, "-o", b, "--rain", "0", "--seed", "9", "--seconds", "0.4", "--format", "ambix:1", "--quiet"},
+                                 out, err) == exit_status::ok,
+                    err);
+    const auto wa = ameoto::test::read_wav(a), wb = ameoto::test::read_wav(b);
+    REQUIRE(wa.ok);
+    REQUIRE(wb.ok);
+    CHECK(wa.channels == 4);
+    CHECK(wa.frames == 19200);
+    CHECK(wa.samples == wb.samples);
+    // A take whose format and channels disagree is refused, with both named.
+    start.channels = 2;
+    TakeBytes wrong;
+    wrong.add(0, protocol::take_start_address, protocol::take_start_arguments(start));
+    wrong.add(4800, protocol::take_end_address, protocol::take_frames_arguments(4800, 0));
+    CHECK(render_words({"score", wrong.write("wrong.take"), "-o", a, "--quiet"}, out, err) == exit_status::refused);
+    CHECK(err.find("/take/start: 2 channels, but ambix:1 has 4") != std::string::npos);
 }

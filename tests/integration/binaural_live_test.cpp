@@ -7,6 +7,7 @@
 #include <doctest/doctest.h>
 #include <signal.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <iterator>
@@ -80,11 +81,32 @@ TEST_CASE("ameotod --format binaural, null backend: rain on a plate 3 m to the l
     CHECK(f.itd_s < 0.8e-3);
 }
 
-TEST_CASE("ameotod --format binaural: --record-score is refused with the reason, an unreadable --hrtf before the backend opens") {
-    ameoto::test::ChildProcess take({ameoto::test::ameotod, "--backend", "null", "--output", "-", "--duration", "0.1", "--format", "binaural",
-                                     "--record-score", ameoto::test::temp_path("binaural.take"), "--port", "0"});
-    CHECK(take.wait(30s) == 1);
-    CHECK(take.output().find("--record-score: a take does not record the binaural decode yet") != std::string::npos);
+TEST_CASE("ameotod --format binaural, null backend: the limiter holds the ears under -1 dBFS; --limiter off, they pass full scale") {
+    // Heavy rain on the tin roof at the physical scale +78 dB (about 20 dB over --level auto's gain, without
+    // its 3 s measurement). The limiter acts on the decoded ears
+    // (server/realtime/binaural_stage.hpp), not on the bus: sample peak at or under the ceiling by
+    // construction (engine/render/output_stage.hpp).
+    auto peak_of = [](const std::string& limiter, const std::string& name) {
+        const std::string wav = ameoto::test::temp_path(name);
+        ameoto::test::ChildProcess p({ameoto::test::ameotod, "--backend", "null", "--offline", "--duration", "0.4", "--format", "binaural",
+                                      "--scene", "tin-roof", "--rain", "100", "--level", "physical", "--gain", "78", "--limiter", limiter, "--output", wav, "--port", "0"});
+        REQUIRE_MESSAGE(p.wait(60s) == 0, p.output());
+        const auto w = ameoto::test::read_wav(wav);
+        REQUIRE_MESSAGE(w.ok, w.error);
+        REQUIRE(w.channels == 2);
+        float peak = 0.0f;
+        for (const float s : w.samples) peak = std::max(peak, std::fabs(s));
+        return peak;
+    };
+    const float on = peak_of("on", "binaural-live-limited.wav"), off = peak_of("off", "binaural-live-unlimited.wav");
+    MESSAGE("live binaural tin roof, 100 mm/h, physical +78 dB: ears' sample peak " << 20 * std::log10(off) << " dBFS unlimited, "
+                                                                          << 20 * std::log10(on) << " dBFS limited");
+    CHECK(on <= static_cast<float>(std::pow(10.0, -1.0 / 20.0)));
+    CHECK(on > static_cast<float>(std::pow(10.0, -1.5 / 20.0)));   // at the ceiling, not far under it
+    CHECK(off > 1.0f);
+}
+
+TEST_CASE("ameotod --format binaural: an unreadable --hrtf is refused before the backend opens") {
     ameoto::test::ChildProcess hrtf({ameoto::test::ameotod, "--backend", "null", "--output", "-", "--duration", "0.1", "--format", "binaural",
                                      "--hrtf", "/nonexistent/x.sofa", "--port", "0"});
     CHECK(hrtf.wait(30s) == 1);

@@ -40,6 +40,7 @@ TEST_CASE("take messages: start, command, scene and frames come back exactly; th
     start.level_gain_db = 17.123456789012345;
     start.adaptive_detail = true;
     start.scene = format_scene(*builtin_scene("forest"));
+    start.format = "ambix:1";
     TakeStart s2;
     REQUIRE(read_take_start(decoded_element(take_element(0, 44100.0, take_start_address, take_start_arguments(start))), s2).empty());
     CHECK(s2.rate_hz == start.rate_hz);
@@ -50,6 +51,16 @@ TEST_CASE("take messages: start, command, scene and frames come back exactly; th
     CHECK(s2.level_gain_db == start.level_gain_db);
     CHECK(s2.adaptive_detail);
     CHECK(s2.scene == start.scene);
+    CHECK(s2.format == "ambix:1");
+    // A format-1 take (before the output format was recorded): its ten arguments, read with no format.
+    std::vector<OscArgument> old = take_start_arguments(start);
+    old[0] = OscArgument::from_int(1);
+    old.pop_back();
+    TakeStart s1;
+    REQUIRE(read_take_start(decoded_element(take_element(0, 44100.0, take_start_address, old)), s1).empty());
+    CHECK(s1.format.empty());
+    CHECK(s1.channels == 3);
+    CHECK(s1.scene == start.scene);
 
     Command c;
     c.kind = CommandKind::drop;
@@ -102,16 +113,26 @@ TEST_CASE("take messages: a record of the wrong shape, kind or version is refuse
     CHECK(read_take_command(decoded_element(take_element(1, 48000.0, take_command_address, take_command_arguments(1, sync))), frame, c) ==
           "command kind 2 is not one a take records as a command");
     DecodedMessage short_one = decoded_element(take_element(1, 48000.0, take_command_address, {OscArgument::from_int64(1)}));
-    CHECK(read_take_command(short_one, frame, c) == "1 arguments, not the 6 of take format 1");
+    CHECK(read_take_command(short_one, frame, c) == "1 arguments, not the 6 of take format 2");
     TakeStart start;
     std::vector<OscArgument> args = take_start_arguments(start);
     args[0] = OscArgument::from_int(99);
     TakeStart s2;
-    CHECK(read_take_start(decoded_element(take_element(0, 48000.0, take_start_address, args)), s2) == "take format 99: this ameoto reads format 1");
+    CHECK(read_take_start(decoded_element(take_element(0, 48000.0, take_start_address, args)), s2) == "take format 99: this ameoto reads formats 1 and 2");
     args = take_start_arguments(start);
     args[2] = OscArgument::from_int(40);
     CHECK(read_take_start(decoded_element(take_element(0, 48000.0, take_start_address, args)), s2) == "channels 40 is not 1..16");
     args = take_start_arguments(start);
     args[9] = OscArgument::from_int(1);
     CHECK(read_take_start(decoded_element(take_element(0, 48000.0, take_start_address, args)), s2) == "argument 10 should be a string");
+    args = take_start_arguments(start);
+    args[10] = OscArgument::from_string("");
+    CHECK(read_take_start(decoded_element(take_element(0, 48000.0, take_start_address, args)), s2) ==
+          "the output format is empty (\"stereo\", \"ambix:1\", \"binaural\", ...)");
+    Command turn;   // /listener/orientation: recorded as a command since take format 2
+    turn.kind = CommandKind::orientation;
+    turn.values[0] = 1.5707963267948966;
+    CHECK(read_take_command(decoded_element(take_element(5, 48000.0, take_command_address, take_command_arguments(5, turn))), frame, c).empty());
+    CHECK(c.kind == CommandKind::orientation);
+    CHECK(c.values[0] == turn.values[0]);
 }

@@ -208,16 +208,17 @@ TEST_CASE_FIXTURE(ProbeFixture, "AudioBridge::process on a binaural stream, its 
     // --format binaural: the renderer's third-order bus into the stage's own bus, decoded to two ears; the
     // head turning meanwhile; then JACK's buffer size halves (a stage for 128 frames handed over as
     // server/binaural_supply.cpp does), then doubles back before a stage for it came (rendered in pieces,
-    // silence), and a short last block (padded). Every block under the probe.
+    // silence), and a short last block (padded); the ears' limiter on (its preallocated delay line). Every
+    // block under the probe.
     ameoto::RendererConfig config;
     config.rain_rate_mm_per_h = 50.0;
     std::string error;
     ameoto::apply_output_format(config, *ameoto::parse_output_format("binaural", error));
     REQUIRE(config.channels == 16);
-    auto first = ameoto::BinauralStage::create(ameoto::BinauralDecoder::default_sofa_path, 3, config.sample_rate, 256);
+    auto first = ameoto::BinauralStage::create(ameoto::BinauralDecoder::default_sofa_path, 3, config.sample_rate, 256, true);
     INFO(first.error);
     REQUIRE(first.stage);
-    auto second = ameoto::BinauralStage::create(ameoto::BinauralDecoder::default_sofa_path, 3, config.sample_rate, 128);
+    auto second = ameoto::BinauralStage::create(ameoto::BinauralDecoder::default_sofa_path, 3, config.sample_rate, 128, true);
     REQUIRE(second.stage);
     ameoto::AudioBridge bridge(std::make_unique<ameoto::Renderer>(config), 256, std::move(first.stage));
     CHECK(bridge.channels() == 2);
