@@ -15,6 +15,7 @@
 #include "tests/support/child_process.hpp"
 #include "tests/support/temp_dir.hpp"
 #include "tests/support/wav_file.hpp"
+#include "tests/support/plate_left_scene.hpp"
 
 using namespace ameoto::client;
 
@@ -184,8 +185,7 @@ TEST_CASE("render scene: options are checked, and a built-in scene renders the s
         // left ear louder. 6 dB: the brief's interaural bound above 2 kHz, here over the whole band (the
         // plate's sound is mostly above 2 kHz; the decoder's own test checks the band and the delay).
         const std::string scene = ameoto::test::temp_path("plate-left.scene"), path = ameoto::test::temp_path("scene-binaural.wav");
-        std::ofstream(scene) << "ameoto-scene 1\nname plateleft\nrain rate=20\nlistener x=0 y=0 z=1.6 facing=0\n"
-                                "surface plate kind=plate material=tin size=1x1 x=0 y=3 z=1.6\n";
+        std::ofstream(scene) << ameoto::test::plate_left_scene;
         std::ostringstream out, err;
         const CommandIo io{{}, out, err};
         REQUIRE_MESSAGE(run_render({"scene", "--scene", scene, "--format", "binaural", "--level", "physical", "--seconds", "0.3",

@@ -15,6 +15,7 @@
 #include "tests/support/ear_measures.hpp"
 #include "tests/support/temp_dir.hpp"
 #include "tests/support/wav_file.hpp"
+#include "tests/support/plate_left_scene.hpp"
 
 using namespace ameoto::client;
 
@@ -92,8 +93,7 @@ TEST_CASE("render score --format binaural: the plate on the left is heard on the
     // head turns 180 degrees: the plate is then on the right. The ears decoded as render scene and ameotod
     // decode them (clients/ameoto/render_output.hpp).
     const std::string scene = ameoto::test::temp_path("score-plate-left.scene");
-    std::ofstream(scene) << "ameoto-scene 1\nname plateleft\nrain rate=20\nlistener x=0 y=0 z=1.6 facing=0\n"
-                            "surface plate kind=plate material=tin size=1x1 x=0 y=3 z=1.6\n";
+    std::ofstream(scene) << ameoto::test::plate_left_scene;
     const std::string score = write_score("turn.txt", "0.5 /listener/orientation 180 0 0\n");
     const std::string wav = ameoto::test::temp_path("score-binaural.wav"), wav61 = ameoto::test::temp_path("score-binaural-61.wav");
     std::string out, err;

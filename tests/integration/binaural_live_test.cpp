@@ -23,17 +23,17 @@
 #include "tests/support/sanitizer_bounds.hpp"
 #include "tests/support/temp_dir.hpp"
 #include "tests/support/wav_file.hpp"
+#include "tests/support/plate_left_scene.hpp"
 
 using namespace std::chrono_literals;
 
 namespace {
 
-// The plate-left scene of tests/engine/render/renderer_ambisonics_test.cpp and the render scene test: a
+// The plate-left scene (tests/support/plate_left_scene.hpp): a
 // 1 m x 1 m tin plate 3 m to the left, at the ears' height, no umbrella (so nothing else is heard).
 std::string binaural_plate_scene() {
     const std::string path = ameoto::test::temp_path("binaural-plate-left.scene");
-    std::ofstream(path) << "ameoto-scene 1\nname plateleft\nrain rate=20\nlistener x=0 y=0 z=1.6 facing=0\n"
-                           "surface plate kind=plate material=tin size=1x1 x=0 y=3 z=1.6\n";
+    std::ofstream(path) << ameoto::test::plate_left_scene;
     return path;
 }
 

@@ -19,6 +19,7 @@
 #include "tests/support/temp_dir.hpp"
 #include "tests/support/timing_scale.hpp"
 #include "tests/support/wav_file.hpp"
+#include "tests/support/plate_left_scene.hpp"
 
 using namespace std::chrono_literals;
 using namespace ameoto::test;
@@ -79,8 +80,7 @@ TEST_CASE("AmbDec decodes ameotod's ambix:1 stream over JACK: the plate on the l
     JackServer jack;
     const std::string preset = temp_path("square-sn3d.ambdec"), scene = temp_path("plate-left.scene");
     std::ofstream(preset) << square_sn3d;
-    std::ofstream(scene) << "ameoto-scene 1\nname plateleft\nrain rate=20\nlistener x=0 y=0 z=1.6 facing=0\n"
-                            "surface plate kind=plate material=tin size=1x1 x=0 y=3 z=1.6\n";
+    std::ofstream(scene) << ameoto::test::plate_left_scene;
     DaemonOptions options;
     options.listen_timeout = 15s;
     options.running_timeout = 10s;

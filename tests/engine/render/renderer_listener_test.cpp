@@ -13,27 +13,15 @@
 #include "engine/core/random.hpp"
 #include "engine/render/listener_rotation.hpp"
 #include "engine/render/renderer.hpp"
+#include "engine/scene/scene_description.hpp"
+#include "tests/support/plate_left_scene.hpp"
 
 namespace listener_test {
 
 using Channels = std::vector<std::vector<float>>;
 
 // Rain on a 1 m x 1 m tin plate 3 m to the listener's left, at the ears' height (no umbrella).
-ameoto::SceneDescription plate_left() {
-    ameoto::SceneDescription scene;
-    scene.name = "plate-left";
-    scene.rain.rate_mm_per_h = 20.0;
-    scene.listener = ameoto::ListenerDescription{0.0, 0.0, 1.6, 0.0};
-    ameoto::SurfaceDescription plate;
-    plate.name = "plate";
-    plate.kind = ameoto::SurfaceKind::plate;
-    plate.material = "tin";
-    plate.size_x_m = plate.size_y_m = 1.0;
-    plate.y_m = 3.0;
-    plate.z_m = 1.6;
-    scene.surfaces.push_back(plate);
-    return scene;
-}
+ameoto::SceneDescription plate_left() { return ameoto::parse_scene(ameoto::test::plate_left_scene, "plate-left.scene"); }
 
 ameoto::RendererConfig config_for(const ameoto::SceneDescription& scene, const char* format, double rain_mm_per_h = -1.0) {
     ameoto::RendererConfig config = ameoto::configure_for_scene(ameoto::RendererConfig{}, scene);
