@@ -22,6 +22,7 @@
 #include "tests/support/program_paths.hpp"
 #include "tests/support/sanitizer_bounds.hpp"
 #include "tests/support/temp_dir.hpp"
+#include "tests/support/timing_scale.hpp"
 #include "tests/support/wav_file.hpp"
 #include "tests/support/plate_left_scene.hpp"
 
@@ -130,6 +131,9 @@ TEST_CASE("ameotod --format binaural: a /scene/load plays on, through the same t
 }
 
 TEST_CASE("ameotod --format binaural on JACK: ports 'left ear' and 'right ear', a buffer size change mid-stream, no real-time violation") {
+    // The Release run checks it: under ASan jack-record ran past its wait (CI, 2026-12-02), as the other
+    // tests on the dummy driver with a recorder do (nodes_jack_test.cpp).
+    if (ameoto::test::stop_here_if_sanitized("JACK's dummy driver waits for clients slower than real time")) return;
     // jackd2, dummy driver, 256 frames (tests/support/jack_server.hpp); the probe preloaded as jack_test does.
     ameoto::test::JackServer jack;
     const std::string scene = binaural_plate_scene(), report = ameoto::test::temp_path("binaural-jack-rt.txt");
@@ -153,7 +157,7 @@ TEST_CASE("ameotod --format binaural on JACK: ports 'left ear' and 'right ear', 
     std::this_thread::sleep_for(200ms);   // the swap happens at the next cycle
     const std::string wav = ameoto::test::temp_path("binaural-jack.wav");
     ameoto::test::ChildProcess rec({"/usr/bin/jack-record", "-n", "2", "-p", "ameoto_bin:out_%d", "-t", "1.2", wav}, jack.env());
-    REQUIRE_MESSAGE(rec.wait(20s) == 0, rec.output());
+    REQUIRE_MESSAGE(rec.wait(ameoto::test::scaled(20s)) == 0, rec.output());   // the dummy driver waits for every client: slower under ASan
     CHECK(d.process().stop(SIGTERM, 5s) == 0);
     const auto w = ameoto::test::read_wav(wav);
     REQUIRE_MESSAGE(w.ok, w.error);
