@@ -28,7 +28,7 @@ namespace ameoto::client {
 std::string render_scene_usage() {
     return "usage: ameoto render scene -o FILE.wav [--scene NAME|FILE.scene] [--rain MM/H] [--seconds S]\n"
            "           [--rate HZ] [--seed N] [--channels N | --format F] [--level auto|physical]\n"
-           "           [--hrtf FILE.sofa] [--loudness LUFS]"
+           "           [--hrtf FILE.sofa] [--loudness LUFS]\n"
            "           [--gain DB] [--limiter on|off] [--air on|off] [--impact wet|seed] [--quiet]\n"
            "\n"
            "Renders a rain scene offline (no server needed) with the engine ameotod runs: its surfaces,\n"

@@ -100,10 +100,11 @@ TEST_CASE("level against rain rate: every surface follows the per-drop energy la
     for (const Case& c : cases) {
         const std::string name = c.surface.material;
         CAPTURE(name);
-        // Under the sanitizers one surface of each other kind: the pond's 600 repeats and 30 s of rain cost
-        // minutes there, and leaves run soil's code (SoftGround) with other constants; the Release run
-        // checks all four.
-        if (ameoto::test::sanitized_build() && (c.surface.kind == SurfaceKind::water || name == "leaves")) continue;
+        // Under the sanitizers the soil only: the pond's 600 repeats and 30 s of rain cost minutes there,
+        // the glass's 40 repeats of 1.5 s rings about 25 s (the plate's code runs under them in
+        // tests/engine/models), and leaves run soil's code (SoftGround) with other constants; the
+        // Release run checks all four.
+        if (ameoto::test::sanitized_build() && name != "soil") continue;
         std::vector<double> grid, log_energy;
         // Sizes on both sides of each entrainment threshold (water: bubbles from 0.8 to 1.1 mm, then
         // rarely, then more often above 2.2 mm): e(D) jumps there, and interpolating across a jump
