@@ -110,9 +110,11 @@ bool PeerSet::answered(const Peer& sender, const std::vector<OscArgument>& statu
     return true;
 }
 
-// What a node that missed commands needs to sound as the others do: the rain rate, the wind and the
-// listener now in effect, in one bundle at now + latency (a scene, material or liquid change is not
-// re-sent: a node runs with the same scene file, and those rebuild the scene).
+// What a node that missed commands needs to sound as the others do: the rain rate, the wind, the
+// listener and the head's orientation now in effect, in one bundle at now + latency (a scene, material
+// or liquid change is not re-sent: a node runs with the same scene file, and those rebuild the scene).
+// The orientation only once the head has turned: a node playing `ears` refuses any orientation, and an
+// unturned head is where every node starts.
 void PeerSet::bring_up(const Node& node, const SceneRecord& record, double now_s) {
     const auto& s = record.scene();
     constexpr double deg_per_rad = 180.0 / 3.14159265358979323846;
@@ -125,6 +127,11 @@ void PeerSet::bring_up(const Node& node, const SceneRecord& record, double now_s
                                                OscArgument::from_float(static_cast<float>(s.listener.y_m)),
                                                OscArgument::from_float(static_cast<float>(s.listener.z_m)),
                                                OscArgument::from_float(static_cast<float>(s.listener.facing_rad * deg_per_rad))})};
+    const auto& head = record.orientation();
+    if (head[0] != 0.0 || head[1] != 0.0 || head[2] != 0.0)
+        settings.push_back(protocol::encode_message("/listener/orientation", {OscArgument::from_float(static_cast<float>(head[0] * deg_per_rad)),
+                                                                              OscArgument::from_float(static_cast<float>(head[1] * deg_per_rad)),
+                                                                              OscArgument::from_float(static_cast<float>(head[2] * deg_per_rad))}));
     send(node, protocol::encode_bundle(protocol::Timetag::from_unix_seconds(now_s + latency_s_), settings));
 }
 

@@ -29,6 +29,15 @@ bool FormatChoice::take_channels(int n, std::string& error) {
     return true;
 }
 
+bool take_hrtf_option(const std::string& value, std::string& hrtf, std::string& error) {
+    if (value.empty()) {
+        error = "--hrtf needs a SOFA file";
+        return false;
+    }
+    hrtf = value;
+    return true;
+}
+
 OutputFormat FormatChoice::resolve(const std::string& scene_format, int default_channels) const {
     if (format) return *format;
     if (channels) return output_format_for_channels(*channels);

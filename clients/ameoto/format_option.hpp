@@ -7,6 +7,7 @@
 //   if (!f.take_format(value, error)) ...             // --format F; error: why (and --channels given too)
 //   if (!f.take_channels(n, error)) ...               // --channels N
 //   OutputFormat out = f.resolve(scene.output_format);   // --format, else the scene's key, else --channels'
+//   if (!take_hrtf_option(value, o.hrtf, error)) ...     // --hrtf FILE.sofa (binaural; checked when opened)
 //   std::string usage = format_option_usage();           // the --format lines of --help
 
 #include <optional>
@@ -25,6 +26,10 @@ struct FormatChoice {
     // does not parse (validate_scene has checked it).
     OutputFormat resolve(const std::string& scene_format = "", int default_channels = 2) const;
 };
+
+// --hrtf FILE.sofa: the path, not empty (the file itself is read, and refused with its reason, when the
+// binaural decoder is built: RenderOutput::make).
+bool take_hrtf_option(const std::string& value, std::string& hrtf, std::string& error);
 
 std::string format_option_usage();
 

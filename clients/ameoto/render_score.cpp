@@ -144,12 +144,7 @@ RenderParse parse_render_score_options(const CommandWords& words, RenderScoreOpt
             if (!v) return RenderParse::error;
             o.rain_mm_per_h = *v;
         } else if (name == "--hrtf") {
-            if (!take_value()) return RenderParse::error;
-            if (value.empty()) {
-                error = "--hrtf needs a SOFA file";
-                return RenderParse::error;
-            }
-            o.hrtf = value;
+            if (!take_value() || !take_hrtf_option(value, o.hrtf, error)) return RenderParse::error;
         } else if (name == "--format") {
             if (!take_value()) return RenderParse::error;
             if (!o.format.take_format(value, error)) return RenderParse::error;

@@ -156,7 +156,7 @@ TEST_CASE("ameotod --format binaural on JACK: ports 'left ear' and 'right ear', 
     REQUIRE(d.process().wait_for_line("binaural decoder for blocks of 128 frames handed to the audio thread", 30s));
     std::this_thread::sleep_for(200ms);   // the swap happens at the next cycle
     const std::string wav = ameoto::test::temp_path("binaural-jack.wav");
-    ameoto::test::ChildProcess rec({"/usr/bin/jack-record", "-n", "2", "-p", "ameoto_bin:out_%d", "-t", "1.2", wav}, jack.env());
+    ameoto::test::ChildProcess rec({"/usr/bin/jack-record", "-b", "262144", "-n", "2", "-p", "ameoto_bin:out_%d", "-t", "1.2", wav}, jack.env());
     REQUIRE_MESSAGE(rec.wait(ameoto::test::scaled(20s)) == 0, rec.output());   // the dummy driver waits for every client: slower under ASan
     CHECK(d.process().stop(SIGTERM, 5s) == 0);
     const auto w = ameoto::test::read_wav(wav);

@@ -45,7 +45,7 @@ ameoto::test::DaemonProcess jack_daemon(const JackServer& jack, std::vector<std:
 
 ameoto::test::WavData record(const JackServer& jack, const std::string& client, double seconds, const std::string& name) {
     const std::string path = ameoto::test::temp_path(name);
-    ChildProcess rec({"/usr/bin/jack-record", "-n", "2", "-p", client + ":out_%d", "-t", std::to_string(seconds), path}, jack.env());
+    ChildProcess rec({"/usr/bin/jack-record", "-b", "262144", "-n", "2", "-p", client + ":out_%d", "-t", std::to_string(seconds), path}, jack.env());
     // The dummy driver's cycle waits for every client, so a slow ameotod (the sanitizers: several times
     // slower) stretches the recording's wall time: the bound is scaled like any wait for a program.
     REQUIRE_MESSAGE(rec.wait(ameoto::test::scaled(std::chrono::milliseconds(static_cast<int>(seconds * 1000) + 15000))) == 0, rec.output());
@@ -140,7 +140,7 @@ TEST_CASE("JACK: a /drop over OSC is heard, with silence before it") {
     JackServer jack;
     auto d = jack_daemon(jack, {"--jack-name", "ameoto_t2", "--rain", "0"});
     const std::string path = ameoto::test::temp_path("jack-drop.wav");
-    ChildProcess rec({"/usr/bin/jack-record", "-n", "2", "-p", "ameoto_t2:out_%d", "-t", "2", path}, jack.env());
+    ChildProcess rec({"/usr/bin/jack-record", "-b", "262144", "-n", "2", "-p", "ameoto_t2:out_%d", "-t", "2", path}, jack.env());
     std::this_thread::sleep_for(700ms);
     OscTestClient client(d.port());
     client.send("/drop", {OscArgument::from_float(3.0f), OscArgument::from_float(0.0f), OscArgument::from_float(0.2f),

@@ -111,12 +111,23 @@ TEST_CASE("--peers: commands reach the peer; a peer killed is reported within 2 
     std::this_thread::sleep_for(300ms);
     CHECK(ameoto::test::status_reply(c).args[10].number > before);   // its audio clock advances
     CHECK(rain_rate_reaching(conductor.port(), 27.0, 1000ms) == doctest::Approx(27.0));
+    c.send("/listener/orientation", {OscArgument::from_float(30.0f), OscArgument::from_float(0.0f), OscArgument::from_float(0.0f)});
 
-    // Back on its port (with the rain it was started with): brought up to 27 mm/h when it answers.
+    // Back on its port (with the rain it was started with): brought up to 27 mm/h and the head turned
+    // 30 degrees when it answers.
     probe.reset();
     auto back = peer_on(peer_port);
     REQUIRE(wait_answering(c, 1, 3s));
     CHECK(rain_rate_reaching(peer_port, 27.0, 1000ms) == doctest::Approx(27.0));
+    ameoto::test::OscTestClient peer(peer_port);
+    double yaw = 0.0;
+    const auto turned = [&] { return std::abs(yaw - 30.0) < 1e-3; };
+    for (auto until = std::chrono::steady_clock::now() + ameoto::test::scaled(1000ms); std::chrono::steady_clock::now() < until && !turned();) {
+        const auto reply = peer.request("/listener/orientation", {}, "/listener/orientation.reply", 1s);
+        if (reply && reply->args.size() == 3) yaw = reply->args[0].number;
+        if (!turned()) std::this_thread::sleep_for(20ms);
+    }
+    CHECK(yaw == doctest::Approx(30.0));
     // Its /notice came while /nodes was being asked (the client's request() passes over it); the log has it.
     CHECK(conductor.process().wait_for_line("answers again: sent the current settings", 2s));
 }

@@ -132,9 +132,12 @@ TEST_CASE("PipeWire: ameotod under pw-jack plays into a null sink, its monitor t
             CHECK(s.args[8].number == 48000.0);
             CHECK(s.args[9].integer == kPeriod);
 
+            // -b: a ring of 262 144 frames (5.5 s) between jack-record's process callback and its disk
+            // thread; its default 4 096 overflowed on a loaded machine ("overflow error, 2048 > 2047",
+            // a sanitized CI run beside the engine's suites). As the netjack2 and node tests record.
             // jack-record's ports are connected once it is there (pw-jack execs it, so its client is named
             // after its own PID); until then it records silence, which the comparison skips.
-            ChildProcess rec(pw.jack_argv({"jack-record", "-n", "2", "-t", std::to_string(kSeconds), recording}), pw.env(), pw.child_options());
+            ChildProcess rec(pw.jack_argv({"jack-record", "-b", "262144", "-n", "2", "-t", std::to_string(kSeconds), recording}), pw.env(), pw.child_options());
             const std::string rec_client = "jack-record-" + std::to_string(rec.pid());
             for (auto deadline = std::chrono::steady_clock::now() + ameoto::test::scaled(10s);;) {
                 const auto ports = ameoto::test::run_program(pw.jack_argv({"jack_lsp"}), 10s, pw.env(), pw.child_options());

@@ -104,7 +104,7 @@ TEST_CASE("AmbDec decodes ameotod's ambix:1 stream over JACK: the plate on the l
     if (stop_here_if_sanitized("JACK's dummy driver waits for a client slower than real time")) return;
     std::this_thread::sleep_for(300ms);   // past the path's delay and the plate's first drops
     const std::string path = temp_path("ambdec-square.wav");
-    ChildProcess rec({"/usr/bin/jack-record", "-n", "4", "-p", "Ambdec:out_%d", "-t", "1", path}, jack.env());
+    ChildProcess rec({"/usr/bin/jack-record", "-b", "262144", "-n", "4", "-p", "Ambdec:out_%d", "-t", "1", path}, jack.env());
     REQUIRE_MESSAGE(rec.wait(scaled(16000ms)) == 0, rec.output());
     const WavData w = read_wav(path);
     REQUIRE(w.ok);
