@@ -5,7 +5,7 @@
 //
 // Interface:
 //   std::vector<std::string> absent = PipeWireServer::missing_programs();   // "pw-jack (pipewire-jack)", ...
-//   PipeWireServer pw;                 // starts `pipewire`, forces 48 kHz / 256 frames, makes the sink;
+//   PipeWireServer pw;                 // starts `pipewire`, forces 48 kHz / 1024 frames, makes the sink;
 //                                      // throws std::runtime_error with pipewire's output if it does not come up
 //   ChildProcess p(pw.jack_argv({"jack_lsp"}), pw.env(), pw.child_options());   // {"pw-jack", "jack_lsp"}
 //   pw.sink()                          // "ameoto_sink": ports ameoto_sink:playback_FL/FR (physical
@@ -23,7 +23,7 @@
 // - No session manager: nothing links ports by itself; ameotod's --autoconnect and jack_connect make
 //   every link. The null sink is made with pw-cli and given its ports with a PortConfig in DSP mode
 //   (one F32 port per channel, plus monitor ports), which is what WirePlumber would do.
-// - clock.force-quantum 256 and clock.force-rate 48000 (the "settings" metadata) fix the graph's period
+// - clock.force-quantum 1024 and clock.force-rate 48000 (the "settings" metadata) fix the graph's period
 //   and rate: otherwise the quantum follows the clients' requested latency (1024 by default).
 
 #include <memory>
@@ -38,7 +38,10 @@ namespace ameoto::test {
 class PipeWireServer {
 public:
     static constexpr int kRate = 48000;
-    static constexpr int kQuantum = 256;
+    // PipeWire's default quantum (21.3 ms). At 256 frames (5.3 ms) this 2-CPU VM's stalls of about 6 ms
+    // (its kernel runs preempt=none; docs/bench-realtime.md) pushed ameotod's callback past the period in
+    // about one 3 s take in four, with its mean load at 10 %; each such cycle is lost from the recording.
+    static constexpr int kQuantum = 1024;
 
     static std::vector<std::string> missing_programs();
 

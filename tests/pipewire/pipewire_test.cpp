@@ -42,7 +42,20 @@ struct Alignment {
     long long identical = 0;         // of them, identical in both channels to the render's next period
     long long relocated = 0;         // of the others, found elsewhere in the render (after a lost cycle)
     long long first_difference = -1; // recorded frame of the first period that is not; -1 when none
+    // The first 16 periods that differ, each as its recorded frame and what it is: "moved D" (found D
+    // frames from where it was expected), "silent" (the sink was given nothing in that cycle: ameotod's
+    // callback ran past it), "repeat" (the recorded period before it again) or "unknown" (in no period
+    // of the render).
+    std::string events;
+    int event_count = 0;
 };
+
+bool period_silent(const ameoto::test::WavData& a, long long at) {
+    for (long long i = 0; i < 2 * kPeriod; ++i) {
+        if (a.samples[static_cast<std::size_t>(2 * at + i)] != 0.0f) return false;
+    }
+    return true;
+}
 
 bool period_equal(const ameoto::test::WavData& a, long long at_a, const ameoto::test::WavData& b, long long at_b) {
     for (long long i = 0; i < 2 * kPeriod; ++i) {
@@ -82,10 +95,19 @@ Alignment align(const ameoto::test::WavData& recorded, const ameoto::test::WavDa
             continue;
         }
         if (a.first_difference < 0) a.first_difference = r;
+        std::string what;
         if (const long long found = find_period(recorded, r, rendered); found >= 0) {
             ++a.relocated;
+            what = "moved " + std::to_string(found - k);
             k = found;
+        } else if (period_silent(recorded, r)) {
+            what = "silent";
+        } else if (r >= kPeriod && period_equal(recorded, r, recorded, r - kPeriod)) {
+            what = "repeat";
+        } else {
+            what = "unknown";
         }
+        if (++a.event_count <= 16) a.events += " " + std::to_string(r) + ": " + what;
     }
     return a;
 }
@@ -106,6 +128,7 @@ TEST_CASE("PipeWire: ameotod under pw-jack plays into a null sink, its monitor t
         const std::string recording = ameoto::test::temp_path("pipewire.wav");
         constexpr double kSeconds = 3.0;
         double played = 0.0;
+        double peak_load = 0.0;
         std::int64_t xruns = 0;
         {
             ameoto::test::DaemonOptions options;
@@ -159,6 +182,7 @@ TEST_CASE("PipeWire: ameotod under pw-jack plays into a null sink, its monitor t
 
             const auto after = ameoto::test::status_reply(client);
             played = after.args[10].number;
+            peak_load = after.args[1].number;
             xruns = after.args[6].integer;
             const int status = d.process().stop(SIGTERM, 5s);
             INFO("ameotod printed:\n" << d.process().output());
@@ -194,7 +218,7 @@ TEST_CASE("PipeWire: ameotod under pw-jack plays into a null sink, its monitor t
         const Alignment a = align(recorded, rendered, 48000);
         INFO("recording from frame " << a.recorded_start << " found in the render at frame " << a.rendered_start << "; " << a.identical << " of "
                                      << a.periods << " periods identical in order, " << a.relocated << " more found elsewhere; first difference at recorded frame " << a.first_difference
-                                     << "; xruns reported to ameotod: " << xruns << "; played " << played << " s");
+                                     << "; xruns reported to ameotod: " << xruns << "; differing periods:" << (a.events.empty() ? " none" : a.events) << std::string(a.event_count > 16 ? " ..." : "") << "; played " << played << " s; ameotod's peak callback load " << peak_load << " % of the period");
         REQUIRE(a.recorded_start >= 0);
         CHECK(a.periods * kPeriod >= static_cast<long long>((kSeconds - 1.0) * 48000));
         // Every period, in order. PipeWire's driver keeps its own clock and does not wait for a late client
