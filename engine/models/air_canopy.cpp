@@ -124,6 +124,12 @@ double AirCanopyState::displacement_bound(const AirCanopyModes& m) const {
     return b;
 }
 
+double AirCanopyState::velocity_bound(const AirCanopyModes& m) const {
+    double b = 0.0;
+    for (std::size_t k = 0; k < qd_.size(); ++k) b += m.largest_shape[k] * std::abs(qd_[k]);
+    return b;
+}
+
 double AirCanopyState::energy() const {
     double e = 0.0;
     for (std::size_t k = 0; k < q_.size(); ++k) e += qd_[k] * qd_[k] + omega2_[k] * q_[k] * q_[k];

@@ -17,7 +17,7 @@
 //   s.step(m);                                           // one sample
 //   s.displacement(m, node), s.velocity(m, node)         // u, du/dt along the node's normal
 //   s.accelerations()                                    // each mode's mean q'' over the last step
-//   s.displacement_bound(m)                              // >= |u| at every node
+//   s.displacement_bound(m), s.velocity_bound(m)         // >= |u|, >= |du/dt| at every node, O(modes)
 //   s.finite(), s.reset(), s.energy()
 //
 // Modes (air_loading.hpp): Phi' (M + M_a) Phi = I, u = Phi q, and each mode obeys
@@ -91,6 +91,9 @@ public:
     // sum_k max_i |phi_ik| |q_k| >= |u_i| at every node: the collision broad phase's bound, O(modes)
     // where the exact extremes would cost O(nodes x modes).
     double displacement_bound(const AirCanopyModes& m) const;
+    // sum_k max_i |phi_ik| |q_k'| >= |du_i/dt| at every node, likewise: the drop's coarse-step floor
+    // (drop_on_canopy_collide.cpp) needs only a bound on the fastest node.
+    double velocity_bound(const AirCanopyModes& m) const;
     bool finite() const;
     void reset();
     double energy() const;   // J: 1/2 sum (q'^2 + w^2 q^2), the membrane's and the air's near field

@@ -377,6 +377,7 @@ AddedMass canopy_added_mass(const Canopy& canopy, double air_density, const Cano
     }
     AddedMass out;
     const int total = panels * nodes;
+    out.rotational_order = panels;   // panel_azimuth(p) = 2 pi p / N, the centroids turned below
     out.matrix = assemble_circulant(fine.block, panels, nodes);
     out.area.resize(total);
     out.centroid.resize(static_cast<std::size_t>(total));
@@ -441,23 +442,46 @@ Eigen::VectorXd radiation_damping(const AirLoadedModes& modes, const AddedMass& 
         weight[static_cast<std::size_t>(k)] = 1.0 / ((1.0 - x * x) * dp * dp);   // 2 / ((1 - x^2) P'^2), halved
     }
     const Eigen::MatrixXd source = air.matrix * modes.shapes;   // (M_a phi)_i per mode: N per unit q''
+    const Eigen::Index cells = source.rows();
+    // The sines and cosines of the phases are nearly all of a scene's build in air; two symmetries cut them.
+    // - Turns: with N sectors and an azimuth count divisible by N, the direction psi + 2 pi q / N sees
+    //   cell (p, i) with the phase psi sees cell (p - q, i) with. So one sector's directions' phasors,
+    //   each paired with the sources of every turn q, give all the directions: N times fewer.
+    // - Otherwise, the sources being real, psi + pi (every phase negated) gives the conjugate sum and the
+    //   same power: with an even count the first half of the azimuths is summed, each twice.
+    const int order = air.rotational_order;
+    const bool turns = order > 1 && azimuth_points % order == 0 && cells % order == 0;
+    const bool halves = !turns && azimuth_points % 2 == 0;
+    const int azimuths_summed = turns ? azimuth_points / order : halves ? azimuth_points / 2 : azimuth_points;
+    const int copies = turns ? order : 1;                 // directions each set of phasors serves
+    const Eigen::Index sector = cells / copies;
+    const double azimuth_weight = (halves ? 2.0 : 1.0) * 2.0 * constants::pi / azimuth_points;
+    std::vector<double> cosines(static_cast<std::size_t>(cells)), sines(cosines.size());
     Eigen::VectorXd rate(n);
     for (Eigen::Index m = 0; m < n; ++m) {
         const double w = modes.omega[m], k = w / speed_of_sound;
         double integral = 0.0;
         for (std::size_t a = 0; a < mu.size(); ++a) {
             const double sin_theta = std::sqrt(std::max(0.0, 1.0 - mu[a] * mu[a]));
-            for (int b = 0; b < azimuth_points; ++b) {
+            for (int b = 0; b < azimuths_summed; ++b) {
                 const double psi = 2.0 * constants::pi * b / azimuth_points;
                 const double kx = k * sin_theta * std::cos(psi), ky = k * sin_theta * std::sin(psi);
-                double re = 0.0, im = 0.0;
-                for (Eigen::Index i = 0; i < source.rows(); ++i) {
+                for (Eigen::Index i = 0; i < cells; ++i) {
                     const Point2 y = air.centroid[static_cast<std::size_t>(i)];
                     const double phase = kx * y.x + ky * y.y;
-                    re += source(i, m) * std::cos(phase);
-                    im += source(i, m) * std::sin(phase);
+                    cosines[static_cast<std::size_t>(i)] = std::cos(phase);
+                    sines[static_cast<std::size_t>(i)] = std::sin(phase);
                 }
-                integral += weight[a] * (2.0 * constants::pi / azimuth_points) * mu[a] * mu[a] * (re * re + im * im);
+                for (int q = 0; q < copies; ++q) {
+                    // The direction psi + 2 pi q / N: cell j's phasor with the source of cell j turned by q sectors.
+                    double re = 0.0, im = 0.0;
+                    for (Eigen::Index j = 0; j < cells; ++j) {
+                        const Eigen::Index turned = (j + q * sector) % cells;
+                        re += source(turned, m) * cosines[static_cast<std::size_t>(j)];
+                        im += source(turned, m) * sines[static_cast<std::size_t>(j)];
+                    }
+                    integral += weight[a] * azimuth_weight * mu[a] * mu[a] * (re * re + im * im);
+                }
             }
         }
         integral *= 2.0;   // both half-spaces

@@ -67,6 +67,10 @@ struct AddedMass {
     Eigen::MatrixXd matrix;     // kg, symmetric
     Eigen::VectorXd area;       // m^2 per cell: its squares' area
     std::vector<Point2> centroid;
+    // N > 1 when the cells are N copies of one sector turned by 2 pi / N (cell p * size / N + i is sector
+    // 0's cell i turned by 2 pi p / N): canopy_added_mass sets the panel count. radiation_damping then
+    // reads the phases of one sector's directions only.
+    int rotational_order = 1;
 };
 
 // Throws std::invalid_argument if h <= 0, the box is empty, or a cell index is out of range, and

@@ -53,8 +53,12 @@ int record_one(const DropOnCanopyConfig& c, const Canopy* prototype, double diam
 
 }  // namespace
 
-ImpactTemplateTable record_impact_templates(const DropOnCanopyConfig& scene, const TemplateGrid& grid, int threads,
-                                            CanopyBuild build) {
+namespace {
+
+// Both public forms: `given` is the caller's canopy (the scene's own), else one is built here for
+// CanopyBuild::shared, or none for per_size.
+ImpactTemplateTable record(const DropOnCanopyConfig& scene, const Canopy* given, const TemplateGrid& grid, int threads,
+                           CanopyBuild build) {
     ImpactTemplateTable t;
     t.sample_rate = scene.sample_rate;
     t.density = scene.liquid.density;
@@ -83,8 +87,8 @@ ImpactTemplateTable record_impact_templates(const DropOnCanopyConfig& scene, con
     // recording's cost (docs/reliability.md, "Start-up cost"). A copy of a canopy never stepped is the
     // canopy its constructor builds, so the table is the same bit for bit (tested against per_size).
     std::optional<Canopy> prototype;
-    if (build == CanopyBuild::shared && sizes > 0) prototype.emplace(DropOnCanopy::fresh_canopy(c));
-    const Canopy* shared = prototype ? &*prototype : nullptr;
+    if (!given && build == CanopyBuild::shared && sizes > 0) prototype.emplace(DropOnCanopy::fresh_canopy(c));
+    const Canopy* shared = given ? given : prototype ? &*prototype : nullptr;
     std::atomic<int> next{0};
     auto work = [&] {
         for (int k = next++; k < sizes; k = next++)
@@ -112,6 +116,18 @@ ImpactTemplateTable record_impact_templates(const DropOnCanopyConfig& scene, con
     }
     if (failure) std::rethrow_exception(failure);
     return t;
+}
+
+}  // namespace
+
+ImpactTemplateTable record_impact_templates(const DropOnCanopyConfig& scene, const TemplateGrid& grid, int threads,
+                                            CanopyBuild build) {
+    return record(scene, nullptr, grid, threads, build);
+}
+
+ImpactTemplateTable record_impact_templates(const DropOnCanopyConfig& scene, const Canopy& prototype, const TemplateGrid& grid,
+                                            int threads) {
+    return record(scene, &prototype, grid, threads, CanopyBuild::shared);
 }
 
 bool TemplatePool::add(CanopyHit target, const ImpactTemplateTable& table, double diameter_m, double speed_m_per_s,

@@ -12,6 +12,8 @@
 //   record_impact_templates(scene_config, grid, 1)                   // on the calling thread only
 //   record_impact_templates(scene_config, grid, 0, CanopyBuild::per_size)   // a canopy built per size
 //                                                                    // (the same table, slower: tests)
+//   record_impact_templates(scene_config, prototype)                 // from the caller's canopy, never
+//                                                                    // stepped (UmbrellaScene's own)
 //   t.diameters_m[k], t.speeds_m_per_s[k], t.force(k, n)             // the recording, N along the normal
 //   ---- audio thread: no allocation ----
 //   TemplatePool pool;                                               // fixed capacity
@@ -73,6 +75,12 @@ enum class CanopyBuild { shared, per_size };
 // waits for it, and that wait halves on two CPUs).
 ImpactTemplateTable record_impact_templates(const DropOnCanopyConfig& scene, const TemplateGrid& grid = {}, int threads = 0,
                                             CanopyBuild build = CanopyBuild::shared);
+// The same table from the caller's canopy instead of one built here: DropOnCanopy::fresh_canopy(scene) or
+// a copy of one never stepped (its geometry is checked; its material, rate, integrator and air are the
+// caller's promise, as for DropOnCanopy(config, prototype)). UmbrellaScene builds one canopy for the
+// scene, its templates and its texture: in air each build is the air-loaded modes' (~1.3 s).
+ImpactTemplateTable record_impact_templates(const DropOnCanopyConfig& scene, const Canopy& prototype, const TemplateGrid& grid = {},
+                                            int threads = 0);
 
 class TemplatePool {
 public:

@@ -32,7 +32,10 @@ double TextureCalibration::energy(double diameter_m) const { return std::exp(int
 double TextureCalibration::centre(double diameter_m) const { return interpolate(diameters_m, centre_hz, diameter_m); }
 double TextureCalibration::decay(double diameter_m) const { return interpolate(diameters_m, decay_s, diameter_m); }
 
-TextureCalibration calibrate_texture(const DropOnCanopyConfig& scene, const ImpactTemplateTable& templates, CanopyBuild build) {
+namespace {
+
+TextureCalibration calibrate(const DropOnCanopyConfig& scene, const ImpactTemplateTable& templates, const Canopy* given,
+                             CanopyBuild build) {
     TextureCalibration cal;
     cal.density = templates.density;
     DropOnCanopyConfig c = scene;
@@ -45,8 +48,9 @@ TextureCalibration calibrate_texture(const DropOnCanopyConfig& scene, const Impa
     const double x = 0.5 * scene.geometry.radius_m, y = 0.0;
     // Each size's scene starts from the same canopy at rest: built once, copied per size (a copy of a
     // canopy never stepped is what its constructor builds: the same calibration bit for bit, tested).
-    std::optional<Canopy> prototype;
-    if (build == CanopyBuild::shared && !templates.diameters_m.empty()) prototype.emplace(DropOnCanopy::fresh_canopy(c));
+    std::optional<Canopy> built;
+    if (!given && build == CanopyBuild::shared && !templates.diameters_m.empty()) built.emplace(DropOnCanopy::fresh_canopy(c));
+    const Canopy* prototype = given ? given : built ? &*built : nullptr;
     for (std::size_t k = 0; k < templates.diameters_m.size(); k += 5) {
         DropOnCanopy run = prototype ? DropOnCanopy(c, *prototype) : DropOnCanopy(c);
         TemplatePool pool;
@@ -89,6 +93,16 @@ TextureCalibration calibrate_texture(const DropOnCanopyConfig& scene, const Impa
         cal.decay_s.push_back(peak_power > 0.0 ? std::clamp(energy / peak_power / fs, 1e-4, 0.5) : 1e-3);
     }
     return cal;
+}
+
+}  // namespace
+
+TextureCalibration calibrate_texture(const DropOnCanopyConfig& scene, const ImpactTemplateTable& templates, CanopyBuild build) {
+    return calibrate(scene, templates, nullptr, build);
+}
+
+TextureCalibration calibrate_texture(const DropOnCanopyConfig& scene, const ImpactTemplateTable& templates, const Canopy& prototype) {
+    return calibrate(scene, templates, &prototype, CanopyBuild::shared);
 }
 
 TextureGrains::TextureGrains(const TextureCalibration& calibration, double sample_rate)

@@ -64,6 +64,8 @@ struct TextureCalibration {
 // calibration bit for bit, slower; tests compare the two).
 TextureCalibration calibrate_texture(const DropOnCanopyConfig& scene, const ImpactTemplateTable& templates,
                                      CanopyBuild build = CanopyBuild::shared);
+// The same from the caller's canopy, never stepped (record_impact_templates' prototype form).
+TextureCalibration calibrate_texture(const DropOnCanopyConfig& scene, const ImpactTemplateTable& templates, const Canopy& prototype);
 
 class TextureGrains {
 public:

@@ -208,6 +208,20 @@ TEST_CASE("air loading: the umbrella's lowest modes fall into 70-90 Hz in air") 
     CHECK(air.damping_rate[0] < vac.damping_rate[0]);
     CHECK(f_air > 60.0);
     CHECK(f_air < 100.0);
+
+    // The sector shortcut (one sector's phasors for every turn of the direction) against every direction
+    // summed on its own, on the canopy's air mass as the scene builds it (its sectors: the squares above
+    // are not turned copies, so that mass takes the half-circle path): the same damping to rounding.
+    const AddedMass sectors = ameoto::canopy_added_mass(canopy, kAirTestRho);
+    REQUIRE(sectors.rotational_order == canopy.panel_count());
+    const ameoto::AirLoadedModes in_air = ameoto::air_loaded_modes(canopy, sectors);
+    const ameoto::AirLoadedModes first{in_air.omega.head(12), in_air.shapes.leftCols(12), in_air.damping_rate.head(12)};
+    AddedMass unturned = sectors;
+    unturned.rotational_order = 1;
+    const Eigen::VectorXd turned = ameoto::radiation_damping(first, sectors, kAirTestRho, ameoto::constants::speed_of_sound_air);
+    const Eigen::VectorXd direct = ameoto::radiation_damping(first, unturned, kAirTestRho, ameoto::constants::speed_of_sound_air);
+    for (int j = 0; j < 12; ++j) CHECK(turned[j] == doctest::Approx(direct[j]).epsilon(1e-9));
+    CHECK(turned[0] > in_air.damping_rate[0]);   // a real figure, not two zeros agreeing
 }
 
 TEST_CASE("air loading: a rigid disc's radiation damping is a point force's dipole power at small ka") {

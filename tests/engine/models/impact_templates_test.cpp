@@ -191,7 +191,7 @@ TEST_CASE("impact templates: recorded on several threads, the table is the one r
     CHECK(largest > 0.0);   // the rows recorded something
 }
 
-TEST_CASE("impact templates: a canopy built once and copied per size records the table a canopy built per size does, bit for bit") {
+TEST_CASE("impact templates: a canopy built once (here or by the caller) and copied per size records the table a canopy built per size does, bit for bit") {
     // record_impact_templates builds the canopy once and gives each size's scene a copy of it
     // (CanopyBuild::shared, the default); per_size builds one per size, as each scene did before. Every
     // double is compared by its bits (memcmp: a -0.0 or a NaN payload would count too).
@@ -213,6 +213,12 @@ TEST_CASE("impact templates: a canopy built once and copied per size records the
             CHECK(std::memcmp(shared.forces.data(), fresh.forces.data(), fresh.forces.size() * sizeof(double)) == 0);
             CHECK(std::memcmp(shared.diameters_m.data(), fresh.diameters_m.data(), 9 * sizeof(double)) == 0);
             CHECK(std::memcmp(shared.speeds_m_per_s.data(), fresh.speeds_m_per_s.data(), 9 * sizeof(double)) == 0);
+            // The caller's canopy (UmbrellaScene's: built from the scene's own configuration, whose output
+            // and listener differ from the recording's) gives the same table.
+            const ImpactTemplateTable given = record_impact_templates(scene, DropOnCanopy::fresh_canopy(scene), grid, threads);
+            REQUIRE(given.forces.size() == fresh.forces.size());
+            CHECK(given.used == fresh.used);
+            CHECK(std::memcmp(given.forces.data(), fresh.forces.data(), fresh.forces.size() * sizeof(double)) == 0);
         }
         double largest = 0.0;
         for (double f : fresh.forces) largest = std::max(largest, std::abs(f));

@@ -109,7 +109,7 @@ TEST_CASE("texture: the bed pans, costs the same for any number of grains, and n
     CHECK(grains.band_centre_hz(TextureGrains::bands - 1) == doctest::Approx(16000.0));
 }
 
-TEST_CASE("texture: the calibration from one canopy copied per size is the one from a canopy built per size, bit for bit") {
+TEST_CASE("texture: the calibration from one canopy (its own or the caller's) copied per size is the one from a canopy built per size, bit for bit") {
     // calibrate_texture builds the canopy once (CanopyBuild::shared); per_size builds it for every
     // calibrated size. A short template grid (11 sizes: 3 calibrated) keeps this quick.
     TemplateGrid grid;
@@ -133,6 +133,11 @@ TEST_CASE("texture: the calibration from one canopy copied per size is the one f
     CHECK(same_bits(shared.decay_s, fresh.decay_s));
     CHECK(std::memcmp(&shared.density, &fresh.density, sizeof(double)) == 0);
     for (double e : fresh.energy_fs2) CHECK(e > 0.0);   // each size was heard
+    // The caller's canopy (UmbrellaScene's), likewise.
+    const TextureCalibration given = calibrate_texture(scene_config(), t, DropOnCanopy::fresh_canopy(scene_config()));
+    CHECK(same_bits(given.energy_fs2, fresh.energy_fs2));
+    CHECK(same_bits(given.centre_hz, fresh.centre_hz));
+    CHECK(same_bits(given.decay_s, fresh.decay_s));
 }
 
 // The bed puts a grain where its calibrated centroid is (texture_grains.hpp): split between the two bands
