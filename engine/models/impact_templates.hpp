@@ -78,7 +78,7 @@ ImpactTemplateTable record_impact_templates(const DropOnCanopyConfig& scene, con
 // The same table from the caller's canopy instead of one built here: DropOnCanopy::fresh_canopy(scene) or
 // a copy of one never stepped (its geometry is checked; its material, rate, integrator and air are the
 // caller's promise, as for DropOnCanopy(config, prototype)). UmbrellaScene builds one canopy for the
-// scene, its templates and its texture: in air each build is the air-loaded modes' (~1.3 s).
+// scene, its templates and its texture: in air each build is the air-loaded modes' (~0.6 s).
 ImpactTemplateTable record_impact_templates(const DropOnCanopyConfig& scene, const Canopy& prototype, const TemplateGrid& grid = {},
                                             int threads = 0);
 

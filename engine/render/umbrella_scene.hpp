@@ -22,7 +22,7 @@
 namespace ameoto {
 
 struct UmbrellaScene {
-    // One canopy is built (its lattice, and in air its air-loaded modes, ~1.3 s: the costliest part of a
+    // One canopy is built (its lattice, and in air its air-loaded modes, ~0.6 s: the costliest part of a
     // scene in air) and copied for the scene, every template's run and every texture run: a copy of a
     // canopy never stepped is the canopy its constructor builds, so every sample is what three separate
     // builds gave.
