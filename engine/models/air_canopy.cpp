@@ -118,15 +118,10 @@ void AirCanopyState::reset() {
         for (double& x : *v) x = 0.0;
 }
 
-double AirCanopyState::displacement_bound(const AirCanopyModes& m) const {
+// sum_k max_i |phi_ik| |x_k| >= |sum_k phi_ik x_k| at every node i (the triangle inequality).
+double AirCanopyState::shape_bound(const AirCanopyModes& m, const std::vector<double>& x) {
     double b = 0.0;
-    for (std::size_t k = 0; k < q_.size(); ++k) b += m.largest_shape[k] * std::abs(q_[k]);
-    return b;
-}
-
-double AirCanopyState::velocity_bound(const AirCanopyModes& m) const {
-    double b = 0.0;
-    for (std::size_t k = 0; k < qd_.size(); ++k) b += m.largest_shape[k] * std::abs(qd_[k]);
+    for (std::size_t k = 0; k < x.size(); ++k) b += m.largest_shape[k] * std::abs(x[k]);
     return b;
 }
 

@@ -90,15 +90,16 @@ public:
     const double* accelerations() const { return a_.data(); }   // per mode, m/s^2 per unit of q
     // sum_k max_i |phi_ik| |q_k| >= |u_i| at every node: the collision broad phase's bound, O(modes)
     // where the exact extremes would cost O(nodes x modes).
-    double displacement_bound(const AirCanopyModes& m) const;
+    double displacement_bound(const AirCanopyModes& m) const { return shape_bound(m, q_); }
     // sum_k max_i |phi_ik| |q_k'| >= |du_i/dt| at every node, likewise: the drop's coarse-step floor
     // (drop_on_canopy_collide.cpp) needs only a bound on the fastest node.
-    double velocity_bound(const AirCanopyModes& m) const;
+    double velocity_bound(const AirCanopyModes& m) const { return shape_bound(m, qd_); }
     bool finite() const;
     void reset();
     double energy() const;   // J: 1/2 sum (q'^2 + w^2 q^2), the membrane's and the air's near field
 
 private:
+    static double shape_bound(const AirCanopyModes& m, const std::vector<double>& x);
     static double dot_row(const AirCanopyModes& m, int node, const double* x) {
         const double* row = m.shape.data() + static_cast<std::size_t>(node) * static_cast<std::size_t>(m.modes);
         double s = 0.0;
