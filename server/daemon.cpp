@@ -64,7 +64,7 @@ int Daemon::run() {
     if (!take.open(options_)) return 1;
 
     // The scene, and the bridge the audio thread plays it through.
-    const std::optional<FirstScene> first = read_first_scene(options_, life->backend().sample_rate(), life->live());
+    std::optional<FirstScene> first = read_first_scene(options_, life->backend().sample_rate(), life->live());
     if (!first) return 1;
     // --format binaural: the decoder for the backend's block size, built before audio starts (libmysofa reads
     // and resamples the SOFA file: about 2 s the first time at a rate); the renderer makes its AmbiX bus.
@@ -84,7 +84,8 @@ int Daemon::run() {
                                    : ""));
         ears = std::move(made.stage);
     }
-    AudioBridge bridge(std::make_unique<Renderer>(first->config), 4096, std::move(ears));
+    AudioBridge bridge(std::make_unique<Renderer>(first->config, first->parts.get()), 4096, std::move(ears));
+    first->parts.reset();   // the renderer has its copy
     std::optional<BinauralSupply> binaural;
     if (binaural_order > 0) binaural.emplace(loop.io(), bridge, options_.hrtf, binaural_order, life->backend().sample_rate(), options_.limiter_on());
     BlockTracing tracing(bridge);

@@ -74,9 +74,11 @@ std::optional<FirstScene> read_first_scene(const DaemonOptions& options, double 
         if (by_name) first.scene = SceneStore(first.folder).load(options.scene);
         if (options.gain_db) first.scene.gain_db = *options.gain_db;
         first.default_rain_mm_per_h = first.scene.rain.rate_mm_per_h;
+        const RendererConfig at_default = configure_for_scene(first.base, first.scene, find_custom_material, &no_custom_materials);
+        // The umbrella is built once, for the measurement and the stream (umbrella_scene.hpp).
+        first.parts = Renderer::make_parts(at_default);
         if (options.level_auto) {   // measured at the scene's own rain, whatever --rain starts it at
-            const RendererConfig at_default = configure_for_scene(first.base, first.scene, find_custom_material, &no_custom_materials);
-            const LevelChoice choice = choose_level(at_default, options.target_lufs);
+            const LevelChoice choice = choose_level(at_default, *first.parts, options.target_lufs);
             first.level.measured_lufs = choice.measured_lufs;
             first.level.level_gain_db = choice.gain_db;
         }
@@ -216,8 +218,10 @@ void SceneManager::build_and_load(const Peer& sender, const std::string& address
             c.level_gain_db = kept;
             // --level auto: the new scene's own default rain, rendered and measured here on the worker (a
             // second or so of CPU), never on the audio thread.
+            // One build of the umbrella for the measurement and the scene (umbrella_scene.hpp).
+            const std::shared_ptr<const UmbrellaParts> parts = Renderer::make_parts(c);
             if (measure) {
-                built->level = choose_level(c, target);
+                built->level = choose_level(c, *parts, target);
                 built->target_lufs = target;
                 c.level_gain_db = built->level->gain_db;
             }
@@ -225,7 +229,7 @@ void SceneManager::build_and_load(const Peer& sender, const std::string& address
                 const Canopy probe(c.canopy, c.material, 1.0 / c.sample_rate);
                 check_live_cost(probe, c.material, c.sample_rate);
             }
-            built->loaded = Renderer::make_loaded_scene(c);
+            built->loaded = Renderer::make_loaded_scene(c, parts.get());
             built->config = c;
             settings->material = c.material;
             return built;

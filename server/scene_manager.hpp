@@ -57,6 +57,8 @@ struct FirstScene {
     SceneDescription scene;
     RendererConfig base;     // the stream's (rate, channels, seed, adaptive detail), before any scene
     RendererConfig config;   // base with the scene's settings
+    std::shared_ptr<const UmbrellaParts> parts;   // its umbrella, built once for --level auto and the stream
+                                                  // (Renderer(config, parts.get())); let go once it plays
     std::filesystem::path folder;   // the scene folder (--scene-dir)
     LevelState level;        // --level, --loudness, --limiter, and what auto chose for this scene
     double default_rain_mm_per_h = 0.0;   // the scene's own rain (before --rain), what auto measured

@@ -244,12 +244,15 @@ int run_render_scene(const RenderSceneOptions& o, const CommandIo& io) {
         base.adaptive_lod = false;   // offline: reproducible, whatever the machine's load
         // Binaural: the limiter acts on the decoded ears (render_output.hpp), the bus is not limited.
         base.limiter = limiter && format.kind != OutputKind::binaural;
-        // --level auto: measured at the scene's own rain, as ameotod does (level_choice.hpp).
-        if (o.level_auto) level = choose_level(configure_for_scene(base, scene), o.target_lufs);
+        // --level auto: measured at the scene's own rain, as ameotod does (level_choice.hpp), from the
+        // same build of the umbrella as the render (umbrella_scene.hpp).
+        const RendererConfig at_default = configure_for_scene(base, scene);
+        const std::shared_ptr<const UmbrellaParts> parts = Renderer::make_parts(at_default);
+        if (o.level_auto) level = choose_level(at_default, *parts, o.target_lufs);
         if (o.rain_mm_per_h) scene.rain.rate_mm_per_h = *o.rain_mm_per_h;
         RendererConfig config = configure_for_scene(base, scene);
         config.level_gain_db = level.gain_db;
-        renderer.emplace(config);
+        renderer.emplace(config, parts.get());
     } catch (const std::exception& e) {
         io.err << "ameoto render scene: " << e.what() << "\n";
         return exit_status::refused;

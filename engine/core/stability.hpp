@@ -59,6 +59,7 @@ struct StabilityOptions {
     int max_sub_steps = 4096;
     double safety = 0.9;   // largest margin allowed to run
     int min_sub_steps = 1; // explicit schemes: at least this many (accuracy: method_choice.hpp), 1..max
+    bool operator==(const StabilityOptions&) const = default;
 };
 
 struct StabilityReport {
@@ -99,6 +100,7 @@ struct GuardOptions {
     double energy_limit_J = 0.0;   // ... unless this is > 0
     double memory_s = 0.0;         // > 0: forgetting time of the injected amplitude; 0: never forget
     int check_every_steps = 0;     // > 0: step() checks itself this often; 0: the owner calls guard()
+    bool operator==(const GuardOptions&) const = default;
 };
 
 class RuntimeGuard {

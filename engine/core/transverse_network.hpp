@@ -56,6 +56,7 @@ struct NetworkOptions {
     StabilityOptions stability{};
     ModalOptions modal{};
     GuardOptions guard{};
+    bool operator==(const NetworkOptions&) const = default;
 };
 
 class TransverseNetwork {

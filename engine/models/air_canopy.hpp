@@ -53,6 +53,7 @@ struct AirCanopyOptions {
                                         // zero cell size (air_loading.hpp; +0.2 % of Lamb's for the rigid canopy)
     double max_frequency_hz = 20000.0;  // modes above are dropped
     bool radiation_damping = true;      // add each mode's radiation damping to its decay
+    bool operator==(const AirCanopyOptions&) const = default;
 };
 
 struct AirCanopyModes {

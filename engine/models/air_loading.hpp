@@ -94,6 +94,7 @@ AddedMass canopy_added_mass(const Canopy& canopy, double square_side_m, double a
 struct CanopyAirMassOptions {
     int rows = 24;            // the finer level's rows from the shaft to the hem (300 sub-cells a panel)
     bool extrapolate = true;  // with rows / 2 (78 a panel): Richardson
+    bool operator==(const CanopyAirMassOptions&) const = default;
 };
 AddedMass canopy_added_mass(const Canopy& canopy, double air_density, const CanopyAirMassOptions& options = {});
 

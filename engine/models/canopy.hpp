@@ -86,6 +86,7 @@ struct CanopyGeometry {
     double radius_m = 0.5;                  // plan radius of the rib tips
     int masses_per_panel = 50;
     double curvature_radius_m = std::numeric_limits<double>::infinity();   // Rc; infinity: flat
+    bool operator==(const CanopyGeometry&) const = default;
 };
 
 struct DisplacementRange {

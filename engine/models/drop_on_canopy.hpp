@@ -156,6 +156,7 @@ struct DropOnCanopyConfig {
                                                    // flat or curved); false: the lattice in vacuum under the
                                                    // baffled Rayleigh sum (network above), the seed's model
     AirCanopyOptions air_options{};                // in air: the air, the added mass's sampling, the cutoff
+    bool operator==(const DropOnCanopyConfig&) const = default;
 };
 
 struct DropOnCanopyStats {

@@ -40,6 +40,7 @@ struct Liquid {
     double surface_tension = 0.0;   // N/m
     double viscosity = 0.0;         // Pa s (dynamic)
     double kinematic_viscosity() const { return viscosity / density; }   // m^2/s
+    bool operator==(const Liquid&) const = default;
 };
 
 struct LiquidLimits {

@@ -64,6 +64,7 @@ struct MembraneMaterial {
     double link_damping = 0.0;     // N s/m per link; > 0 overrides stiffness_damping * k
 
     double wave_speed() const;     // c = sqrt(T / s), m/s
+    bool operator==(const MembraneMaterial&) const = default;
 
     // Nylon umbrella fabric: 60 g/m^2 (typical canopy taffeta is 50-70), tensioned to 1 kN/m: a taut
     // canopy, above the 120-640 N/m that the estimates in docs/canopy.md ("Materials") suggest; the

@@ -9,7 +9,9 @@
 
 namespace ameoto {
 
-LevelChoice choose_level(const RendererConfig& config, double target_lufs, double seconds) {
+namespace {
+
+LevelChoice choose(const RendererConfig& config, const UmbrellaParts* parts, double target_lufs, double seconds) {
     RendererConfig c = config;
     c.level_gain_db = 0.0;
     c.gain_db = 0.0;
@@ -30,7 +32,7 @@ LevelChoice choose_level(const RendererConfig& config, double target_lufs, doubl
         choice.measured_lufs = -HUGE_VAL;
         return choice;
     }
-    Renderer renderer(c);
+    Renderer renderer(c, parts);
     const int channels = c.channels;
     const long total = std::max(1L, std::lround(seconds * c.sample_rate));
     constexpr int block = 1024;
@@ -50,6 +52,16 @@ LevelChoice choose_level(const RendererConfig& config, double target_lufs, doubl
     if (std::isfinite(choice.measured_lufs))
         choice.gain_db = std::clamp(target_lufs - choice.measured_lufs, min_level_gain_db, max_level_gain_db);
     return choice;
+}
+
+}  // namespace
+
+LevelChoice choose_level(const RendererConfig& config, double target_lufs, double seconds) {
+    return choose(config, nullptr, target_lufs, seconds);
+}
+
+LevelChoice choose_level(const RendererConfig& config, const UmbrellaParts& parts, double target_lufs, double seconds) {
+    return choose(config, &parts, target_lufs, seconds);
 }
 
 }  // namespace ameoto

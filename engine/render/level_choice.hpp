@@ -5,6 +5,9 @@
 // Interface (off the audio thread: it builds a renderer and renders; about a second of CPU for the umbrella):
 //   LevelChoice c = choose_level(config, target_lufs);   // config: configure_for_scene's, at the scene's own rain
 //   config.level_gain_db = c.gain_db;
+//   auto parts = Renderer::make_parts(config);                 // or: one build of the umbrella for both the
+//   LevelChoice c = choose_level(config, *parts, target_lufs); // measurement and the stream, which then
+//   Renderer stream(config_at_its_rain, parts.get());          // starts in about half the time
 //
 // How: the scene is rendered offline for `seconds` at its default rain with the same engine and seed as the
 // stream (fixed detail, the physical samples: level gain, gain and limiter off), its integrated loudness
@@ -31,5 +34,8 @@ inline constexpr double min_level_gain_db = -60.0, max_level_gain_db = 120.0;
 inline constexpr double level_choice_seconds = 3.0;
 
 LevelChoice choose_level(const RendererConfig& config, double target_lufs, double seconds = level_choice_seconds);
+// The same from the umbrella's parts (Renderer::make_parts; they must fit config): the same choice.
+LevelChoice choose_level(const RendererConfig& config, const UmbrellaParts& parts, double target_lufs,
+                         double seconds = level_choice_seconds);
 
 }  // namespace ameoto

@@ -22,11 +22,11 @@ inline float scaled(float x, double gain) { return gain == 1.0 ? x : static_cast
 
 }  // namespace
 
-Renderer::Renderer(const RendererConfig& config)
+Renderer::Renderer(const RendererConfig& config, const UmbrellaParts* parts)
     : config_(checked(config)),
       dt_(1.0 / config.sample_rate),
       rng_(config.seed),
-      scene_(make_scene(config_).release()),
+      scene_(make_scene(config_, parts).release()),
       rain_(new RainSpawner(rain_config_for(scene_->drops.canopy(), config_.scene.rain))),
       governor_(LodSettings{.budget = config_.lod_budget,
                             .max_full = config_.full_drops,

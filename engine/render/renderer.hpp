@@ -12,6 +12,9 @@
 //   r.frame()                                 // sample clock: frames rendered so far
 //   Renderer::make_scene(config)              // off the audio thread: an UmbrellaScene for swap_surface/
 //                                             // swap_liquid (umbrella_scene.hpp)
+//   auto parts = Renderer::make_parts(config);   // off the audio thread: the umbrella's parts, for more
+//   Renderer r(config, parts.get());          // than one renderer or scene of the same umbrella (--level
+//                                             // auto's measurement, then the stream: level_choice.hpp)
 //
 // Real-time contract (Mutable Instruments style: the constructor allocates, process never does):
 // schedule, process and poll_event never allocate, free, lock, block or log. Commands carry a sample
@@ -189,16 +192,25 @@ public:
                                                        // glide into each other without a click
     static constexpr int grain_ring = 8;               // virtual directions of the texture bed (ambix)
 
-    explicit Renderer(const RendererConfig& config);
+    // parts (make_parts; null: built here) must fit config's umbrella, or it throws std::invalid_argument.
+    explicit Renderer(const RendererConfig& config, const UmbrellaParts* parts = nullptr);
     ~Renderer();
     Renderer(const Renderer&) = delete;
     Renderer& operator=(const Renderer&) = delete;
 
     // Off the audio thread: the scene a renderer with this config plays (its material and liquid).
     // Throws std::invalid_argument or StabilityError with the reason.
-    static std::unique_ptr<UmbrellaScene> make_scene(const RendererConfig& config);
+    // parts: as for the constructor.
+    static std::unique_ptr<UmbrellaScene> make_scene(const RendererConfig& config, const UmbrellaParts* parts = nullptr);
     // Off the audio thread: everything config (from configure_for_scene) describes, for load_scene.
-    static std::unique_ptr<LoadedScene> make_loaded_scene(const RendererConfig& config);
+    static std::unique_ptr<LoadedScene> make_loaded_scene(const RendererConfig& config, const UmbrellaParts* parts = nullptr);
+    // Off the audio thread: the umbrella's canopy, templates and texture for config (umbrella_scene.hpp),
+    // to build several renderers or scenes of it from one build. They fit any config that differs from
+    // this one only in what the umbrella does not depend on: the rain, the listener style and channels,
+    // the level, gain, limiter, detail and node.
+    static std::shared_ptr<const UmbrellaParts> make_parts(const RendererConfig& config);
+    // The umbrella scene's configuration for a renderer's (make_scene builds it).
+    static DropOnCanopyConfig umbrella_config(const RendererConfig& config);
 
     void schedule(const Command& command);
     // The last block's load, 0..1+ (live): the governor's input, and what it prices lattice drops from.

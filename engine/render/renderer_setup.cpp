@@ -97,9 +97,9 @@ RendererConfig configure_for_scene(RendererConfig config, const SceneDescription
     return config;
 }
 
-std::unique_ptr<LoadedScene> Renderer::make_loaded_scene(const RendererConfig& config) {
+std::unique_ptr<LoadedScene> Renderer::make_loaded_scene(const RendererConfig& config, const UmbrellaParts* parts) {
     auto loaded = std::make_unique<LoadedScene>();
-    loaded->umbrella = make_scene(config);
+    loaded->umbrella = make_scene(config, parts);
     loaded->surfaces = std::make_unique<SceneSurfaces>(config.scene, config.sample_rate, config.channels, config.seed,
                                                        config.full_scale_pa, config.node, config.listener == ListenerStyle::ambix);
     loaded->has_umbrella = umbrella_on_node(config.scene, config.node);
@@ -116,7 +116,16 @@ std::unique_ptr<LoadedScene> Renderer::make_loaded_scene(const RendererConfig& c
     return loaded;
 }
 
-std::unique_ptr<UmbrellaScene> Renderer::make_scene(const RendererConfig& config) {
+std::unique_ptr<UmbrellaScene> Renderer::make_scene(const RendererConfig& config, const UmbrellaParts* parts) {
+    const DropOnCanopyConfig c = umbrella_config(config);
+    return parts ? std::make_unique<UmbrellaScene>(c, *parts) : std::make_unique<UmbrellaScene>(c);
+}
+
+std::shared_ptr<const UmbrellaParts> Renderer::make_parts(const RendererConfig& config) {
+    return std::make_shared<const UmbrellaParts>(umbrella_config(config));
+}
+
+DropOnCanopyConfig Renderer::umbrella_config(const RendererConfig& config) {
     DropOnCanopyConfig c;
     c.sample_rate = config.sample_rate;
     c.material = config.material;
@@ -141,7 +150,7 @@ std::unique_ptr<UmbrellaScene> Renderer::make_scene(const RendererConfig& config
     c.settle = config.settle;
     c.air = config.air;
     c.impact = config.impact;   // the templates and texture grains are recorded from this config too
-    return std::make_unique<UmbrellaScene>(c);
+    return c;
 }
 
 }  // namespace ameoto

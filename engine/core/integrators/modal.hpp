@@ -47,6 +47,7 @@ struct ModalOptions {
     double max_frequency_hz = std::numeric_limits<double>::infinity();
     int max_modes = 0;                   // 0: no limit
     double min_net_force_weight = 0.0;   // relative to the largest |w_k|; 0 keeps every mode
+    bool operator==(const ModalOptions&) const = default;
 };
 
 struct Resonator {
