@@ -136,7 +136,7 @@ void add_accuracy_entry(std::vector<AddressSpec>& t) {
 }
 
 void add_canopy_air_entry(std::vector<AddressSpec>& t) {
-    // Appended (issue 19): the canopy in air or in vacuum (engine/models/air_canopy.hpp, docs/canopy.md).
+    // Appended (issue 19): the canopy in air or in vacuum (engine/models/air_canopy.hpp, docs/canopy-air.md).
     t.push_back({"/canopy/air",
                  {{"on", ArgumentKind::integer, "", 0.0, 1.0, false,
                    "1: the umbrella's canopy in air (its air-loaded modes heard as dipoles); 0: in vacuum, baffled (the seed's)",

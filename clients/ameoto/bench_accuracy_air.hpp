@@ -26,7 +26,7 @@
 // the figures without any of the fast model's approximations (incompressible added mass, radiation
 // damping, the dipole sound). Band levels are not used here: the sound of the in-vacuum rows is the
 // baffled Rayleigh path's, a different radiator, and the reference's converged band levels take 10
-// minutes a strike (docs/canopy.md has them for the air model alone).
+// minutes a strike (docs/canopy-air.md has them for the air model alone).
 //
 // Rows: the FDTD reference (error 0 by definition; cost: thread CPU time per 48 kHz output sample of
 // the whole canopy at its dx, the difference of two runs of different lengths, so the grid's set-up is

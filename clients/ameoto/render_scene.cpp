@@ -56,7 +56,7 @@ std::string render_scene_usage() {
            "  --limiter on|off    look-ahead limiter, ceiling -1 dBFS, 2 ms look-ahead and attack,\n"
            "                      100 ms release (default: on with --level auto, off with physical)\n"
            "  --air on|off        the umbrella's canopy in air (its air-loaded modes heard as dipoles,\n"
-           "                      docs/canopy.md) or in vacuum, baffled (the seed's); default: the\n"
+           "                      docs/canopy-air.md) or in vacuum, baffled (the seed's); default: the\n"
            "                      scene's umbrella air= key (off when not given)\n"
            "  --impact wet|seed   how drops meet the umbrella's canopy: wet (stopped as a liquid is,\n"
            "                      impulse m V; docs/impacts.md) or seed (the seed's elastic exchange);\n"

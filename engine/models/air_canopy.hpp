@@ -28,7 +28,7 @@
 // Cutoff: modes above max_frequency_hz are dropped (they neither move nor radiate). The default keeps
 // every mode the lattice has (the 400-node default canopy's: 82 to 870 Hz in air): the lattice
 // itself is the resolution limit, and a panel's modes above about 700 Hz already have wavelengths under
-// four lattice spacings (docs/canopy.md, "In air").
+// four lattice spacings (docs/canopy-air.md, "In air").
 // Contact: a collision needs the node's mass as an impact sees it (membrane_collision.cpp): in air the
 // node's instantaneous (impulse) mobility is Delta v_i / J = sum_k phi_ik^2 = ((M + M_a)^-1)_ii over the
 // kept modes, so the node's contact mass is 1 / sum_k phi_ik^2: heavier than its structural mass, as

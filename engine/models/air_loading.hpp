@@ -42,7 +42,7 @@
 // Accuracy (tests/engine/models/air_loading_test.cpp): a disc's added mass against Lamb's
 // (8/3) rho0 a^3 (Hydrodynamics, section 108), and the modes of Christian et al.'s timpani head in air;
 // the umbrella's first 10 panel modes against the FDTD reference (tests/engine/reference/
-// canopy_modes_test.cpp, docs/canopy.md: -1.5 .. +0.9 %, mode 4 -3.9 %).
+// canopy_modes_test.cpp, docs/canopy-air.md: -1.5 .. +0.9 %, mode 4 -3.9 %).
 
 #include <functional>
 #include <vector>

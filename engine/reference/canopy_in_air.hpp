@@ -97,7 +97,7 @@ PanelProjections modal_panel_projections(const CanopyInAirSetup& setup, const Ca
 // use kPeakRecordS, the window of the cached figures, whatever setup.duration_s is (a longer record serves
 // panel_mode_components). In air a panel mode is no single mode: the air couples the eight panels into
 // canopy modes (the panels' Fourier copies, 2-8 % apart) and mixes the panel's own shapes, so the peak is
-// a blend of the copies that the window cannot separate (docs/canopy.md).
+// a blend of the copies that the window cannot separate (docs/canopy-air.md).
 inline constexpr double kPeakRecordS = 0.1;
 double panel_mode_frequency(const std::vector<double>& projection, double dt, double vacuum_hz, double record_s);
 

@@ -7,7 +7,7 @@
 //   config.level_gain_db = c.gain_db;
 //   auto parts = Renderer::make_parts(config);                 // or: one build of the umbrella for both the
 //   LevelChoice c = choose_level(config, *parts, target_lufs); // measurement and the stream, which then
-//   Renderer stream(config_at_its_rain, parts.get());          // starts in about half the time
+//   Renderer stream(config_at_its_rain, parts.get());          // builds nothing more
 //
 // How: the scene is rendered offline for `seconds` at its default rain with the same engine and seed as the
 // stream (fixed detail, the physical samples: level gain, gain and limiter off), its integrated loudness

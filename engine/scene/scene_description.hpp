@@ -71,7 +71,7 @@ struct SurfaceDescription {
     int node = 1;                        // the node that renders it, 1..max_scene_nodes (version 3)
     bool air = false;                    // umbrella only: air=on|off, the canopy in air (its air-loaded
                                          // modes heard as dipoles) or in vacuum, baffled (the seed's;
-                                         // the default until air meets its 3 dB, docs/canopy.md)
+                                         // the default until air meets its 3 dB, docs/canopy-air.md)
     ImpactModel impact = ImpactModel::wet;   // umbrella only: impact=wet|seed, how a drop meets the canopy:
                                          // as a liquid (impulse m V, spreading; docs/impacts.md) or the
                                          // seed's elastic exchange (twice that impulse)

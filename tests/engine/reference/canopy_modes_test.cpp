@@ -41,7 +41,7 @@ TEST_CASE("canopy in air: the fast model's first 10 panel modes against the refe
         // Issue 19: within 3 %. Mode 4 misses it (-3.9 %, a converged gap: -4.4 % with twice the rows),
         // held where it is so that it cannot drift further unseen. Told apart by the matrix pencil, its
         // canopy copies are each 1.9-2.6 % low; the peak blends copies whose shares differ between the
-        // models (docs/canopy.md, "Against the reference"). Every copy's excess air mass is one uniform
+        // models (docs/canopy-air.md, "Against the reference"). Every copy's excess air mass is one uniform
         // offset, rho0 x 5 mm per area, the 10 mm reference's own: at 7.5 mm its copies come down 1-2 % and
         // mode 4 is -2.95 % (docs/air-reference.md, "The canopy's copies"); this cache stays 10 mm because
         // the live 25 mm check below is calibrated to it.
