@@ -7,6 +7,7 @@
 // Thread: the control thread only.
 
 #include <cmath>
+#include <memory>
 #include <string>
 
 #include "engine/render/level_choice.hpp"
@@ -19,6 +20,8 @@ struct LevelState {
     double target_lufs = default_target_lufs;
     double measured_lufs = -HUGE_VAL;       // the scene's default rain, integrated, at the physical scale
     double level_gain_db = 0.0;             // chosen for the scene playing (0 with --level physical)
+    std::shared_ptr<const LevelRecording> recording;   // what the choice measured: /loudness finds another
+                                            // target's gain from it (through the limiter, on the worker)
     bool limiter = false;
     double full_scale_pa = 100.0;           // the engine's full scale (RendererConfig::full_scale_pa)
 };

@@ -132,8 +132,9 @@ Options:
   --level auto|physical
                       auto (default): when a scene is loaded, its level gain is chosen
                       (by rendering 3 s of its default rain off the audio thread and
-                      measuring it, EBU R 128) so that rain plays at --loudness; once per
-                      load, not an automatic gain control: heavier rain stays louder.
+                      measuring it, EBU R 128) so that rain plays at --loudness (through
+                      the limiter when it is on, at most 12 dB more); once per load,
+                      not an automatic gain control: heavier rain stays louder.
                       physical: 1.0 = 100 Pa at the listener, no level gain
   --loudness LUFS     auto's target for each scene's default rain, -60..-5 LUFS
                       integrated (default -23, EBU R 128); over OSC /loudness

@@ -81,6 +81,7 @@ std::optional<FirstScene> read_first_scene(const DaemonOptions& options, double 
             const LevelChoice choice = choose_level(at_default, *first.parts, options.target_lufs);
             first.level.measured_lufs = choice.measured_lufs;
             first.level.level_gain_db = choice.gain_db;
+            first.level.recording = choice.recording;
         }
         if (options.rain_mm_per_h) first.scene.rain.rate_mm_per_h = *options.rain_mm_per_h;
         first.config = configure_for_scene(first.base, first.scene, find_custom_material, &no_custom_materials);
@@ -252,12 +253,14 @@ void SceneManager::build_and_load(const Peer& sender, const std::string& address
             if (built->level) {
                 level_.measured_lufs = built->level->measured_lufs;
                 level_.level_gain_db = built->level->gain_db;
+                level_.recording = built->level->recording;
                 // A /loudness that came while the worker measured: the new scene plays at the target in
-                // force now, not the one it was measured for (it glides there from its first 50 ms).
+                // force now, not the one it was measured for (it glides there from its first 50 ms). Found
+                // here from the new scene's recording (tens of ms, and only when the two crossed).
                 if (level_.target_lufs != built->target_lufs && std::isfinite(level_.measured_lufs)) {
                     Command retarget;
                     retarget.kind = CommandKind::level;
-                    retarget.values[0] = std::clamp(level_.target_lufs - level_.measured_lufs, min_level_gain_db, max_level_gain_db);
+                    retarget.values[0] = retarget_level(*built->level, level_.target_lufs).gain_db;
                     retarget.reply_to = reply_to;
                     if (bridge_.send(retarget)) level_.level_gain_db = retarget.values[0];
                     else ++traffic_.busy;
@@ -302,20 +305,42 @@ void SceneManager::set_loudness(const Peer& sender, const std::string& address, 
                                                                            "no loudness target; /gain sets a gain"));
         return;
     }
-    const double gain = std::isfinite(level_.measured_lufs)
-                            ? std::clamp(target_lufs - level_.measured_lufs, min_level_gain_db, max_level_gain_db)
-                            : level_.level_gain_db;
-    Command c;
-    c.kind = CommandKind::level;
-    c.values[0] = gain;
-    c.reply_to = replies_.know(sender);
-    if (!bridge_.send(c)) {
-        ++traffic_.busy;
-        replies_.reply(sender, "/fail", protocol::fail_arguments(address, "busy: command queue full"));
+    const std::uint16_t reply_to = replies_.know(sender);
+    const double previous = level_.target_lufs;
+    // In force at once: the query says it, and a scene whose load is being measured is set to it on arrival.
+    level_.target_lufs = target_lufs;
+    if (!std::isfinite(level_.measured_lufs) || !level_.recording) {   // a silent scene: its gain stays
+        send_level(reply_to, address, level_.level_gain_db, previous);
         return;
     }
-    level_.target_lufs = target_lufs;
-    level_.level_gain_db = gain;
+    // The gain for the new target, through the limiter, from the recording the choice kept
+    // (level_choice.hpp): a few passes of tens of ms, so on the worker, not here.
+    LevelChoice measured;
+    measured.measured_lufs = level_.measured_lufs;
+    measured.recording = level_.recording;
+    worker_.submit<double>([measured, target_lufs] { return retarget_level(measured, target_lufs).gain_db; },
+                           [this, reply_to, address, recording = level_.recording, target_lufs, previous](double gain) {
+                               // A scene loaded meanwhile (its own gain is for the target in force) or a
+                               // later /loudness: theirs stands.
+                               if (level_.recording != recording || level_.target_lufs != target_lufs) return;
+                               send_level(reply_to, address, gain, previous);
+                           },
+                           [this, reply_to, address](const std::string& error) { fail(reply_to, address, error); });
+}
+
+// /loudness's gain to the audio thread; a full queue answers /fail and puts the target back.
+void SceneManager::send_level(std::uint16_t reply_to, const std::string& address, double gain_db, double previous_target) {
+    Command c;
+    c.kind = CommandKind::level;
+    c.values[0] = gain_db;
+    c.reply_to = reply_to;
+    if (!bridge_.send(c)) {
+        ++traffic_.busy;
+        level_.target_lufs = previous_target;
+        fail(reply_to, address, "busy: command queue full");
+        return;
+    }
+    level_.level_gain_db = gain_db;
 }
 
 void SceneManager::change_material(const Peer& sender, const std::string& address, const MembraneMaterial& material) {

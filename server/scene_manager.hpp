@@ -84,7 +84,8 @@ public:
     void change_material(const Peer& sender, const std::string& address, const MembraneMaterial& material);
     void change_liquid(const Peer& sender, const std::string& address, const Liquid& liquid);
     std::string done_address(std::uint16_t reply_to);
-    // /loudness: --level auto's target; the scene playing moves to it (ramped), later loads are set to it.
+    // /loudness: --level auto's target; the scene playing moves to it (ramped, once the worker has found its
+    // gain through the limiter from the choice's recording), later loads are set to it.
     void set_loudness(const Peer& sender, const std::string& address, double target_lufs);
     const LevelState& level() const { return level_; }
     void record_take(TakeRecording* take) { take_ = take; }
@@ -104,6 +105,7 @@ private:
                  std::optional<Liquid> liquid);
     void use_geometry(const RendererConfig& config, bool has_umbrella);
     void fail(std::uint16_t reply_to, const std::string& address, const std::string& reason);
+    void send_level(std::uint16_t reply_to, const std::string& address, double gain_db, double previous_target);
 
     AudioBridge& bridge_;
     SceneRecord& record_;

@@ -49,7 +49,8 @@ std::string render_scene_usage() {
            "  --level auto|physical\n"
            "                      auto (default): a level gain chosen so the scene's default rain\n"
            "                      plays at --loudness (3 s of it rendered and measured first, as\n"
-           "                      ameotod does); --rain changes the rain, not the gain. physical:\n"
+           "                      ameotod does; through the limiter when it is on, at most 12 dB\n"
+           "                      more); --rain changes the rain, not the gain. physical:\n"
            "                      1.0 = 100 Pa at the listener (0 dBFS = 133.98 dB SPL)\n"
            "  --loudness LUFS     auto's target, -60..-5 LUFS integrated (default -23, EBU R 128)\n"
            "  --gain DB           listening gain on top, -80..80 dB (default: the scene's, else 0)\n"
@@ -85,7 +86,8 @@ std::string level_text(const RenderSceneOptions& o, const LevelChoice& level, do
     else
         text = "level auto: default rain " + short_number(default_rain) + " mm/h measures " + fixed(level.measured_lufs, 2) +
                " LUFS at the physical scale, target " + fixed(o.target_lufs, 1) + " LUFS, level gain " + (level.gain_db >= 0 ? "+" : "") +
-               fixed(level.gain_db, 2) + " dB";
+               fixed(level.gain_db, 2) + " dB" +
+               (level.limiter_db > 0.005 ? " (+" + fixed(level.limiter_db, 2) + " dB of it making up for the limiter)" : "");
     text += ", gain " + std::string(gain_db >= 0 ? "+" : "") + fixed(gain_db, 2) + " dB: 0 dBFS = " + fixed(spl, 2) +
             " dB SPL, limiter " + (limiter ? "on" : "off");
     return text;
