@@ -54,8 +54,6 @@
 
 namespace ameoto {
 
-struct AirKernels;
-
 class DipoleRadiation {
 public:
     DipoleRadiation() = default;
@@ -79,7 +77,6 @@ public:
     }
 
 private:
-    const AirKernels* kernels_ = nullptr;   // air_canopy_kernels.hpp, chosen when built
     int channels_ = 0, modes_ = 0;
     std::vector<double> a_, b_;      // [channel * modes + mode]
     std::vector<double> previous_;   // each mode's abar[n - 1]
