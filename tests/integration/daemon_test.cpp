@@ -253,7 +253,7 @@ TEST_CASE("scenes load and save over OSC: built-ins, the scene folder, refusals 
         // read again until the ramp is over (a rebuild that comes sooner restarts the ramp: read once,
         // it gave 16.78 when the rebuilds came quickly).
         double rate = 0.0;
-        for (int i = 0; i < 20 && std::abs(rate - 17.0) > 1e-3; ++i) {
+        for (int i = 0; i < 20 && std::abs(rate - 17.0) > 1e-5; ++i) {
             if (i > 0) std::this_thread::sleep_for(250ms);
             const auto status = client.request("/status", {}, "/status.reply", 2s);
             REQUIRE(status);

@@ -47,7 +47,9 @@ TEST_CASE("/gain and /loudness: set, queried, refused out of range with nothing 
         CHECK(l.args[1].number == -23.0f);
         const double measured = l.args[2].number, level = l.args[3].number;
         CHECK(measured < -23.0);   // the umbrella's 2 mm/h at 1.0 = 100 Pa is quieter than the target
-        CHECK(level == doctest::Approx(-23.0 - measured).epsilon(1e-5));
+        // The difference, and what makes up for the limiter (the umbrella in air is peaky: level_choice.hpp).
+        CHECK(level >= -23.0 - measured - 1e-4);
+        CHECK(level <= -23.0 - measured + ameoto::max_limiter_share_db + 1e-4);
         CHECK(l.args[4].number == 0.0f);
         CHECK(l.args[5].number == doctest::Approx(level_physical_full_scale - level).epsilon(1e-5));
         CHECK(ask_level(c, "/gain").args[0].number == 0.0f);
