@@ -24,6 +24,21 @@ struct LevelState {
                                             // target's gain from it (through the limiter, on the worker)
     bool limiter = false;
     double full_scale_pa = 100.0;           // the engine's full scale (RendererConfig::full_scale_pa)
+
+    // The choice made for the scene now playing (the first scene, a load).
+    void adopt(const LevelChoice& c) {
+        measured_lufs = c.measured_lufs;
+        level_gain_db = c.gain_db;
+        recording = c.recording;
+    }
+    // What that choice measured, for another target's gain (retarget_level).
+    LevelChoice measured() const {
+        LevelChoice c;
+        c.measured_lufs = measured_lufs;
+        c.gain_db = level_gain_db;
+        c.recording = recording;
+        return c;
+    }
 };
 
 // "level auto: scene 'pond' (default rain 1.5 mm/h) measures -104.1 LUFS at the physical scale; level gain

@@ -79,9 +79,7 @@ std::optional<FirstScene> read_first_scene(const DaemonOptions& options, double 
         first.parts = Renderer::make_parts(at_default);
         if (options.level_auto) {   // measured at the scene's own rain, whatever --rain starts it at
             const LevelChoice choice = choose_level(at_default, *first.parts, options.target_lufs);
-            first.level.measured_lufs = choice.measured_lufs;
-            first.level.level_gain_db = choice.gain_db;
-            first.level.recording = choice.recording;
+            first.level.adopt(choice);
         }
         if (options.rain_mm_per_h) first.scene.rain.rate_mm_per_h = *options.rain_mm_per_h;
         first.config = configure_for_scene(first.base, first.scene, find_custom_material, &no_custom_materials);
@@ -251,9 +249,7 @@ void SceneManager::build_and_load(const Peer& sender, const std::string& address
             // Timed changes still waiting stay: the renderer keeps its scheduled commands across a load.
             record_.loaded(built->scene, built->config.material);
             if (built->level) {
-                level_.measured_lufs = built->level->measured_lufs;
-                level_.level_gain_db = built->level->gain_db;
-                level_.recording = built->level->recording;
+                level_.adopt(*built->level);
                 // A /loudness that came while the worker measured: the new scene plays at the target in
                 // force now, not the one it was measured for (it glides there from its first 50 ms). Found
                 // here from the new scene's recording (tens of ms, and only when the two crossed).
@@ -315,10 +311,7 @@ void SceneManager::set_loudness(const Peer& sender, const std::string& address, 
     }
     // The gain for the new target, through the limiter, from the recording the choice kept
     // (level_choice.hpp): a few passes of tens of ms, so on the worker, not here.
-    LevelChoice measured;
-    measured.measured_lufs = level_.measured_lufs;
-    measured.recording = level_.recording;
-    worker_.submit<double>([measured, target_lufs] { return retarget_level(measured, target_lufs).gain_db; },
+    worker_.submit<double>([measured = level_.measured(), target_lufs] { return retarget_level(measured, target_lufs).gain_db; },
                            [this, reply_to, address, recording = level_.recording, target_lufs, previous](double gain) {
                                // A scene loaded meanwhile (its own gain is for the target in force) or a
                                // later /loudness: theirs stands.

@@ -47,7 +47,7 @@ void through_limiter(LevelChoice& choice, const std::vector<float>& interleaved,
     const double unlimited = choice.gain_db;
     double g0 = unlimited, l0 = limited_lufs(interleaved, channels, sample_rate, g0);
     double best = g0, best_lufs = l0;
-    double g1 = std::min(g0 + (target_lufs - l0), unlimited + max_limiter_share_db);
+    double g1 = std::clamp(g0 + (target_lufs - l0), unlimited, unlimited + max_limiter_share_db);
     for (int pass = 0; pass < 8 && std::fabs(target_lufs - best_lufs) > 0.02 && g1 != g0; ++pass) {
         const double l1 = limited_lufs(interleaved, channels, sample_rate, g1);
         if (!std::isfinite(l1)) break;
