@@ -90,7 +90,7 @@ TEST_CASE("Python: timed bundles of drops sound at their timetags' samples, 0.25
     long long frame_then = 0;
     double wall_then = 0.0;
     {
-        DaemonProcess d({"--backend", "null", "--output", wav, "--realtime", "--rain", "0"}, {}, DaemonOptions::patient());
+        DaemonProcess d({"--backend", "null", "--output", wav, "--realtime", "--rain", "0", "--scene", sharp_onset_scene()}, {}, DaemonOptions::patient());
         OscTestClient client(d.port());
         // A (wall clock, frame) pair: the reply's frame was current within a block of wall_then.
         wall_then = wall_seconds();

@@ -98,7 +98,7 @@ TEST_CASE("SuperCollider: Ameoto.dropAt's bundles sound 0.25 s apart to +/- 1 sa
     const std::string wav = temp_path("sclang-bundles.wav");
     ProgramRun run;
     {
-        DaemonProcess d({"--backend", "null", "--output", wav, "--realtime", "--rain", "0"}, {}, DaemonOptions::patient());
+        DaemonProcess d({"--backend", "null", "--output", wav, "--realtime", "--rain", "0", "--scene", sharp_onset_scene()}, {}, DaemonOptions::patient());
         run = run_sclang(*sclang, home, d.port(), "supercollider/timing_test.scd", without_xdg());
         OscTestClient client(d.port());
         const auto status = client.request("/status", {}, "/status.reply", 2s);
