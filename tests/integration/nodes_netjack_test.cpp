@@ -66,6 +66,25 @@ int free_udp_port() {
     return ntohs(a.sin_port);
 }
 
+// Lines in a JACK server's log since `from` that say a cycle went wrong: a client that did not finish
+// (JackEngine::XRun), a process error, netjack2's missing or lost packets. A slave can lose a cycle that no
+// client sees as an xrun (a late packet on the master), and it shifts that node's audio on the master
+// against the other's for good: ameotod's own xrun count does not see it.
+int trouble_lines(const std::string& log, std::size_t from) {
+    int n = 0;
+    for (std::size_t at = from; at < log.size();) {
+        const std::size_t end = std::min(log.find('\n', at), log.size());
+        const std::string line = log.substr(at, end - at);
+        for (const char* word : {"XRun", "error", "missing", "lost", "too slow"})
+            if (line.find(word) != std::string::npos) {
+                ++n;
+                break;
+            }
+        at = end + 1;
+    }
+    return n;
+}
+
 bool lsp_has(const std::vector<std::string>& env, const std::string& port) {
     return ameoto::test::run_program({"jack_lsp"}, 10s, env).out.find(port + "\n") != std::string::npos;
 }
@@ -116,8 +135,18 @@ TEST_CASE("nodes over netjack2 on loopback: both nodes' audio on the master; one
         REQUIRE_MESSAGE(there, p << " on the master");
     }
 
-    // A take whose first 0.25 s of rain met an xrun (a loaded machine) is played again, at most 3 times.
+    // A take whose first 0.25 s of rain met an xrun, or whose servers lost a cycle from the nodes' start on
+    // (a loaded machine), is played again, at most 3 times.
     for (int take = 1; take <= 3; ++take) {
+        // Where the servers' logs stand before this take's nodes start: what they report from here on
+        // (the nodes' start included: a cycle lost then shifts a node before its rain) disturbs the take.
+        std::vector<std::size_t> log_from{master.output().size()};
+        for (auto& s : slaves) log_from.push_back(s->output().size());
+        auto server_trouble = [&] {
+            int n = trouble_lines(master.output(), log_from[0]);
+            for (std::size_t k = 0; k < slaves.size(); ++k) n += trouble_lines(slaves[k]->output(), log_from[k + 1]);
+            return n;
+        };
         ameoto::test::DaemonOptions options;
         options.listen_timeout = 30s;
         options.running_timeout = 15s;
@@ -164,7 +193,9 @@ TEST_CASE("nodes over netjack2 on loopback: both nodes' audio on the master; one
         const auto x2 = ameoto::test::status_reply(c2).args[6].integer;
         c.send("/rain/rate", {OscArgument::from_float(10.0f)});   // to the conductor only
         REQUIRE_MESSAGE(rec.wait(ameoto::test::scaled(20s)) == 0, rec.output());
-        const std::int64_t xruns = ameoto::test::status_reply(c).args[6].integer - x1 + ameoto::test::status_reply(c2).args[6].integer - x2;
+        const std::int64_t node_xruns = ameoto::test::status_reply(c).args[6].integer - x1 + ameoto::test::status_reply(c2).args[6].integer - x2;
+        const int trouble = server_trouble();
+        const std::int64_t xruns = node_xruns + trouble;
         CHECK(ameoto::test::status_reply(c2).args[11].number == doctest::Approx(10.0));   // the peer got it
 
         const auto sum = ameoto::test::read_wav(wav);
@@ -183,7 +214,8 @@ TEST_CASE("nodes over netjack2 on loopback: both nodes' audio on the master; one
                 worst = std::max(worst, d);
             }
         MESSAGE("take " << take << ": on the master, the two nodes' rain against the whole scene's over " << frames
-                        << " frames from its first sound: largest difference " << worst << " (bound " << bound << "); xruns " << xruns);
+                        << " frames from its first sound: largest difference " << worst << " (bound " << bound << "); xruns " << node_xruns << " on the nodes during the rain, "
+                        << trouble << " cycles the servers logged as gone wrong since the nodes started");
         REQUIRE(frames > 24000);
         const long long agreed = first_bad < 0 ? frames : first_bad;
         INFO("the sum agrees with the whole for " << agreed << " frames from the first sound");
@@ -194,12 +226,14 @@ TEST_CASE("nodes over netjack2 on loopback: both nodes' audio on the master; one
         } else if (agreed >= 12000) {
             // An xrun skips a cycle on one server: from there one node is shifted against the other (seen:
             // agreement for 56 893 frames, then an xrun). Before it, both started their rain on one frame:
-            // a node off by even one frame differs within the first drops (5 000 a second here).
-            MESSAGE("xruns during the take: the sum agreed for the " << agreed << " frames before the first one");
+            // a node off by even one frame differs within the first drops (5 000 a second here). A cycle
+            // lost before the rain (seen on CI: none on the nodes during it, agreement for 168 frames)
+            // shifts a node from its first drop: that take is played again.
+            MESSAGE("xruns or lost cycles in the take: the sum agreed for the " << agreed << " frames before the first one");
         } else if (take < 3) {
             continue;
         } else {
-            WARN_MESSAGE(false, "every take met an xrun within its first 0.25 s of rain: the frames could not be compared (the machine is too loaded)");
+            WARN_MESSAGE(false, "every take met an xrun or a lost cycle before or within its first 0.25 s of rain: the frames could not be compared (the machine is too loaded)");
         }
         break;
     }

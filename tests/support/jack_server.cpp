@@ -69,6 +69,11 @@ void JackServer::kill() {
     process_.reset();
 }
 
+const std::string& JackServer::output() {
+    static const std::string none;
+    return process_ ? process_->output() : none;
+}
+
 std::vector<std::string> JackServer::env(const std::vector<std::string>& more) const {
     std::vector<std::string> e{"JACK_DEFAULT_SERVER=" + name_, "JACK_NO_AUDIO_RESERVATION=1"};
     e.insert(e.end(), more.begin(), more.end());

@@ -10,6 +10,7 @@
 //   ChildProcess p(argv, jack.env()); // JACK_DEFAULT_SERVER=<its name>: clients find this server only
 //   jack.stop(); jack.start();        // a crash and a return, for reconnection tests
 //   jack.kill();                      // SIGKILL: a crash without jackd's own clean-up
+//   jack.output();                    // jackd's log so far (its xruns, a netmanager's lost packets)
 //   ~JackServer                       // stops jackd by its PID and removes the /dev/shm files it left
 //
 // Its own server name means a JACK server the user runs is never touched, and tests can run side by side.
@@ -33,6 +34,7 @@ public:
     void stop();
     void kill();
     const std::string& name() const { return name_; }
+    const std::string& output();   // what jackd printed so far (never blocks; empty once stopped)
     std::vector<std::string> env(const std::vector<std::string>& more = {}) const;
 
 private:
