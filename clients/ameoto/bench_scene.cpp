@@ -22,9 +22,11 @@ struct Run {
     double drops = 0.0;
 };
 
-// CPU seconds and drops over `seconds` of audio after `warm_s`, for the umbrella scene at `rate`.
-Run run_umbrella(double rate, double full_level_db, double texture_margin_db, int max_full, double warm_s, double seconds) {
+// CPU seconds and drops over `seconds` of audio after `warm_s`, for the umbrella scene at `rate`, its
+// canopy in air (the default, canopy-air.md) or in vacuum (the seed's lattice, the model before).
+Run run_umbrella(double rate, double full_level_db, double texture_margin_db, int max_full, double warm_s, double seconds, bool air = true) {
     RendererConfig c;
+    c.air = air;
     c.sample_rate = bench_sample_rate;
     c.channels = 2;
     c.seed = 3;
@@ -48,10 +50,13 @@ Run run_umbrella(double rate, double full_level_db, double texture_margin_db, in
 // of audio after the scene is built (its build, about 0.3 s, is not counted). `settle`: the lattice
 // drops' settling (drop_on_canopy.hpp), or the model before it. `ceiling`: the widest vectors the laned
 // canopy's kernels may use (laned_network.hpp): 32 (AVX2 where the CPU has it, the default) or 64 (the
-// opt-in AVX-512 kernels, same bits: timed beside the default, as they may win on another CPU).
-double time_render(double rate, bool settle, double seconds, int ceiling = 32) {
+// opt-in AVX-512 kernels, same bits: timed beside the default, as they may win on another CPU). `air`:
+// the scene's umbrella in air (the built-in scene's, the default) or in vacuum (the model before).
+double time_render(double rate, bool settle, double seconds, int ceiling = 32, bool air = true) {
     LanedNetwork::set_default_kernel_ceiling(ceiling);
-    RendererConfig c = configure_for_scene(RendererConfig{}, *builtin_scene("umbrella"));
+    SceneDescription scene = *builtin_scene("umbrella");
+    scene.surfaces[0].air = air;
+    RendererConfig c = configure_for_scene(RendererConfig{}, scene);
     c.sample_rate = bench_sample_rate;
     c.channels = 2;
     c.seed = 1;
@@ -73,74 +78,35 @@ struct RenderRow {
     double rate = 0.0, target = 0.0;
     double per_s = 0.0, per_s_before = 0.0, dry_per_s = 0.0;   // CPU s per audio s: least of 3 rounds
     double per_s_avx512 = 0.0, dry_per_s_avx512 = 0.0;   // the same with the canopy's AVX-512 kernels
+    double per_s_vacuum = 0.0, dry_per_s_vacuum = 0.0;   // the umbrella in vacuum (the model before air)
 };
 
-// Three rounds of (settling, the model before it, the dry scene) back to back; the least of each
-// (bench drop's estimator: docs/bench.md).
+// Three rounds of (settling, the model before it, the dry scene, the same in vacuum) back to back; the
+// least of each (bench drop's estimator: docs/bench.md).
 RenderRow render_row(double rate, double target, double seconds) {
-    RenderRow row{rate, target, 1e300, 1e300, 1e300, 1e300, 1e300};
+    RenderRow row{rate, target, 1e300, 1e300, 1e300, 1e300, 1e300, 1e300, 1e300};
     for (int i = 0; i < 3; ++i) {
         row.per_s = std::min(row.per_s, time_render(rate, true, seconds));
         row.per_s_before = std::min(row.per_s_before, time_render(rate, false, seconds));
         row.dry_per_s = std::min(row.dry_per_s, time_render(0.0, true, seconds));
         row.per_s_avx512 = std::min(row.per_s_avx512, time_render(rate, true, seconds, 64));
         row.dry_per_s_avx512 = std::min(row.dry_per_s_avx512, time_render(0.0, true, seconds, 64));
+        row.per_s_vacuum = std::min(row.per_s_vacuum, time_render(rate, true, seconds, 32, false));
+        row.dry_per_s_vacuum = std::min(row.dry_per_s_vacuum, time_render(0.0, true, seconds, 32, false));
     }
     return row;
 }
 
-}  // namespace
+struct Heavy {
+    double drops_per_s = 0.0, mean = 0.0, p999 = 0.0, worst = 0.0;   // loads as fractions of the block period
+    double full_drops = 0.0, priced_out = 0.0;
+};
 
-SceneDescription heavy_rain_bench_scene() {
-    SceneDescription scene = *builtin_scene("umbrella");
-    scene.rain.rate_mm_per_h = 50.0;
-    SurfaceDescription pond;
-    pond.name = "pond";
-    pond.kind = SurfaceKind::water;
-    pond.material = "pond";
-    pond.size_x_m = 4.0;
-    pond.size_y_m = 3.0;
-    pond.x_m = 3.0;
-    scene.surfaces.push_back(pond);
-    return scene;
-}
-
-int run_scene_bench(const BenchOptions& options, const CommandIo& io) {
-    const double seconds = std::clamp(options.seconds * 4.0, 1.0, 20.0);   // audio seconds per measurement
-    io.err << "ameoto bench scene: the dry umbrella, then each tier forced, then heavy rain with a pond ("
-           << seconds << " s of audio each)...\n";
-    // Each tier against the dry scene measured right before it (the machine's load drifts), median of 3.
-    auto median3 = [](double a, double b, double c) { return std::max(std::min(a, b), std::min(std::max(a, b), c)); };
-    const Run dry = run_umbrella(0.0, 6.0, 20.0, 4, 0.2, seconds);
-    const double dry_share = dry.cpu_s / seconds;
-    struct Tier {
-        const char* name;
-        double rate, full_db, margin_db;
-        int max_full;
-        Run run;
-        double ns_per_drop = 0.0, drops_per_s_on_a_core = 0.0;
-    };
-    std::vector<Tier> tiers = {{"full", 0.3, -1000.0, 20.0, 64, {}},
-                               {"template", 200.0, 1000.0, 1000.0, 0, {}},
-                               {"texture", 200.0, 1000.0, -1000.0, 0, {}}};
-    for (Tier& t : tiers) {
-        double extra[3];
-        for (double& e : extra) {
-            const Run base = run_umbrella(0.0, 6.0, 20.0, 4, 0.2, seconds / 2);
-            t.run = run_umbrella(t.rate, t.full_db, t.margin_db, t.max_full, 1.0, seconds / 2);
-            e = t.run.cpu_s - base.cpu_s;
-        }
-        t.run.cpu_s = median3(extra[0], extra[1], extra[2]) + dry.cpu_s / 2;
-        t.run.drops *= 2.0;   // per `seconds`, as the dry run
-        t.run.cpu_s *= 2.0;
-        // A cost under the noise of the machine (the dry scene measured again) is reported as none (0).
-        const double per_drop = std::max(t.run.cpu_s - dry.cpu_s, 0.0) / std::max(t.run.drops, 1.0);
-        t.ns_per_drop = per_drop * 1e9;
-        t.drops_per_s_on_a_core = per_drop > 0.0 ? (1.0 - dry_share) / per_drop : 0.0;
-    }
-
-    // Heavy rain: the umbrella and a pond at 50 mm/h, 64-frame blocks, the governor on measured load.
-    const SceneDescription scene = heavy_rain_bench_scene();
+// Heavy rain: the umbrella (in air or in vacuum) and a pond at 50 mm/h, 64-frame blocks, the governor on
+// measured load, `seconds` of audio timed after a 1 s ramp-in.
+Heavy heavy_rain(bool air, double seconds) {
+    SceneDescription scene = heavy_rain_bench_scene();
+    scene.surfaces[0].air = air;
     RendererConfig base;
     base.sample_rate = bench_sample_rate;
     base.channels = 2;
@@ -168,17 +134,74 @@ int run_scene_bench(const BenchOptions& options, const CommandIo& io) {
         heavy.set_measured_load(load);
         loads.push_back(load);
     }
-    const double heavy_drops_per_s = static_cast<double>(heavy.stats().drops + heavy.stats().surface_drops - drops0) / seconds;
-    double mean = 0.0;
-    for (double l : loads) mean += l;
-    mean /= static_cast<double>(loads.size());
-    std::vector<double> sorted = loads;
-    std::sort(sorted.begin(), sorted.end());
-    const double p999 = sorted[std::min(sorted.size() - 1, static_cast<std::size_t>(0.999 * static_cast<double>(sorted.size())))];
-    const double worst = sorted.back();
+    Heavy h;
+    h.drops_per_s = static_cast<double>(heavy.stats().drops + heavy.stats().surface_drops - drops0) / seconds;
+    for (double l : loads) h.mean += l;
+    h.mean /= static_cast<double>(loads.size());
+    std::sort(loads.begin(), loads.end());
+    h.p999 = loads[std::min(loads.size() - 1, static_cast<std::size_t>(0.999 * static_cast<double>(loads.size())))];
+    h.worst = loads.back();
     // What the governor let through: lattice drops admitted, and those its price turned into templates.
-    const auto full_drops = static_cast<double>(heavy.stats().rain_tiers.full - full0);
-    const auto priced_out = static_cast<double>(heavy.stats().rain_tiers.priced_out - priced0);
+    h.full_drops = static_cast<double>(heavy.stats().rain_tiers.full - full0);
+    h.priced_out = static_cast<double>(heavy.stats().rain_tiers.priced_out - priced0);
+    return h;
+}
+
+}  // namespace
+
+SceneDescription heavy_rain_bench_scene() {
+    SceneDescription scene = *builtin_scene("umbrella");
+    scene.rain.rate_mm_per_h = 50.0;
+    SurfaceDescription pond;
+    pond.name = "pond";
+    pond.kind = SurfaceKind::water;
+    pond.material = "pond";
+    pond.size_x_m = 4.0;
+    pond.size_y_m = 3.0;
+    pond.x_m = 3.0;
+    scene.surfaces.push_back(pond);
+    return scene;
+}
+
+int run_scene_bench(const BenchOptions& options, const CommandIo& io) {
+    const double seconds = std::clamp(options.seconds * 4.0, 1.0, 20.0);   // audio seconds per measurement
+    io.err << "ameoto bench scene: the dry umbrella, then each tier forced, then heavy rain with a pond ("
+           << seconds << " s of audio each)...\n";
+    // Each tier against the dry scene measured right before it (the machine's load drifts), median of 3.
+    auto median3 = [](double a, double b, double c) { return std::max(std::min(a, b), std::min(std::max(a, b), c)); };
+    const Run dry = run_umbrella(0.0, 6.0, 20.0, 4, 0.2, seconds);
+    const double dry_share = dry.cpu_s / seconds;
+    const double dry_share_vacuum = run_umbrella(0.0, 6.0, 20.0, 4, 0.2, seconds, false).cpu_s / seconds;
+    struct Tier {
+        const char* name;
+        double rate, full_db, margin_db;
+        int max_full;
+        Run run;
+        double ns_per_drop = 0.0, drops_per_s_on_a_core = 0.0;
+    };
+    std::vector<Tier> tiers = {{"full", 0.3, -1000.0, 20.0, 64, {}},
+                               {"template", 200.0, 1000.0, 1000.0, 0, {}},
+                               {"texture", 200.0, 1000.0, -1000.0, 0, {}}};
+    for (Tier& t : tiers) {
+        double extra[3];
+        for (double& e : extra) {
+            const Run base = run_umbrella(0.0, 6.0, 20.0, 4, 0.2, seconds / 2);
+            t.run = run_umbrella(t.rate, t.full_db, t.margin_db, t.max_full, 1.0, seconds / 2);
+            e = t.run.cpu_s - base.cpu_s;
+        }
+        t.run.cpu_s = median3(extra[0], extra[1], extra[2]) + dry.cpu_s / 2;
+        t.run.drops *= 2.0;   // per `seconds`, as the dry run
+        t.run.cpu_s *= 2.0;
+        // A cost under the noise of the machine (the dry scene measured again) is reported as none (0).
+        const double per_drop = std::max(t.run.cpu_s - dry.cpu_s, 0.0) / std::max(t.run.drops, 1.0);
+        t.ns_per_drop = per_drop * 1e9;
+        t.drops_per_s_on_a_core = per_drop > 0.0 ? (1.0 - dry_share) / per_drop : 0.0;
+    }
+
+    const Heavy heavy = heavy_rain(true, seconds);
+    const Heavy heavy_vacuum = heavy_rain(false, seconds);
+    const double heavy_drops_per_s = heavy.drops_per_s, mean = heavy.mean, p999 = heavy.p999, worst = heavy.worst;
+    const double full_drops = heavy.full_drops, priced_out = heavy.priced_out;
 
     // Offline renders (ameoto render scene's work): the default scene at its own rate, and heavy rain.
     const RenderRow renders[] = {render_row(builtin_scene("umbrella")->rain.rate_mm_per_h, 20.0, seconds),
@@ -191,8 +214,11 @@ int run_scene_bench(const BenchOptions& options, const CommandIo& io) {
                    << json_number(1.0 / r.per_s_before) << ",\"speedup\":" << json_number(r.per_s_before / r.per_s)
                    << ",\"dry_share\":" << json_number(r.dry_per_s / r.per_s) << ",\"target\":" << json_number(r.target)
                    << ",\"realtime_factor_avx512\":" << json_number(1.0 / r.per_s_avx512) << ",\"dry_percent_core\":"
-                   << json_number(100.0 * r.dry_per_s) << ",\"dry_percent_core_avx512\":" << json_number(100.0 * r.dry_per_s_avx512) << "}\n";
-        io.out << "{\"suite\":\"scene\",\"measurement\":\"dry umbrella\",\"percent_core\":" << json_number(100.0 * dry_share) << "}\n";
+                   << json_number(100.0 * r.dry_per_s) << ",\"dry_percent_core_avx512\":" << json_number(100.0 * r.dry_per_s_avx512)
+                   << ",\"realtime_factor_vacuum\":" << json_number(1.0 / r.per_s_vacuum) << ",\"dry_percent_core_vacuum\":"
+                   << json_number(100.0 * r.dry_per_s_vacuum) << "}\n";
+        io.out << "{\"suite\":\"scene\",\"measurement\":\"dry umbrella\",\"percent_core\":" << json_number(100.0 * dry_share)
+               << ",\"percent_core_vacuum\":" << json_number(100.0 * dry_share_vacuum) << "}\n";
         for (const Tier& t : tiers)
             io.out << "{\"suite\":\"scene\",\"measurement\":\"tier\",\"tier\":" << json_string(t.name) << ",\"rain_mm_per_h\":"
                    << json_number(t.rate) << ",\"drops_per_s\":" << json_number(t.run.drops / seconds)
@@ -202,12 +228,16 @@ int run_scene_bench(const BenchOptions& options, const CommandIo& io) {
                << json_number(heavy_drops_per_s) << ",\"block_frames\":64,\"mean_percent\":" << json_number(100.0 * mean)
                << ",\"p999_percent\":" << json_number(100.0 * p999) << ",\"max_percent\":" << json_number(100.0 * worst)
                << ",\"full_drops\":" << json_number(full_drops) << ",\"priced_out\":" << json_number(priced_out)
-               << ",\"target_mean_percent\":25,\"target_p999_percent\":60}\n";
+               << ",\"target_mean_percent\":25,\"target_p999_percent\":60,\"mean_percent_vacuum\":"
+               << json_number(100.0 * heavy_vacuum.mean) << ",\"p999_percent_vacuum\":" << json_number(100.0 * heavy_vacuum.p999)
+               << ",\"max_percent_vacuum\":" << json_number(100.0 * heavy_vacuum.worst) << "}\n";
         return exit_status::ok;
     }
     char line[400];
-    std::snprintf(line, sizeof line, "umbrella scene, 48 kHz stereo; the dry scene (canopy, far field) takes %.1f %% of a core\n",
-                  100.0 * dry_share);
+    std::snprintf(line, sizeof line,
+                  "umbrella scene, 48 kHz stereo; the dry scene (canopy in air, far field) takes %.1f %% of a core; in vacuum (the "
+                  "model before) %.1f %%: %.2f x its cost\n",
+                  100.0 * dry_share, 100.0 * dry_share_vacuum, dry_share / dry_share_vacuum);
     io.out << line;
     std::snprintf(line, sizeof line, "%-10s %10s %12s %14s %22s\n", "tier", "mm/h", "drops/s", "CPU ns/drop", "drops/s on one core");
     io.out << line;
@@ -229,8 +259,15 @@ int run_scene_bench(const BenchOptions& options, const CommandIo& io) {
     std::snprintf(line, sizeof line, "  worst block %.1f %%; lattice drops admitted %.0f, priced out by the governor %.0f\n", 100.0 * worst,
                   full_drops, priced_out);
     io.out << line;
-    io.out << "offline render (ameoto render scene's work: the default umbrella scene, seed 1, 4096-frame blocks, its build\n"
-              "not counted; least of 3 rounds of: with settling, the model before it, the dry scene):\n";
+    std::snprintf(line, sizeof line,
+                  "  the umbrella in vacuum (the model before air), same rain: mean %.1f %%, 99.9th percentile %.1f %%, worst %.1f %%; "
+                  "lattice drops admitted %.0f, priced out %.0f\n",
+                  100.0 * heavy_vacuum.mean, 100.0 * heavy_vacuum.p999, 100.0 * heavy_vacuum.worst, heavy_vacuum.full_drops,
+                  heavy_vacuum.priced_out);
+    io.out << line;
+    io.out << "offline render (ameoto render scene's work: the default umbrella scene, its canopy in air, seed 1, 4096-frame\n"
+              "blocks, its build not counted; least of 3 rounds of: with settling, the model before it, the dry scene, the same\n"
+              "in vacuum):\n";
     for (const RenderRow& r : renders) {
         std::snprintf(line, sizeof line,
                       "  %4.0f mm/h: %.1f x real time (target %.0f: %s); before settling %.1f x, so %.2f x faster; the dry "
@@ -242,6 +279,11 @@ int run_scene_bench(const BenchOptions& options, const CommandIo& io) {
                       "             the canopy's opt-in AVX-512 kernels (same bits), same rounds: %.1f x (%.2f of the default's "
                       "time); the dry scene %.1f %% of a core (AVX-512 %.1f %%)\n",
                       1.0 / r.per_s_avx512, r.per_s_avx512 / r.per_s, 100.0 * r.dry_per_s, 100.0 * r.dry_per_s_avx512);
+        io.out << line;
+        std::snprintf(line, sizeof line,
+                      "             the umbrella in vacuum (the model before air), same rounds: %.1f x real time (air is %.2f x "
+                      "faster); its dry scene %.1f %% of a core\n",
+                      1.0 / r.per_s_vacuum, r.per_s_vacuum / r.per_s, 100.0 * r.dry_per_s_vacuum);
         io.out << line;
     }
     return exit_status::ok;

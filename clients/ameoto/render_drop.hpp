@@ -39,7 +39,7 @@ struct RenderDropOptions {
     std::optional<OutputFormat> format; // --format: ring:1 (mono), ears (the default for 2), stereo, ring:N, ambix:N
     int coarse_steps = 4;               // 1..64: samples a splash in the air may take as one (1: never)
     ImpactModel impact = ImpactModel::wet;   // --impact wet|seed (engine/models/wet_impact.hpp)
-    bool air = false;                   // --air on|off: the canopy's modes in air heard as dipoles
+    bool air = true;                    // --air on|off: the canopy's modes in air heard as dipoles
                                         // (engine/models/air_canopy.hpp), or the lattice in vacuum, baffled
     bool quiet = false;
     std::string wav_path;               // -o, required

@@ -80,6 +80,12 @@ void AirCanopyState::init(const AirCanopyModes& m) {
     a_.assign(n, 0.0);
     omega2_.resize(n);
     for (std::size_t k = 0; k < n; ++k) omega2_[k] = m.omega[static_cast<Eigen::Index>(k)] * m.omega[static_cast<Eigen::Index>(k)];
+    const auto nodes = static_cast<std::size_t>(m.nodes);
+    u_.assign(nodes, 0.0);
+    v_.assign(nodes, 0.0);
+    u_stamp_.assign(nodes, 0);
+    v_stamp_.assign(nodes, 0);
+    steps_ = 1;
 }
 
 namespace {
@@ -105,6 +111,7 @@ void advance_air_modes(std::size_t modes, double* __restrict q, double* __restri
 void AirCanopyState::step(const AirCanopyModes& m) {
     advance_air_modes(static_cast<std::size_t>(m.modes), q_.data(), qd_.data(), p_.data(), a_.data(), m.t11.data(), m.t12.data(),
                       m.t21.data(), m.t22.data(), m.time_step_s, 1.0 / m.time_step_s);
+    ++steps_;   // q and q' moved: the readings kept are stale
 }
 
 bool AirCanopyState::finite() const {
@@ -116,6 +123,7 @@ bool AirCanopyState::finite() const {
 void AirCanopyState::reset() {
     for (auto* v : {&q_, &qd_, &p_, &a_})
         for (double& x : *v) x = 0.0;
+    ++steps_;
 }
 
 // sum_k max_i |phi_ik| |x_k| >= |sum_k phi_ik x_k| at every node i (the triangle inequality).

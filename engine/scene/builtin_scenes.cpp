@@ -26,7 +26,9 @@ std::optional<SceneDescription> builtin_scene(std::string_view name) {
     };
     // The listener stands at the origin, ears at 1.6 m; the umbrella is held over the head (its shaft
     // top 0.3 m above the ears, as the renderer's canopy listener).
-    const SurfaceDescription umbrella = surface("umbrella", SurfaceKind::umbrella, "nylon", 1.0, 1.0, 0.0, 0.0, 1.9);
+    // The canopy in air (docs/canopy-air.md): the air's mass on the fabric and its unbaffled radiation.
+    SurfaceDescription umbrella = surface("umbrella", SurfaceKind::umbrella, "nylon", 1.0, 1.0, 0.0, 0.0, 1.9);
+    umbrella.air = true;
     if (name == "umbrella") {
         s.rain.rate_mm_per_h = 2.0;
         s.surfaces = {umbrella};

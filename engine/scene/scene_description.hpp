@@ -37,6 +37,10 @@
 //   output format=F                      the output format the scene asks for when a stream starts with it
 //                                        and no --format is given (scene/output_format.hpp: stereo, ears,
 //                                        ring:N, ambix:N, binaural); a running stream keeps its format
+// Version 5 adds no key; it changes one default: an umbrella without an air key is in air (its canopy's
+// air-loaded modes heard as dipoles, docs/canopy-air.md), where in versions 1-4 it is in vacuum, so a file
+// written before keeps its sound. format_scene writes air=on whenever it is on, and so never needs 5:
+//   surface NAME kind=umbrella ... [air=on|off] [impact=wet|seed]
 // Keys after the first word are key=value pairs in any order; unknown keys, repeated keys, missing
 // required keys and values out of range are errors naming the line and the key. A later version
 // number is refused (the file needs a newer ameoto); lines are at most 1024 characters, files at most
@@ -70,8 +74,9 @@ struct SurfaceDescription {
     int panels = 8;                      // umbrella only
     int node = 1;                        // the node that renders it, 1..max_scene_nodes (version 3)
     bool air = false;                    // umbrella only: air=on|off, the canopy in air (its air-loaded
-                                         // modes heard as dipoles) or in vacuum, baffled (the seed's;
-                                         // the default until air meets its 3 dB, docs/canopy-air.md)
+                                         // modes heard as dipoles) or in vacuum, baffled (the seed's).
+                                         // The built-in scenes, version-5 files and `render drop` put
+                                         // it in air; a description built in code says so itself
     ImpactModel impact = ImpactModel::wet;   // umbrella only: impact=wet|seed, how a drop meets the canopy:
                                          // as a liquid (impulse m V, spreading; docs/impacts.md) or the
                                          // seed's elastic exchange (twice that impulse)
@@ -115,7 +120,10 @@ struct SceneDescription {
     bool operator==(const SceneDescription&) const = default;
 };
 
-inline constexpr int scene_format_version = 4;   // the newest this ameoto reads (and writes when needed)
+inline constexpr int scene_format_version = 5;   // the newest this ameoto reads (and writes when needed)
+// From version 5 on an umbrella is in air unless its line says air=off; in versions 1-4 it is in vacuum
+// unless it says air=on (a file written before air was the default keeps the sound it was made with).
+inline constexpr int scene_air_default_version = 5;
 inline constexpr int max_scene_surfaces = 16;
 inline constexpr int max_scene_nodes = 16;
 inline constexpr std::size_t max_scene_line = 1024;

@@ -126,7 +126,7 @@ SceneDescription parse_scene(std::string_view text, const std::string& file) {
             }
             if (version > scene_format_version)
                 throw SceneFileError(file, number, "version",
-                                     "version " + std::to_string(version) + " needs a newer ameoto (this one reads versions 1 to 4)");
+                                     "version " + std::to_string(version) + " needs a newer ameoto (this one reads versions 1 to " + std::to_string(scene_format_version) + ")");
             if (version < 1) throw SceneFileError(file, number, "version", "version " + std::to_string(version) + " does not exist");
             have_header = true;
             file_version = version;
@@ -226,7 +226,7 @@ SceneDescription parse_scene(std::string_view text, const std::string& file) {
                 const double panels = r.number("panels", 8, panels_range, "");
                 if (panels != std::floor(panels)) r.fail("panels", "is not a whole number");
                 f.panels = static_cast<int>(panels);
-                const std::string air = r.text("air", "off");
+                const std::string air = r.text("air", file_version >= scene_air_default_version ? "on" : "off");
                 if (air != "on" && air != "off") r.fail("air", "'" + air + "' is not on or off");
                 f.air = air == "on";
                 const std::string impact = r.text("impact", "wet");
@@ -255,7 +255,8 @@ std::string format_scene(const SceneDescription& s) {
     using namespace scene_fields;
     std::ostringstream out;
     // Older readers load what needs nothing new: version 3 only for surfaces on other nodes, 2 for accuracy
-    // or a gain.
+    // or a gain. An umbrella's air is written whenever it is on (the default of versions 1-4 is off), so
+    // no file written here needs version 5.
     const bool nodes = std::any_of(s.surfaces.begin(), s.surfaces.end(), [](const SurfaceDescription& f) { return f.node != 1; });
     out << "ameoto-scene " << (!s.output_format.empty() ? 4 : nodes ? 3 : s.accuracy || s.gain_db != 0.0 ? 2 : 1) << "\n";
     out << "# written by ameoto; units: rate mm/h, wind m/s, direction and facing degrees, sizes and positions m,\n";
@@ -274,7 +275,7 @@ std::string format_scene(const SceneDescription& s) {
             << " y=" << number(f.y_m) << " z=" << number(f.z_m);
         if (f.kind == SurfaceKind::umbrella) out << " panels=" << f.panels;
         if (f.node != 1) out << " node=" << f.node;
-        if (f.kind == SurfaceKind::umbrella && f.air) out << " air=on";   // off is the default
+        if (f.kind == SurfaceKind::umbrella && f.air) out << " air=on";   // off is versions 1-4's default
         if (f.kind == SurfaceKind::umbrella && f.impact != ImpactModel::wet) out << " impact=" << impact_model_name(f.impact);
         out << "\n";
     }

@@ -176,7 +176,8 @@ TEST_CASE("SuperCollider: a Score written with Score.write renders with ameoto r
     INFO("sclang printed:\n" << run.out);
     REQUIRE(run.exit_code == 0);
     auto render = [](const std::string& path, const std::string& wav) {
-        const ProgramRun r = run_program({ameoto_bin, "render", "score", path, "-o", wav, "--rain", "0", "--channels", "1", "--quiet"}, 60s);
+        const ProgramRun r = run_program(
+            {ameoto_bin, "render", "score", path, "-o", wav, "--scene", sharp_onset_scene(), "--rain", "0", "--channels", "1", "--quiet"}, 60s);
         INFO("ameoto printed: " << r.out << r.err);
         REQUIRE(r.exit_code == 0);
         const WavData w = read_wav(wav);

@@ -81,7 +81,7 @@ TEST_CASE("scene file: format then parse gives the same scene, for every built-i
 TEST_CASE("scene file: errors name the file, the line and the field, and say why") {
     CHECK(error_of("") == "test.scene: empty: no 'ameoto-scene 1' line");
     CHECK(error_of("hello\n").find("not an ameoto scene file") != std::string::npos);
-    CHECK(error_of("ameoto-scene 5\n") == "test.scene:1: version: version 5 needs a newer ameoto (this one reads versions 1 to 4)");
+    CHECK(error_of("ameoto-scene 6\n") == "test.scene:1: version: version 6 needs a newer ameoto (this one reads versions 1 to 5)");
     CHECK(error_of("ameoto-scene x\n").find("not a version number") != std::string::npos);
     CHECK(error_of("ameoto-scene 1\nrain rate=900\n") == "test.scene:2: rate: 900 mm/h is outside 0..500");
     CHECK(error_of("ameoto-scene 1\nrain rate=abc\n") == "test.scene:2: rate: 'abc' is not a number");
@@ -190,9 +190,24 @@ TEST_CASE("scene file: a subnormal value format_scene writes reads back (found b
     CHECK(error_of("ameoto-scene 1\nrain rate=1x\n") == "test.scene:2: rate: '1x' is not a number");
 }
 
-TEST_CASE("scene file: the umbrella's air key: on, off (the default), anything else refused with its line") {
+TEST_CASE("scene file: the umbrella's air key: on, off (the default before version 5, on from 5), anything else refused with its line") {
     const std::string head = "ameoto-scene 1\nsurface u kind=umbrella material=nylon size=1 z=1.9";
     CHECK_FALSE(parse_scene(head + "\n", "test.scene").surfaces[0].air);
+    // The default: off in versions 1-4 (a file made before keeps its sound), on from version 5.
+    for (int version = 1; version <= 5; ++version) {
+        const std::string v = "ameoto-scene " + std::to_string(version) + "\nsurface u kind=umbrella material=nylon size=1 z=1.9";
+        CHECK(parse_scene(v + "\n", "test.scene").surfaces[0].air == (version >= 5));
+        CHECK(parse_scene(v + " air=on\n", "test.scene").surfaces[0].air);
+        CHECK_FALSE(parse_scene(v + " air=off\n", "test.scene").surfaces[0].air);
+    }
+    // The built-in scenes' umbrellas are in air, and a saved copy keeps them there (written as version 1).
+    for (const std::string name : {"umbrella", "street"}) {
+        const SceneDescription b = *builtin_scene(name);
+        CHECK(b.surfaces[0].kind == SurfaceKind::umbrella);
+        CHECK(b.surfaces[0].air);
+        CHECK(format_scene(b).rfind("ameoto-scene 1\n", 0) == 0);
+        CHECK(parse_scene(format_scene(b), "saved.scene") == b);
+    }
     CHECK(parse_scene(head + " air=on\n", "test.scene").surfaces[0].air);
     CHECK_FALSE(parse_scene(head + " air=off\n", "test.scene").surfaces[0].air);
     CHECK(error_of(head + " air=yes\n") == "test.scene:2: air: 'yes' is not on or off");
