@@ -34,17 +34,20 @@
 // kept modes, so the node's contact mass is 1 / sum_k phi_ik^2: heavier than its structural mass, as
 // the air next to it moves with it.
 
+#include <cstdint>
 #include <memory>
 #include <vector>
 
 #include <Eigen/Dense>
 
+#include "engine/core/lane_sums.hpp"
 #include "engine/core/physical_constants.hpp"
 #include "engine/models/air_loading.hpp"
 
 namespace ameoto {
 
 class Canopy;
+struct AirKernels;
 
 struct AirCanopyOptions {
     double air_density = constants::air_density;            // rho0, kg/m^3
@@ -86,28 +89,46 @@ public:
         for (int k = 0; k < n; ++k) p[k] += newtons * row[k];
     }
     void step(const AirCanopyModes& m);
-    double displacement(const AirCanopyModes& m, int node) const { return dot_row(m, node, q_.data()); }
-    double velocity(const AirCanopyModes& m, int node) const { return dot_row(m, node, qd_.data()); }
+    // A node's reading costs a sum over the modes; the collisions read the same nodes many times a step
+    // (every mass of a lattice drop near the membrane), so each is kept until the next step or reset.
+    double displacement(const AirCanopyModes& m, int node) const { return cached(m, node, q_, u_, u_stamp_); }
+    double velocity(const AirCanopyModes& m, int node) const { return cached(m, node, qd_, v_, v_stamp_); }
     const double* accelerations() const { return a_.data(); }   // per mode, m/s^2 per unit of q
     // sum_k max_i |phi_ik| |q_k| >= |u_i| at every node: the collision broad phase's bound, O(modes)
     // where the exact extremes would cost O(nodes x modes).
-    double displacement_bound(const AirCanopyModes& m) const { return shape_bound(m, q_); }
+    double displacement_bound(const AirCanopyModes& m) const { return bound(m, q_, bounds_[0], bound_stamp_[0]); }
     // sum_k max_i |phi_ik| |q_k'| >= |du_i/dt| at every node, likewise: the drop's coarse-step floor
     // (drop_on_canopy_collide.cpp) needs only a bound on the fastest node.
-    double velocity_bound(const AirCanopyModes& m) const { return shape_bound(m, qd_); }
+    double velocity_bound(const AirCanopyModes& m) const { return bound(m, qd_, bounds_[1], bound_stamp_[1]); }
     bool finite() const;
     void reset();
     double energy() const;   // J: 1/2 sum (q'^2 + w^2 q^2), the membrane's and the air's near field
 
 private:
-    static double shape_bound(const AirCanopyModes& m, const std::vector<double>& x);
-    static double dot_row(const AirCanopyModes& m, int node, const double* x) {
-        const double* row = m.shape.data() + static_cast<std::size_t>(node) * static_cast<std::size_t>(m.modes);
-        double s = 0.0;
-        for (int k = 0; k < m.modes; ++k) s += row[k] * x[k];
-        return s;
+    double cached(const AirCanopyModes& m, int node, const std::vector<double>& x, std::vector<double>& value,
+                  std::vector<std::uint64_t>& stamp) const {
+        const auto i = static_cast<std::size_t>(node);
+        if (stamp[i] != steps_) {
+            value[i] = lane_sums::dot(m.shape.data() + i * static_cast<std::size_t>(m.modes), x.data(), x.size());
+            stamp[i] = steps_;
+        }
+        return value[i];
+    }
+    double bound(const AirCanopyModes& m, const std::vector<double>& x, double& value, std::uint64_t& stamp) const {
+        if (stamp != steps_) {
+            value = lane_sums::abs_dot(m.largest_shape.data(), x.data(), x.size());
+            stamp = steps_;
+        }
+        return value;
     }
     std::vector<double> q_, qd_, p_, a_, omega2_;
+    const AirKernels* kernels_ = nullptr;   // air_canopy_kernels.hpp, chosen by init()
+    // The readings of this step (steps_ counts steps and resets from 1; a stamp of 0 is never current).
+    std::uint64_t steps_ = 1;
+    mutable std::vector<double> u_, v_;
+    mutable std::vector<std::uint64_t> u_stamp_, v_stamp_;
+    mutable double bounds_[2] = {0.0, 0.0};
+    mutable std::uint64_t bound_stamp_[2] = {0, 0};
 };
 
 }  // namespace ameoto
