@@ -149,7 +149,11 @@ Timetag Timetag::from_unix_seconds(double unix_seconds) {
 OscArgument OscArgument::from_float(float v) {
     OscArgument a;
     a.type = 'f';
-    a.number = v;
+    // As typed, as decode_message reads an 'f' off the wire: an argument means the same number whether it
+    // was built here or received. A text score's "/drop 3 0 0.15 0.05" (render score) otherwise put the drop
+    // at x = 0.15000000596 m where ameotod, sent the same float, puts it at 0.15 m: the drop's masses round
+    // differently from the first step, and the two renders of one score part in the last bits.
+    a.number = float_as_typed(v);
     return a;
 }
 OscArgument OscArgument::from_int(std::int32_t v) {

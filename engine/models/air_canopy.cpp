@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "engine/core/integrators/mode_decay.hpp"
+#include "engine/models/air_canopy_kernels.hpp"
 #include "engine/models/air_loading.hpp"
 #include "engine/models/canopy.hpp"
 
@@ -79,39 +80,20 @@ void AirCanopyState::init(const AirCanopyModes& m) {
     p_.assign(n, 0.0);
     a_.assign(n, 0.0);
     omega2_.resize(n);
-    for (std::size_t k = 0; k < n; ++k) omega2_[k] = m.omega[static_cast<Eigen::Index>(k)] * m.omega[static_cast<Eigen::Index>(k)];
     const auto nodes = static_cast<std::size_t>(m.nodes);
     u_.assign(nodes, 0.0);
     v_.assign(nodes, 0.0);
     u_stamp_.assign(nodes, 0);
     v_stamp_.assign(nodes, 0);
     steps_ = 1;
+    kernels_ = &air_kernels();   // chosen here, in the build phase: the first call initialises a static
+    for (std::size_t k = 0; k < n; ++k) omega2_[k] = m.omega[static_cast<Eigen::Index>(k)] * m.omega[static_cast<Eigen::Index>(k)];
 }
-
-namespace {
-
-// Kick q' += T p, then the exact transition (modal.cpp's advance_modes); a = (q'[n+1] - q'[n]) / T, the
-// step's mean acceleration (what the radiation reads, dipole_radiation.hpp). Restrict: the loop vectorises.
-void advance_air_modes(std::size_t modes, double* __restrict q, double* __restrict qd, double* __restrict p,
-                       double* __restrict a, const double* __restrict a11, const double* __restrict a12,
-                       const double* __restrict a21, const double* __restrict a22, double t, double inverse_t) {
-    for (std::size_t k = 0; k < modes; ++k) {
-        const double kicked = qd[k] + t * p[k];
-        const double q_next = a11[k] * q[k] + a12[k] * kicked;
-        const double qd_next = a21[k] * q[k] + a22[k] * kicked;
-        a[k] = (qd_next - qd[k]) * inverse_t;
-        q[k] = q_next;
-        qd[k] = qd_next;
-        p[k] = 0.0;
-    }
-}
-
-}  // namespace
 
 void AirCanopyState::step(const AirCanopyModes& m) {
-    advance_air_modes(static_cast<std::size_t>(m.modes), q_.data(), qd_.data(), p_.data(), a_.data(), m.t11.data(), m.t12.data(),
-                      m.t21.data(), m.t22.data(), m.time_step_s, 1.0 / m.time_step_s);
-    ++steps_;   // q and q' moved: the readings kept are stale
+    kernels_->advance(static_cast<std::size_t>(m.modes), q_.data(), qd_.data(), p_.data(), a_.data(), m.t11.data(), m.t12.data(),
+                          m.t21.data(), m.t22.data(), m.time_step_s, 1.0 / m.time_step_s);
+    ++steps_;
 }
 
 bool AirCanopyState::finite() const {
@@ -124,13 +106,6 @@ void AirCanopyState::reset() {
     for (auto* v : {&q_, &qd_, &p_, &a_})
         for (double& x : *v) x = 0.0;
     ++steps_;
-}
-
-// sum_k max_i |phi_ik| |x_k| >= |sum_k phi_ik x_k| at every node i (the triangle inequality).
-double AirCanopyState::shape_bound(const AirCanopyModes& m, const std::vector<double>& x) {
-    double b = 0.0;
-    for (std::size_t k = 0; k < x.size(); ++k) b += m.largest_shape[k] * std::abs(x[k]);
-    return b;
 }
 
 double AirCanopyState::energy() const {

@@ -40,12 +40,14 @@
 
 #include <Eigen/Dense>
 
+#include "engine/core/lane_sums.hpp"
 #include "engine/core/physical_constants.hpp"
 #include "engine/models/air_loading.hpp"
 
 namespace ameoto {
 
 class Canopy;
+struct AirKernels;
 
 struct AirCanopyOptions {
     double air_density = constants::air_density;            // rho0, kg/m^3
@@ -87,11 +89,10 @@ public:
         for (int k = 0; k < n; ++k) p[k] += newtons * row[k];
     }
     void step(const AirCanopyModes& m);
-    // A node's reading is a sum over the modes (400 for the default canopy); the collisions read the same
-    // nodes many times a step (every mass of a lattice drop near the membrane: a 5 mm drop's breakup makes
-    // about 30 contacts a sample on a few nodes), so each reading is kept until the next step or reset.
-    // The sum is the same chain either way: the bits do not change. (Not for two threads at once: the
-    // audio thread, or one build thread, owns a state.)
+    // A node's reading costs a sum over the modes; the collisions read the same nodes many times a step
+    // (every mass of a lattice drop near the membrane: a 5 mm drop's breakup makes about 30 contacts a
+    // sample on a few nodes), so each is kept until the next step or reset. (One thread owns a state: the
+    // audio thread, or the build thread before it.)
     double displacement(const AirCanopyModes& m, int node) const { return cached(m, node, q_, u_, u_stamp_); }
     double velocity(const AirCanopyModes& m, int node) const { return cached(m, node, qd_, v_, v_stamp_); }
     const double* accelerations() const { return a_.data(); }   // per mode, m/s^2 per unit of q
@@ -106,36 +107,30 @@ public:
     double energy() const;   // J: 1/2 sum (q'^2 + w^2 q^2), the membrane's and the air's near field
 
 private:
-    static double shape_bound(const AirCanopyModes& m, const std::vector<double>& x);
-    static double dot_row(const AirCanopyModes& m, int node, const double* x) {
-        const double* row = m.shape.data() + static_cast<std::size_t>(node) * static_cast<std::size_t>(m.modes);
-        double s = 0.0;
-        for (int k = 0; k < m.modes; ++k) s += row[k] * x[k];
-        return s;
-    }
     double cached(const AirCanopyModes& m, int node, const std::vector<double>& x, std::vector<double>& value,
                   std::vector<std::uint64_t>& stamp) const {
         const auto i = static_cast<std::size_t>(node);
         if (stamp[i] != steps_) {
-            value[i] = dot_row(m, node, x.data());
+            value[i] = lane_sums::dot(m.shape.data() + i * static_cast<std::size_t>(m.modes), x.data(), x.size());
             stamp[i] = steps_;
         }
         return value[i];
     }
     double bound(const AirCanopyModes& m, const std::vector<double>& x, double& value, std::uint64_t& stamp) const {
         if (stamp != steps_) {
-            value = shape_bound(m, x);
+            value = lane_sums::abs_dot(m.largest_shape.data(), x.data(), x.size());
             stamp = steps_;
         }
         return value;
     }
     std::vector<double> q_, qd_, p_, a_, omega2_;
-    // This step's readings: steps_ counts steps and resets from 1, so a stamp of 0 is never current.
+    const AirKernels* kernels_ = nullptr;   // air_canopy_kernels.hpp, chosen by init()
+    // The readings of this step (steps_ counts steps and resets from 1; a stamp of 0 is never current).
+    std::uint64_t steps_ = 1;
     mutable std::vector<double> u_, v_;
     mutable std::vector<std::uint64_t> u_stamp_, v_stamp_;
-    mutable double bounds_[2] = {0.0, 0.0};            // displacement, velocity
+    mutable double bounds_[2] = {0.0, 0.0};
     mutable std::uint64_t bound_stamp_[2] = {0, 0};
-    std::uint64_t steps_ = 1;
 };
 
 }  // namespace ameoto

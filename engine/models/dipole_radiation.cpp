@@ -2,6 +2,8 @@
 // The air-loaded canopy's unbaffled (dipole) radiation: see dipole_radiation.hpp for the equations.
 #include "engine/models/dipole_radiation.hpp"
 
+#include "engine/models/air_canopy_kernels.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <complex>
@@ -110,6 +112,7 @@ DipoleRadiation::DipoleRadiation(const Canopy& canopy, const ListenerLayout& lay
         step_b_.assign(b_.size(), 0.0);
     }
     previous_.assign(static_cast<std::size_t>(modes_), 0.0);
+    kernels_ = &air_kernels();   // here, in the build phase (the first call initialises a static)
     int longest = 0;
     for (int d : delay_) longest = std::max(longest, d);
     length_ = 1;
@@ -119,20 +122,9 @@ DipoleRadiation::DipoleRadiation(const Canopy& canopy, const ListenerLayout& lay
     now_ = 0;
 }
 
-namespace {
-
-double dipole_taps(std::size_t modes, const double* __restrict a, const double* __restrict b, const double* __restrict now,
-                   const double* __restrict before) {
-    double y = 0.0;
-    for (std::size_t k = 0; k < modes; ++k) y += a[k] * now[k] + b[k] * before[k];
-    return y;
-}
-
-}  // namespace
-
 void DipoleRadiation::process(const Canopy& canopy, double* pressures_pa) {
     const AirCanopyModes* m = canopy.air_modes();
-    if (m == nullptr || m->modes != modes_) {   // not the canopy it was built for: silence
+    if (m == nullptr || m->modes != modes_ || kernels_ == nullptr) {   // not the canopy it was built for: silence
         for (int ch = 0; ch < channels_; ++ch) pressures_pa[ch] = 0.0;
         return;
     }
@@ -152,7 +144,9 @@ void DipoleRadiation::process(const Canopy& canopy, double* pressures_pa) {
     for (int ch = 0; ch < channels_; ++ch) {
         const std::size_t base = static_cast<std::size_t>(ch) * modes;
         double* const row = ring_.data() + static_cast<std::size_t>(ch) * static_cast<std::size_t>(length_);
-        const double y = dipole_taps(modes, a_.data() + base, b_.data() + base, acc, previous_.data());
+        // sum_k A_k abar_k[n] + B_k abar_k[n-1], in eight running sums (lane_sums.hpp: one would be a chain
+        // of 800 dependent additions a sample), AVX2 where the CPU has it (the same bits).
+        const double y = kernels_->taps(a_.data() + base, acc, b_.data() + base, previous_.data(), modes);
         row[(now_ + delay_[static_cast<std::size_t>(ch)]) & mask_] = std::isfinite(y) ? y : 0.0;
         pressures_pa[ch] = row[now_];
         row[now_] = 0.0;

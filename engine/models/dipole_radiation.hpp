@@ -54,6 +54,8 @@
 
 namespace ameoto {
 
+struct AirKernels;
+
 class DipoleRadiation {
 public:
     DipoleRadiation() = default;
@@ -77,6 +79,7 @@ public:
     }
 
 private:
+    const AirKernels* kernels_ = nullptr;   // air_canopy_kernels.hpp, chosen when built
     int channels_ = 0, modes_ = 0;
     std::vector<double> a_, b_;      // [channel * modes + mode]
     std::vector<double> previous_;   // each mode's abar[n - 1]

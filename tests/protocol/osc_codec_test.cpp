@@ -110,4 +110,9 @@ TEST_CASE("an OSC float reads as the decimal its sender typed") {
     CHECK(static_cast<float>(args[2].number) == 16777217.0f);
     CHECK(args[3].number != args[0].number);   // the next float up is another decimal
     CHECK(static_cast<float>(args[3].number) == std::nextafter(1.6f, 2.0f));
+    // An argument built in process reads as the one received: render score's text scores build theirs with
+    // from_float, and their drops must land where ameotod puts the same message's (0.15, not 0.15000000596).
+    const float sent[] = {1.6f, 0.1f, 16777217.0f, std::nextafter(1.6f, 2.0f)};
+    for (std::size_t i = 0; i < args.size(); ++i) CHECK(ameoto::protocol::OscArgument::from_float(sent[i]).number == args[i].number);
+    CHECK(ameoto::protocol::OscArgument::from_float(0.15f).number == 0.15);
 }
