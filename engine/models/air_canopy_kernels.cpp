@@ -11,10 +11,12 @@ namespace ameoto {
 
 namespace {
 
-// Restrict: the loop vectorises (element by element: the same bits at any width).
-void advance_baseline(std::size_t modes, double* __restrict q, double* __restrict qd, double* __restrict p, double* __restrict a,
-                      const double* __restrict a11, const double* __restrict a12, const double* __restrict a21,
-                      const double* __restrict a22, double t, double inverse_t) {
+// Kick q' += T p, then the exact transition; a = (q'[n+1] - q'[n]) / T. Restrict: the loop vectorises
+// (element by element: the same bits at any width). Inlined into each kernel below, so that each is
+// compiled for its own target (an inline function is not compiled on its own inside the AVX2 region).
+[[gnu::always_inline]] inline void advance_loop(std::size_t modes, double* __restrict q, double* __restrict qd, double* __restrict p,
+                                                double* __restrict a, const double* __restrict a11, const double* __restrict a12,
+                                                const double* __restrict a21, const double* __restrict a22, double t, double inverse_t) {
     for (std::size_t k = 0; k < modes; ++k) {
         const double kicked = qd[k] + t * p[k];
         const double q_next = a11[k] * q[k] + a12[k] * kicked;
@@ -24,6 +26,11 @@ void advance_baseline(std::size_t modes, double* __restrict q, double* __restric
         qd[k] = qd_next;
         p[k] = 0.0;
     }
+}
+
+void advance_baseline(std::size_t modes, double* q, double* qd, double* p, double* a, const double* a11, const double* a12,
+                      const double* a21, const double* a22, double t, double inverse_t) {
+    advance_loop(modes, q, qd, p, a, a11, a12, a21, a22, t, inverse_t);
 }
 
 double taps_baseline(const double* a, const double* x, const double* b, const double* y, std::size_t n) {
@@ -40,18 +47,9 @@ double taps_baseline(const double* a, const double* x, const double* b, const do
 namespace {
 
 // The same loop as advance_baseline, compiled for AVX2.
-void advance_avx2(std::size_t modes, double* __restrict q, double* __restrict qd, double* __restrict p, double* __restrict a,
-                  const double* __restrict a11, const double* __restrict a12, const double* __restrict a21,
-                  const double* __restrict a22, double t, double inverse_t) {
-    for (std::size_t k = 0; k < modes; ++k) {
-        const double kicked = qd[k] + t * p[k];
-        const double q_next = a11[k] * q[k] + a12[k] * kicked;
-        const double qd_next = a21[k] * q[k] + a22[k] * kicked;
-        a[k] = (qd_next - qd[k]) * inverse_t;
-        q[k] = q_next;
-        qd[k] = qd_next;
-        p[k] = 0.0;
-    }
+void advance_avx2(std::size_t modes, double* q, double* qd, double* p, double* a, const double* a11, const double* a12,
+                  const double* a21, const double* a22, double t, double inverse_t) {
+    advance_loop(modes, q, qd, p, a, a11, a12, a21, a22, t, inverse_t);
 }
 
 // lane_sums::dot2 written again here (its inline body compiled in this region would be another
