@@ -66,7 +66,13 @@ TEST_CASE("render drop: options are parsed and checked") {
     CHECK(d.channels == 1);
     CHECK(d.coarse_steps == 4);
     CHECK(d.impact == ameoto::ImpactModel::wet);   // wet by default (docs/impacts.md)
+    CHECK(d.air);                                  // the canopy in air by default (docs/canopy-air.md)
     CHECK(d.output == ameoto::SceneOutput::far_field);
+    RenderDropOptions v;
+    REQUIRE(parse_render_drop_options({"--diameter", "3", "--air", "off", "-o", "b.wav"}, v, error) == RenderParse::run);
+    CHECK_FALSE(v.air);   // the seed's canopy in vacuum
+    CHECK(parse_render_drop_options({"--diameter", "3", "--air", "maybe", "-o", "b.wav"}, v, error) == RenderParse::error);
+    CHECK(error == "--air: 'maybe' is not on or off");
     CHECK_FALSE(d.x.has_value());
     CHECK(parse_render_drop_options({"--help"}, d, error) == RenderParse::help);
 }
