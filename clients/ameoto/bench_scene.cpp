@@ -200,8 +200,6 @@ int run_scene_bench(const BenchOptions& options, const CommandIo& io) {
 
     const Heavy heavy = heavy_rain(true, seconds);
     const Heavy heavy_vacuum = heavy_rain(false, seconds);
-    const double heavy_drops_per_s = heavy.drops_per_s, mean = heavy.mean, p999 = heavy.p999, worst = heavy.worst;
-    const double full_drops = heavy.full_drops, priced_out = heavy.priced_out;
 
     // Offline renders (ameoto render scene's work): the default scene at its own rate, and heavy rain.
     const RenderRow renders[] = {render_row(builtin_scene("umbrella")->rain.rate_mm_per_h, 20.0, seconds),
@@ -225,9 +223,9 @@ int run_scene_bench(const BenchOptions& options, const CommandIo& io) {
                    << ",\"ns_per_drop\":" << json_number(t.ns_per_drop) << ",\"drops_per_s_on_a_core\":"
                    << json_number(t.drops_per_s_on_a_core) << "}\n";
         io.out << "{\"suite\":\"scene\",\"measurement\":\"heavy rain\",\"rain_mm_per_h\":50,\"drops_per_s\":"
-               << json_number(heavy_drops_per_s) << ",\"block_frames\":64,\"mean_percent\":" << json_number(100.0 * mean)
-               << ",\"p999_percent\":" << json_number(100.0 * p999) << ",\"max_percent\":" << json_number(100.0 * worst)
-               << ",\"full_drops\":" << json_number(full_drops) << ",\"priced_out\":" << json_number(priced_out)
+               << json_number(heavy.drops_per_s) << ",\"block_frames\":64,\"mean_percent\":" << json_number(100.0 * heavy.mean)
+               << ",\"p999_percent\":" << json_number(100.0 * heavy.p999) << ",\"max_percent\":" << json_number(100.0 * heavy.worst)
+               << ",\"full_drops\":" << json_number(heavy.full_drops) << ",\"priced_out\":" << json_number(heavy.priced_out)
                << ",\"target_mean_percent\":25,\"target_p999_percent\":60,\"mean_percent_vacuum\":"
                << json_number(100.0 * heavy_vacuum.mean) << ",\"p999_percent_vacuum\":" << json_number(100.0 * heavy_vacuum.p999)
                << ",\"max_percent_vacuum\":" << json_number(100.0 * heavy_vacuum.worst) << "}\n";
@@ -254,10 +252,10 @@ int run_scene_bench(const BenchOptions& options, const CommandIo& io) {
     std::snprintf(line, sizeof line,
                   "heavy rain: 50 mm/h on the umbrella and a 4 x 3 m pond, %.0f drops/s, 64-frame blocks:\n"
                   "  mean callback %.1f %% of the block period (target 25 %%: %s), 99.9th percentile %.1f %% (target 60 %%: %s)\n",
-                  heavy_drops_per_s, 100.0 * mean, mean <= 0.25 ? "met" : "not met", 100.0 * p999, p999 <= 0.60 ? "met" : "not met");
+                  heavy.drops_per_s, 100.0 * heavy.mean, heavy.mean <= 0.25 ? "met" : "not met", 100.0 * heavy.p999, heavy.p999 <= 0.60 ? "met" : "not met");
     io.out << line;
-    std::snprintf(line, sizeof line, "  worst block %.1f %%; lattice drops admitted %.0f, priced out by the governor %.0f\n", 100.0 * worst,
-                  full_drops, priced_out);
+    std::snprintf(line, sizeof line, "  worst block %.1f %%; lattice drops admitted %.0f, priced out by the governor %.0f\n", 100.0 * heavy.worst,
+                  heavy.full_drops, heavy.priced_out);
     io.out << line;
     std::snprintf(line, sizeof line,
                   "  the umbrella in vacuum (the model before air), same rain: mean %.1f %%, 99.9th percentile %.1f %%, worst %.1f %%; "
