@@ -233,6 +233,10 @@ TEST_CASE("clock: the same grid on JACK's dummy driver lands to +/- 1 sample; /s
         }
         MESSAGE("take " << take << ": JACK dummy driver's clock " << ppm << " ppm, " << xruns << " xruns during the grid");
         if (xruns != 0) continue;
+        // A dummy driver over 100 ppm from its nominal rate had its wake-ups slip under load during the grid
+        // (seen on CI: -129 ppm in the take after one with 21 xruns, drops then 2 samples off); it is played
+        // again while takes remain, and the last take is held to the checks below whatever its rate.
+        if (std::fabs(ppm) > 100.0 && take < 3) continue;
         const Landing landing = landing_errors(from_onset(ameoto::test::read_wav(wav), 0, 1), 3);
         if (landing.lost) {
             // Seen once, with a SCHED_FIFO ameotod of another test competing: 2 058 samples missing at
