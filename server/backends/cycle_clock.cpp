@@ -39,8 +39,7 @@ void CycleClock::restart_envelope(const CycleReading& r) {
     full_ = 0;
     head_ = 0;
     current_has_ = false;
-    current_count_ = 0;
-    current_high_ = 0;
+    high_since_x_ = -1;
     current_end_x_ = static_cast<std::int64_t>(std::llround(kBucketSeconds * nominal_rate_));
 }
 
@@ -106,15 +105,16 @@ BlockTime CycleClock::block(const CycleReading& r) {
     if (!started_ || r.xrun || r.jack_frame != next_jack_frame_) restart_envelope(r);
 
     double reading = static_cast<double>(r.callback_mono_ns - anchor_ns_) - static_cast<double>(x_) * ns_per_frame_;
-    // Time lost with no xrun reported: half a bucket of readings, every one far above the line.
+    // Time lost with no xrun reported: a quarter second of readings, every one far above the line.
     if (full_ > 0 || current_has_) {
-        ++current_count_;
-        if (reading - line_at(static_cast<double>(x_)) > kLostNs) ++current_high_;
-        const std::int64_t bucket_frames = static_cast<std::int64_t>(std::llround(kBucketSeconds * nominal_rate_));
-        const std::int64_t bucket_start = current_end_x_ - bucket_frames;
-        if (current_high_ == current_count_ && x_ - bucket_start >= bucket_frames / 2) {
-            restart_envelope(r);
-            reading = 0.0;
+        if (reading - line_at(static_cast<double>(x_)) <= kLostNs) {
+            high_since_x_ = -1;
+        } else {
+            if (high_since_x_ < 0) high_since_x_ = x_;
+            if (static_cast<double>(x_ - high_since_x_) >= kLostSeconds * nominal_rate_) {
+                restart_envelope(r);
+                reading = 0.0;
+            }
         }
     }
     if (!current_has_ || reading < current_.r) {
@@ -137,8 +137,6 @@ BlockTime CycleClock::block(const CycleReading& r) {
         if (full_ < kBuckets) ++full_;
         fit_valid_ = false;
         current_has_ = false;
-        current_count_ = 0;
-        current_high_ = 0;
         current_end_x_ += static_cast<std::int64_t>(std::llround(kBucketSeconds * nominal_rate_));
     }
     return t;

@@ -13,11 +13,29 @@
 // wake-up and the graph before it, so each reading of the monotonic clock at the callback is that line
 // plus a latency that is never negative: tens of microseconds usually, milliseconds when the machine is
 // loaded. The earliest readings lie on the line. The readings, less the nominal F / rate, are kept as
-// the minimum of each half second ("buckets", 32 of them: 16 s). The line is the least-squares line
+// the minimum of each quarter second ("buckets", 64 of them: 16 s). The line is the least-squares line
 // through those minima (the worst bucket left out once if it lies more than 20 us above the first fit),
-// evaluated at this block's first frame. Measured on JACK's dummy driver here (2026-12-02), the
-// half-second minima scatter over 40 us (the VM's timer): the lowest of 2 s of them moved by 15-20 us
-// at bucket boundaries, the least-squares line over 16 s moves by about a microsecond a bucket.
+// evaluated at this block's first frame.
+//
+// Why quarter seconds: what a timetag's sample depends on is the line's value at the newest block, and
+// early on that is mostly the slope's error times half the span fitted; more minima in the same span
+// make it smaller. Measured on JACK's dummy driver on this 2-core VM (2026-12-06; a probe logging each
+// callback's CLOCK_MONOTONIC and JACK frame for 18 s, 11 traces, idle, beside two busy loops, beside a
+// compiler; replayed offline through this class; the dummy driver wakes on an absolute grid, so the
+// truth is the nominal rate): the half-second minima sit on a floor about 30 us above the lowest
+// (scatter 5-12 us idle, 20 us in the worst trace) with a few buckets of a trace 10-35 us lower (wake-ups
+// that found the virtual CPU awake), and in two traces the floor itself moved by 30-50 us for seconds
+// under load. Measured as the grid test measures (tests/integration/clock_test.cpp: a block 3 s after
+// the start against the blocks every 0.5 s over the next 9.5 s, the largest difference of each run, 176
+// runs from 16 starts in each trace): half-second minima, median 11.5 us, 90th percentile 40 us, over a
+// sample (20.8 us) in 45 runs; quarter-second minima, median 9.6 us, 90th percentile 27 us, over a sample
+// in 26 runs. Eighth-second minima, the 2nd-5th lowest reading of each bucket instead of the lowest, a
+// Theil-Sen (median) line and a two-sided outlier cut did no better (24-37 runs over). The line lying
+// below every minimum as close as it can (the linear-programming estimator of Moon, Skelly and Towsley,
+// 1999) did worst (75 of 112 over): it sits on the rare early wake-ups, and drops by their depth when one
+// comes. What is left is the floor's own wander, which no fit can tell from the driver's line: with the
+// true slope given, 10 of the 176 runs were still over a sample. A longer wait than 3 s did not help
+// (over a sample in 14-17 % of runs from 3 s to 6 s).
 //
 // Why not JACK's own filtered cycle times (jack_get_cycle_times' current_usecs), as before: JACK's
 // delay-locked loop (bandwidth 0.125 Hz) averages the latencies rather than ignoring them, so on a
@@ -30,11 +48,12 @@
 //
 // Time lost: an xrun re-anchors a timed driver (JACK's dummy driver restarts its grid from the late
 // wake-up), so the line moves later. The envelope restarts when the backend saw an xrun, when JACK's
-// frame counter does not continue from the last block, and when half a bucket of readings all lie more
-// than 1 ms above the line (time lost that no xrun reported). Until four buckets are full (2 s), the
-// line's slope is the one before the restart, or at a start JACK's period (its loop's rate, averaged):
-// a client's clock is locked 2 s after it starts (JACK's loop, itself just started, can be 30 ppm off:
-// 60 us over those 2 s).
+// frame counter does not continue from the last block, and when a quarter second of readings in a row
+// all lie more than 1 ms above the line (time lost that no xrun reported). Until eight buckets are full
+// (2 s), the line's slope is the one before the restart, or at a start JACK's period (its loop's rate,
+// averaged): a client's clock is locked 2 s after it starts (JACK's loop, itself just started, can be
+// 30 ppm off: 60 us over those 2 s; on the dummy driver, whose rate is exactly nominal, it read -25 to
+// -45 ppm throughout the 2026-12-06 traces).
 //
 // The rate ratio (for /status's ppm and the bridge's extrapolation within a block) is frames / (period
 // x nominal rate) from JACK's loop, averaged exponentially over about 10 s: JACK's loop already smooths
@@ -75,9 +94,10 @@ private:
         double x = 0.0;   // frames since the anchor at the minimum
         double r = 0.0;   // reading - anchor - x / nominal rate, ns, at the minimum
     };
-    static constexpr int kBuckets = 32;        // 16 s for the slope
-    static constexpr int kSlopeBuckets = 4;    // at least 2 s before the slope is the envelope's own
-    static constexpr double kBucketSeconds = 0.5;
+    static constexpr int kBuckets = 64;        // 16 s for the slope
+    static constexpr int kSlopeBuckets = 8;    // at least 2 s before the slope is the envelope's own
+    static constexpr double kBucketSeconds = 0.25;
+    static constexpr double kLostSeconds = 0.25;   // every reading this long far above the line: time lost
     static constexpr double kOutlierNs = 20'000.0;
     static constexpr double kLostNs = 1'000'000.0;
     static constexpr double kAveragingSeconds = 10.0;
@@ -111,8 +131,7 @@ private:
     Bucket current_;               // the bucket being filled
     bool current_has_ = false;
     std::int64_t current_end_x_ = 0;
-    int current_count_ = 0;
-    int current_high_ = 0;         // readings of the current bucket more than kLostNs above the line
+    std::int64_t high_since_x_ = -1;   // the first of the readings in a row more than kLostNs above the line (-1: none)
 };
 
 }  // namespace ameoto
