@@ -35,7 +35,11 @@
 // 1999) did worst (75 of 112 over): it sits on the rare early wake-ups, and drops by their depth when one
 // comes. What is left is the floor's own wander, which no fit can tell from the driver's line: with the
 // true slope given, 10 of the 176 runs were still over a sample. A longer wait than 3 s did not help
-// (over a sample in 14-17 % of runs from 3 s to 6 s).
+// (over a sample in 14-17 % of runs from 3 s to 6 s). In the grid test itself (ameotod's own readings
+// logged in 6 takes without xruns, 2026-12-06) that wander is larger: the floor stepped by 30-60 us for
+// seconds at a time, at any moment of the take (one step came 12.7 s after the start), and the block
+// times followed it with either bucket length (largest difference from the first drop's block 15-57 us
+// with quarter seconds, 21-62 us with half seconds); takes with such a step land drops 2-3 samples off.
 //
 // Why not JACK's own filtered cycle times (jack_get_cycle_times' current_usecs), as before: JACK's
 // delay-locked loop (bandwidth 0.125 Hz) averages the latencies rather than ignoring them, so on a
