@@ -189,7 +189,7 @@ TEST_CASE("cycle clock: time lost at an xrun restarts the envelope; so does a ju
         CycleReading r = driver.next();
         r.xrun = how == 0;
         clock.block(r);
-        if (how == 2) {   // found after half a bucket of late readings
+        if (how == 2) {   // found after a quarter second of late readings in a row
             CHECK(clock.full_buckets() == 20);
             while (driver.seconds() < 5.3) clock.block(driver.next());
         }
