@@ -234,7 +234,7 @@ TEST_CASE("clock: the same grid on JACK's dummy driver lands to +/- 2 samples; /
             ameoto::test::OscTestClient c(d.port());
             // jack-record connected, and ameotod's block clock locked: its line through the callback's readings
             // takes its own slope after 2 s (server/backends/cycle_clock.hpp); before that it leans on JACK's
-            // loop, which a jackd started a moment ago still has 30 ppm off.
+            // loop, which reads -25 to -45 ppm on this dummy driver whose rate is exactly nominal.
             std::this_thread::sleep_for(2500ms);
             const std::int64_t xruns_before = ameoto::test::status_reply(c).args[6].integer;
             play_grid(c);
