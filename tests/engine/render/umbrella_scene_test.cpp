@@ -27,7 +27,7 @@ RendererConfig small_umbrella(bool air) {
 }
 
 // `frames` samples of a renderer, all channels in order.
-std::vector<float> render(Renderer& r, int frames) {
+std::vector<float> render_frames(Renderer& r, int frames) {
     const int channels = r.config().channels;
     std::vector<std::vector<float>> planar(static_cast<std::size_t>(channels), std::vector<float>(256));
     std::vector<float*> out;
@@ -138,7 +138,7 @@ TEST_CASE("renderer: the level measurement and the stream from one umbrella's pa
         stream.rain_rate_mm_per_h = 50.0;   // --rain: another rate than the one measured
         stream.level_gain_db = own.gain_db;
         Renderer a(stream), b(stream, parts.get());
-        const std::vector<float> x = render(a, 4800), y = render(b, 4800);
+        const std::vector<float> x = render_frames(a, 4800), y = render_frames(b, 4800);
         CHECK(b.stats().rain_tiers.full + b.stats().rain_tiers.template_ + b.stats().rain_tiers.texture > 0);
         CHECK(x == y);
     }
