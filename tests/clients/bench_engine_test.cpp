@@ -3,6 +3,7 @@
 #include "clients/ameoto/bench_engine.hpp"
 
 #include <doctest/doctest.h>
+#include "tests/support/relative_approx.hpp"
 
 #include <sched.h>
 
@@ -16,7 +17,7 @@
 using namespace ameoto::client;
 
 TEST_CASE("bench: the largest difference is relative to the reference's peak") {
-    CHECK(max_relative_difference({1.0, 2.0, 3.0}, {1.0, 2.0, 4.0}) == doctest::Approx(0.25));
+    CHECK(max_relative_difference({1.0, 2.0, 3.0}, {1.0, 2.0, 4.0}) == ameoto::test::relative(0.25));
     CHECK(max_relative_difference({0.0, 0.0}, {0.0, 0.0}) == 0.0);
     CHECK(max_relative_difference({1.0}, {1.0, 2.0}) == INFINITY);   // missing samples never pass
     CHECK(max_relative_difference({NAN, 2.0}, {1.0, 2.0}) == INFINITY);

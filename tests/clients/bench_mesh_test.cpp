@@ -2,6 +2,7 @@
 // Tests for clients/ameoto/bench_mesh and bench_drive: the bodies `ameoto bench engine` measures, and
 // the mi-faust triangle mesh rebuilt in ameoto with the .dsp's pluck.
 #include <doctest/doctest.h>
+#include "tests/support/relative_approx.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -25,8 +26,8 @@ TEST_CASE("bench: the mi-faust triangle mesh as the .dsp builds it") {
     CHECK(mesh.links.size() == 129);
     CHECK(mesh.anchors.size() == 6);  // 135 springDampers in all
     CHECK(mesh.time_step == 1.0);
-    CHECK(mesh.alpha == doctest::Approx(5e-5));
-    CHECK(mesh.beta == doctest::Approx(0.01));
+    CHECK(mesh.alpha == ameoto::test::relative(5e-5));
+    CHECK(mesh.beta == ameoto::test::relative(0.01));
     // The .dsp's routing: the pluck acts on m37 (t_m4_3), the output reads m41 (t_m5_1).
     CHECK(MiTriangle::faust_index(MiTriangle::pluck_i, MiTriangle::pluck_j) == 37);
     CHECK(MiTriangle::faust_index(MiTriangle::listen_i, MiTriangle::listen_j) == 41);
@@ -55,7 +56,7 @@ TEST_CASE("bench: the pluck rings the mesh, the same on the network and on the g
 TEST_CASE("bench: canopy panels of the sizes asked for, as build_membrane makes them") {
     const BenchMesh panel = canopy_panel_mesh(300);
     CHECK(std::abs(static_cast<int>(panel.nodes.size()) - 300) <= 15);
-    CHECK(panel.time_step == doctest::Approx(1.0 / 48000.0));
+    CHECK(panel.time_step == ameoto::test::relative(1.0 / 48000.0));
     CHECK(panel.alpha == 20.0);
     CHECK(panel.beta == 2e-6);
     CHECK(!panel.anchors.empty());

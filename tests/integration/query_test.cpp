@@ -16,6 +16,7 @@
 #include "tests/support/daemon_process.hpp"
 #include "tests/support/osc_test_client.hpp"
 #include "tests/support/osc_shorthand.hpp"
+#include "tests/support/relative_approx.hpp"
 
 using namespace ameoto::test::osc_shorthand;
 
@@ -74,7 +75,7 @@ TEST_CASE("each setting's query answers the value in effect, in the units it was
     REQUIRE(r.types == "fff");
     CHECK(r.args[0].number == doctest::Approx(5));
     CHECK(r.args[1].number == doctest::Approx(90).epsilon(float_tolerance));
-    CHECK(r.args[2].number == doctest::Approx(0.3).epsilon(float_tolerance));
+    CHECK(r.args[2].number == ameoto::test::relative(0.3).epsilon(float_tolerance));
     r = ask(c, "/listener");
     REQUIRE(r.types == "ffff");
     CHECK(r.args[0].number == doctest::Approx(1));
@@ -107,8 +108,8 @@ TEST_CASE("each setting's query answers the value in effect, in the units it was
     const auto milk = ameoto::find_liquid("milk").value();
     CHECK(r.args[0].text == "milk");
     CHECK(r.args[1].number == doctest::Approx(milk.density).epsilon(float_tolerance));
-    CHECK(r.args[2].number == doctest::Approx(milk.surface_tension).epsilon(float_tolerance));
-    CHECK(r.args[3].number == doctest::Approx(milk.viscosity).epsilon(float_tolerance));
+    CHECK(r.args[2].number == ameoto::test::relative(milk.surface_tension).epsilon(float_tolerance));
+    CHECK(r.args[3].number == ameoto::test::relative(milk.viscosity).epsilon(float_tolerance));
     REQUIRE(c.request("/material/surface", {s("umbrella"), s("vinyl")}, "/done", 20s));
     // seed-nylon needs more sub-steps than a live surface may take: refused, and the umbrella stays vinyl.
     REQUIRE(c.request("/material/surface", {s("umbrella"), s("seed-nylon")}, "/fail", 20s));
@@ -117,7 +118,7 @@ TEST_CASE("each setting's query answers the value in effect, in the units it was
     const auto vinyl = ameoto::membrane_material("vinyl").value();
     CHECK(r.args[0].text == "umbrella");
     CHECK(r.args[1].text == "vinyl");
-    CHECK(r.args[2].number == doctest::Approx(vinyl.areal_density).epsilon(float_tolerance));
+    CHECK(r.args[2].number == ameoto::test::relative(vinyl.areal_density).epsilon(float_tolerance));
     CHECK(r.args[3].number == doctest::Approx(vinyl.tension).epsilon(float_tolerance));
     r = ask(c, "/surface/set", {s("umbrella")});
     REQUIRE(r.types == "sssfffff");
@@ -149,7 +150,7 @@ TEST_CASE("/scene loads a scene; /scene, /surfaces and /surface/set then describ
     REQUIRE(r.types == "sssfffff");
     CHECK(r.args[1].text == ameoto::surface_kind_name(first.kind));
     CHECK(r.args[2].text == first.material);
-    CHECK(r.args[3].number == doctest::Approx(first.size_x_m).epsilon(float_tolerance));
+    CHECK(r.args[3].number == ameoto::test::relative(first.size_x_m).epsilon(float_tolerance));
     CHECK(r.args[7].number == doctest::Approx(first.z_m).epsilon(float_tolerance));
     // The scene's own rain comes with it.
     CHECK(ask(c, "/rain/rate").args[0].number == doctest::Approx(pond.rain.rate_mm_per_h).epsilon(float_tolerance));

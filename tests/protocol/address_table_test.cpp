@@ -8,6 +8,7 @@
 #include <string>
 
 #include "tests/support/osc_shorthand.hpp"
+#include "tests/support/relative_approx.hpp"
 #include "tests/protocol/round_surface_context.hpp"
 
 using namespace ameoto::test::osc_shorthand;
@@ -29,10 +30,10 @@ TEST_CASE("/drop converts mm to m and keeps SI speeds and positions") {
     const Validation v = validate(message("/drop", {f(3.0), f(0.0), f(0.25), f(-0.1)}), ameoto::test::round_surface_context());
     REQUIRE(v.ok);
     CHECK(v.request.command.kind == CommandKind::drop);
-    CHECK(v.request.command.values[0] == doctest::Approx(0.003));
+    CHECK(v.request.command.values[0] == ameoto::test::relative(0.003));
     CHECK(v.request.command.values[1] == 0.0);
-    CHECK(v.request.command.values[2] == doctest::Approx(0.25));
-    CHECK(v.request.command.values[3] == doctest::Approx(-0.1));
+    CHECK(v.request.command.values[2] == ameoto::test::relative(0.25));
+    CHECK(v.request.command.values[3] == ameoto::test::relative(-0.1));
     CHECK(validate(message("/drop", {f(3.0), f(5.0), f(0.25), f(0.0), s("umbrella")}), ameoto::test::round_surface_context()).ok);
 }
 

@@ -2,6 +2,7 @@
 #include "server/options.hpp"
 
 #include <doctest/doctest.h>
+#include "tests/support/relative_approx.hpp"
 
 #include <ctime>
 #include <string>
@@ -104,11 +105,11 @@ TEST_CASE("--allow takes IPv4 and IPv6 networks and refuses anything else, namin
 
 TEST_CASE("--block-trace names a file and its threshold in % of the period; off by default") {
     CHECK_FALSE(parse({}).options.block_trace.has_value());
-    CHECK(parse({}).options.block_trace_threshold == doctest::Approx(0.5));
+    CHECK(parse({}).options.block_trace_threshold == ameoto::test::relative(0.5));
     const auto p = parse({"--block-trace", "/tmp/blocks.trace", "--block-trace-threshold", "80"});
     REQUIRE(p.error.empty());
     CHECK(p.options.block_trace == std::optional<std::string>("/tmp/blocks.trace"));
-    CHECK(p.options.block_trace_threshold == doctest::Approx(0.8));
+    CHECK(p.options.block_trace_threshold == ameoto::test::relative(0.8));
     CHECK(parse({"--block-trace"}).error.find("--block-trace") != std::string::npos);
     CHECK(parse({"--block-trace-threshold", "0"}).error.find("--block-trace-threshold") != std::string::npos);
     CHECK(ameoto::usage().find("--block-trace FILE") != std::string::npos);
@@ -186,8 +187,8 @@ TEST_CASE("--peers takes osc.udp://IP:PORT addresses; --peer-latency 1..2000 ms,
     CHECK(p.options.peers[0].port() == 7771);
     CHECK(p.options.peers[1].address().is_v6());
     CHECK(parse({}).options.peers.empty());
-    CHECK(parse({}).options.peer_latency_s == doctest::Approx(0.025));
-    CHECK(parse({"--peer-latency", "40"}).options.peer_latency_s == doctest::Approx(0.040));
+    CHECK(parse({}).options.peer_latency_s == ameoto::test::relative(0.025));
+    CHECK(parse({"--peer-latency", "40"}).options.peer_latency_s == ameoto::test::relative(0.040));
     CHECK(parse({"--peer-latency", "0"}).error == "--peer-latency needs 1..2000 ms");
     CHECK(parse({"--peers", "127.0.0.1:7771"}).error == "--peers: '127.0.0.1:7771' is not osc.udp://HOST:PORT");
     CHECK(parse({"--peers", "osc.udp://host.example:7771"}).error == "--peers: 'host.example' is not an IP address");

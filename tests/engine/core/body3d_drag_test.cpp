@@ -11,6 +11,7 @@
 #include "engine/core/physical_constants.hpp"
 #include "engine/scene/terminal_speed.hpp"
 #include "tests/support/test_constants.hpp"
+#include "tests/support/relative_approx.hpp"
 
 using namespace ameoto::test::common;
 
@@ -61,7 +62,7 @@ TEST_CASE("body3d_drag: Beard (1976) reproduces the Gunn-Kinzer table from 0.3 t
         CAPTURE(p.diameter_mm);
         const double v = ameoto::drag::beard_terminal_speed(p.diameter_mm * 1e-3);
         worst = std::max(worst, std::abs(v - p.speed_m_per_s) / p.speed_m_per_s);
-        CHECK(v == doctest::Approx(p.speed_m_per_s).epsilon(0.025));
+        CHECK(v == ameoto::test::relative(p.speed_m_per_s).epsilon(0.025));
     }
     MESSAGE("Beard 1976 vs Gunn-Kinzer, 0.3-5.8 mm: worst " << 100.0 * worst << " %");
     // A 1 mm drop is nearly a sphere: its C_d is within 10 % of a rigid sphere's at its Reynolds number
@@ -71,11 +72,11 @@ TEST_CASE("body3d_drag: Beard (1976) reproduces the Gunn-Kinzer table from 0.3 t
     auto reynolds = [](double d) {
         return ameoto::constants::air_density * ameoto::drag::beard_terminal_speed(d) * d / ameoto::drag::air_viscosity;
     };
-    CHECK(ameoto::drag::drop_drag_coefficient(1e-3) == doctest::Approx(sphere_cd(reynolds(1e-3))).epsilon(0.1));
+    CHECK(ameoto::drag::drop_drag_coefficient(1e-3) == ameoto::test::relative(sphere_cd(reynolds(1e-3))).epsilon(0.1));
     CHECK(ameoto::drag::drop_drag_coefficient(5e-3) > 1.5 * sphere_cd(reynolds(5e-3)));
     // And b is C_d rho_air (pi D^2 / 4) / 2.
     CHECK(ameoto::drag::drop_quadratic_drag(2e-3) ==
-          doctest::Approx(0.5 * ameoto::constants::air_density * ameoto::drag::drop_drag_coefficient(2e-3) *
+          ameoto::test::relative(0.5 * ameoto::constants::air_density * ameoto::drag::drop_drag_coefficient(2e-3) *
                           ameoto::constants::pi * 1e-6).epsilon(1e-14));
 }
 
@@ -90,21 +91,21 @@ TEST_CASE("body3d_drag: a falling drop with quadratic drag reaches the Gunn-Kinz
         const double table = ameoto::terminal_speed(d);
         MESSAGE("D = " << d_mm << " mm: reached " << f.speed << " m/s, Gunn-Kinzer " << table << " m/s, "
                         << 100.0 * (f.speed - table) / table << " %");
-        CHECK(f.speed == doctest::Approx(table).epsilon(0.03));
+        CHECK(f.speed == ameoto::test::relative(table).epsilon(0.03));
         // It has settled (no longer accelerating: under 1e-4 of v over the last 0.1 s)...
         CHECK(std::abs(f.last_change) < 1e-4 * f.speed);
         // ...at the force balance m g = b v^2, i.e. Beard's speed plus the 0.06 % that buoyancy would
         // have taken off (body3d_drag.hpp): within 0.02 % of sqrt(rho_w / (rho_w - rho_a)) v_Beard.
         const double buoyancy = std::sqrt(ameoto::constants::water_density /
                                           (ameoto::constants::water_density - ameoto::constants::air_density));
-        CHECK(f.speed == doctest::Approx(buoyancy * ameoto::drag::beard_terminal_speed(d)).epsilon(2e-4));
+        CHECK(f.speed == ameoto::test::relative(buoyancy * ameoto::drag::beard_terminal_speed(d)).epsilon(2e-4));
     }
 }
 
 TEST_CASE("body3d_drag: the CORDIS scheme reaches the same terminal speed") {
     const double d = 2e-3;
     const Fall f = fall(drop_mass(d), 0.0, ameoto::drag::drop_quadratic_drag(d), 5.0, kT, Integrator::explicit_verlet);
-    CHECK(f.speed == doctest::Approx(ameoto::terminal_speed(d)).epsilon(0.03));
+    CHECK(f.speed == ameoto::test::relative(ameoto::terminal_speed(d)).epsilon(0.03));
 }
 
 TEST_CASE("body3d_drag: the seed's linear drag preset gives a 1 mm drop mass 290 m/s") {

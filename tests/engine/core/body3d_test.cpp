@@ -14,6 +14,7 @@
 #include "tests/support/rt_probe_scope.hpp"
 #include "tests/support/test_constants.hpp"
 #include "tests/support/water_drop_body.hpp"
+#include "tests/support/relative_approx.hpp"
 
 using namespace ameoto::test::common;
 
@@ -95,7 +96,7 @@ TEST_CASE("body3d: a link's damper resists axial relative speed only") {
         body.set_velocity(a, Vec3{0.3, 0.2, 0.0});
         body.finalize(kT);
         const Vec3 f = force_seen(body, a);
-        CHECK(f.x == doctest::Approx(-z * 0.3).epsilon(1e-9));
+        CHECK(f.x == ameoto::test::relative(-z * 0.3).epsilon(1e-9));
         CHECK(std::abs(f.y) < 1e-12 * z);
         CHECK(f.z == 0.0);
     }
@@ -115,8 +116,8 @@ TEST_CASE("body3d: a contact link pushes only while compressed, and never pulls"
     };
     CHECK(run(1.5e-3, 0.0) == 0.0);                                              // apart: nothing
     CHECK(run(1.5e-3, 0.5) == 0.0);                                              // approaching, not touching
-    CHECK(run(0.8e-3, 0.0) == doctest::Approx(k * 0.2e-3).epsilon(1e-9));        // compressed: pushes
-    CHECK(run(0.8e-3, 0.5) == doctest::Approx(k * 0.2e-3 + z * 0.5).epsilon(1e-9));   // and damps the approach
+    CHECK(run(0.8e-3, 0.0) == ameoto::test::relative(k * 0.2e-3).epsilon(1e-9));        // compressed: pushes
+    CHECK(run(0.8e-3, 0.5) == ameoto::test::relative(k * 0.2e-3 + z * 0.5).epsilon(1e-9));   // and damps the approach
     // Compressed but separating fast: spring 0.01 N, damper -0.05 N; a penalty damper would pull. It is clipped.
     CHECK(run(0.8e-3, -50.0) == 0.0);
 }
@@ -157,7 +158,7 @@ TEST_CASE("body3d: a breakable link breaks at its threshold, reports it once, an
     body.step();
     CHECK(body.breaks().empty());
     const double stretch = ameoto::norm(body.position(a) - body.position(b)) - l0;
-    CHECK(body.elastic_energy() == doctest::Approx(0.5 * k * stretch * stretch).epsilon(1e-12));
+    CHECK(body.elastic_energy() == ameoto::test::relative(0.5 * k * stretch * stretch).epsilon(1e-12));
     // reset() mends it.
     body.reset();
     CHECK_FALSE(body.link_broken(weak));
@@ -181,13 +182,13 @@ TEST_CASE("body3d: a cohesive link breaks under tension only, and its core pushe
     SUBCASE("bonded, between core and break: the spring-damper") {
         Body3D body = pair(1.5e-3, 0.2);
         const Vec3 f = force_seen(body, 0);
-        CHECK(f.x == doctest::Approx(-k * 0.5e-3 - z * 0.2).epsilon(1e-9));
+        CHECK(f.x == ameoto::test::relative(-k * 0.5e-3 - z * 0.2).epsilon(1e-9));
         CHECK(body.breaks().empty());
     }
     SUBCASE("inside the core: spring plus core push") {
         Body3D body = pair(0.8e-3, 0.0);
-        CHECK(body.elastic_energy() == doctest::Approx(0.5 * k * 0.2e-3 * 0.2e-3 + 0.5 * kc * 0.1e-3 * 0.1e-3).epsilon(1e-9));
-        CHECK(force_seen(body, 0).x == doctest::Approx(k * 0.2e-3 + kc * 0.1e-3).epsilon(1e-9));
+        CHECK(body.elastic_energy() == ameoto::test::relative(0.5 * k * 0.2e-3 * 0.2e-3 + 0.5 * kc * 0.1e-3 * 0.1e-3).epsilon(1e-9));
+        CHECK(force_seen(body, 0).x == ameoto::test::relative(k * 0.2e-3 + kc * 0.1e-3).epsilon(1e-9));
     }
     SUBCASE("compressed far past the threshold: pushes, never breaks") {
         Body3D body = pair(0.2e-3, -1.0);   // core force 0.07 N, 700 times the threshold
@@ -213,7 +214,7 @@ TEST_CASE("body3d: a cohesive link breaks under tension only, and its core pushe
         body.set_position(0, Vec3{0.85e-3, 0.0, 0.0});
         body.set_velocity(0, Vec3{});
         body.set_velocity(1, Vec3{});
-        CHECK(force_seen(body, 0).x == doctest::Approx(kc * 0.05e-3).epsilon(1e-9));   // no spring
+        CHECK(force_seen(body, 0).x == ameoto::test::relative(kc * 0.05e-3).epsilon(1e-9));   // no spring
         body.set_position(0, Vec3{1.2e-3, 0.0, 0.0});
         body.set_velocity(0, Vec3{});
         body.set_velocity(1, Vec3{});
@@ -404,7 +405,7 @@ TEST_CASE("body3d: gravity, linear drag and quadratic drag follow their laws") {
             body.set_integrator(scheme);
             body.finalize(kT);
             for (int n = 0; n < 4800; ++n) body.step();
-            CHECK(body.velocity(a).z == doctest::Approx(-9.80665 * 0.1).epsilon(1e-9));
+            CHECK(body.velocity(a).z == ameoto::test::relative(-9.80665 * 0.1).epsilon(1e-9));
             CHECK(body.velocity(a).x == 0.0);
         }
     }
@@ -421,7 +422,7 @@ TEST_CASE("body3d: gravity, linear drag and quadratic drag follow their laws") {
         CHECK(body.velocity(a).x == doctest::Approx(3.0 * factor).epsilon(1e-9));
         CHECK(body.velocity(a).z == doctest::Approx(-4.0 * factor).epsilon(1e-9));
         // And the continuous law exp(-c t / m), to the scheme's first-order error c T / 2m = 2e-4 per unit time constant.
-        CHECK(body.velocity(a).x == doctest::Approx(3.0 * std::exp(-c * 0.1 / m)).epsilon(1e-3));
+        CHECK(body.velocity(a).x == ameoto::test::relative(3.0 * std::exp(-c * 0.1 / m)).epsilon(1e-3));
     }
     SUBCASE("quadratic drag -b |v| v: v = v0 / (1 + b v0 t / m), direction kept") {
         const double b = 2e-7;   // about a 1 mm drop's
@@ -434,8 +435,8 @@ TEST_CASE("body3d: gravity, linear drag and quadratic drag follow their laws") {
         for (int n = 0; n < 48000; ++n) body.step();
         const Vec3 v = body.velocity(a);
         // Explicit scheme: first-order error b v T / 2m = 2e-5 relative per step's worth; 1e-3 over 1 s.
-        CHECK(ameoto::norm(v) == doctest::Approx(5.0 / (1.0 + b * 5.0 * 1.0 / m)).epsilon(1e-3));
-        CHECK(v.x / v.z == doctest::Approx(-0.75).epsilon(1e-12));
+        CHECK(ameoto::norm(v) == ameoto::test::relative(5.0 / (1.0 + b * 5.0 * 1.0 / m)).epsilon(1e-3));
+        CHECK(v.x / v.z == ameoto::test::relative(-0.75).epsilon(1e-12));
     }
 }
 
@@ -450,7 +451,7 @@ TEST_CASE("body3d: fixed points never move and count once in the stability bound
     body.apply_force(f, Vec3{1.0, 0.0, 0.0});    // likewise
     const auto& s = body.finalize(kT);
     // One mass on a link to a fixed point: omega^2 = k / m exactly (anchor-like, counted once).
-    CHECK(s.omega_max_bound * s.omega_max_bound == doctest::Approx(k / m).epsilon(1e-12));
+    CHECK(s.omega_max_bound * s.omega_max_bound == ameoto::test::relative(k / m).epsilon(1e-12));
     for (int n = 0; n < 1000; ++n) body.step();
     CHECK(body.position(f).z == 1e-3);
     CHECK(body.position(f).x == 0.0);
@@ -543,7 +544,7 @@ TEST_CASE("body3d: stability report: Gershgorin bound and the fewest sub-steps")
         Body3D body;
         body.add_spring(body.add_mass(m, Vec3{}), body.add_mass(m, Vec3{1e-3, 0.0, 0.0}), k, 0.0, 1e-3);
         const auto& s = body.finalize(kT);
-        CHECK(s.omega_max_bound * kT == doctest::Approx(0.5).epsilon(1e-12));
+        CHECK(s.omega_max_bound * kT == ameoto::test::relative(0.5).epsilon(1e-12));
         CHECK(s.sub_steps == 1);
         CHECK(s.stable());
     }
@@ -556,8 +557,8 @@ TEST_CASE("body3d: stability report: Gershgorin bound and the fewest sub-steps")
         body.set_quadratic_drag(a, b);
         body.set_speed_bound(10.0);
         const auto& s = body.finalize(kT);
-        CHECK(s.gamma_max_bound == doctest::Approx((z + c + 2.0 * b * 10.0) / m).epsilon(1e-12));
-        CHECK(s.margin() == doctest::Approx(2.0 * s.gamma_max_bound * kT / 4.0).epsilon(1e-12));
+        CHECK(s.gamma_max_bound == ameoto::test::relative((z + c + 2.0 * b * 10.0) / m).epsilon(1e-12));
+        CHECK(s.margin() == ameoto::test::relative(2.0 * s.gamma_max_bound * kT / 4.0).epsilon(1e-12));
     }
     SUBCASE("a stiff lattice drop gets the fewest sub-steps with margin < 0.9") {
         ameoto::LatticeBallSpec spec;
@@ -663,24 +664,24 @@ TEST_CASE("body3d: state edits, integrator switch, reset, and step before finali
     CHECK(body.position(a).x == 1.0);
     body.set_velocity(a, Vec3{0.5, 0.0, 0.0});
     body.finalize(kT);
-    CHECK(body.velocity(a).x == doctest::Approx(0.5).epsilon(1e-9));
+    CHECK(body.velocity(a).x == ameoto::test::relative(0.5).epsilon(1e-9));
     body.step();
     CHECK(body.position(a).x == doctest::Approx(1.0 + 0.5 * kT).epsilon(1e-14));
     body.set_integrator(Integrator::symplectic_euler);
-    CHECK(body.velocity(a).x == doctest::Approx(0.5).epsilon(1e-9));
+    CHECK(body.velocity(a).x == ameoto::test::relative(0.5).epsilon(1e-9));
     body.set_position(a, Vec3{0.0, 0.0, 0.0});
-    CHECK(body.velocity(a).x == doctest::Approx(0.5).epsilon(1e-9));
+    CHECK(body.velocity(a).x == ameoto::test::relative(0.5).epsilon(1e-9));
     body.set_integrator(Integrator::explicit_verlet);
-    CHECK(body.velocity(a).x == doctest::Approx(0.5).epsilon(1e-9));
+    CHECK(body.velocity(a).x == ameoto::test::relative(0.5).epsilon(1e-9));
     // The implicit and modal schemes are not Body3D's: refused, nothing changes.
     CHECK_FALSE(body.set_integrator(Integrator::trapezoidal));
     CHECK_FALSE(body.set_integrator(Integrator::modal));
     CHECK(body.integrator() == Integrator::explicit_verlet);
     body.apply_force(a, Vec3{0.0, 1.0, 0.0});
     body.step();
-    CHECK(body.velocity(a).y == doctest::Approx(kT / m).epsilon(1e-9));
+    CHECK(body.velocity(a).y == ameoto::test::relative(kT / m).epsilon(1e-9));
     body.step();   // the external force was cleared after its step
-    CHECK(body.velocity(a).y == doctest::Approx(kT / m).epsilon(1e-9));
+    CHECK(body.velocity(a).y == ameoto::test::relative(kT / m).epsilon(1e-9));
     body.reset();
     CHECK(body.position(a).x == 1.0);   // the position at finalize()
     CHECK(ameoto::norm(body.velocity(a)) == 0.0);

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // Tests for engine/core/lattice_ball: the FCC lattice drop (seed Fig. 8, one mass per 1 mm drop volume).
 #include <doctest/doctest.h>
+#include "tests/support/relative_approx.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -54,15 +55,15 @@ TEST_CASE("lattice_ball: counts near D^3, exact mass, 12 neighbours inside, cent
         if (d_mm == 1.0) {
             CHECK(info.mass_count == 1);
             CHECK(info.link_count == 0);
-            CHECK(info.spacing == doctest::Approx(d));
+            CHECK(info.spacing == ameoto::test::relative(d));
         } else {
             CHECK(std::abs(info.mass_count - target) <= 0.2 * target);
         }
 
         // Mass: rho pi D^3 / 6, shared equally, conserved to rounding.
         const double total = ameoto::constants::water_density * ameoto::constants::pi * d * d * d / 6.0;
-        CHECK(info.total_mass == doctest::Approx(total).epsilon(1e-15));
-        CHECK(body.total_mass() == doctest::Approx(total).epsilon(1e-14));
+        CHECK(info.total_mass == ameoto::test::relative(total).epsilon(1e-15));
+        CHECK(body.total_mass() == ameoto::test::relative(total).epsilon(1e-14));
         for (int i = 0; i < body.mass_count(); ++i) CHECK(body.mass(i) == info.node_mass);
 
         // Centre of mass on the requested centre (rounding of |centre| = 0.5 m: 1e-15 m is 1e-12 of D).
@@ -74,7 +75,7 @@ TEST_CASE("lattice_ball: counts near D^3, exact mass, 12 neighbours inside, cent
             const int a = std::min(body.link_a(l), body.link_b(l)), b = std::max(body.link_a(l), body.link_b(l));
             CHECK(seen.insert({a, b}).second);
             CHECK(body.rest_length(l) == info.spacing);
-            CHECK(ameoto::norm(body.position(a) - body.position(b)) == doctest::Approx(info.spacing).epsilon(1e-9));
+            CHECK(ameoto::norm(body.position(a) - body.position(b)) == ameoto::test::relative(info.spacing).epsilon(1e-9));
             CHECK(body.link_kind(l) == ameoto::LinkKind::spring);
         }
         // Neighbours: at most 12, and exactly 12 for every mass whose 12 lattice neighbours (all within
@@ -95,7 +96,7 @@ TEST_CASE("lattice_ball: counts near D^3, exact mass, 12 neighbours inside, cent
         if (d_mm >= 5.0) CHECK(interior > 0);
         // The lattice fills the sphere: count * (volume per site h^3 / sqrt 2) within 25 % of the volume.
         const double filled = info.mass_count * std::pow(info.spacing, 3) / std::sqrt(2.0);
-        if (d_mm > 1.0) CHECK(filled == doctest::Approx(ameoto::constants::pi * d * d * d / 6.0).epsilon(0.25));
+        if (d_mm > 1.0) CHECK(filled == ameoto::test::relative(ameoto::constants::pi * d * d * d / 6.0).epsilon(0.25));
     }
 }
 

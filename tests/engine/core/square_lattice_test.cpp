@@ -11,6 +11,7 @@
 #include "engine/core/square_lattice.hpp"
 #include "engine/core/transverse_network.hpp"
 #include "tests/support/test_constants.hpp"
+#include "tests/support/relative_approx.hpp"
 
 using namespace ameoto::test::common;
 
@@ -23,13 +24,13 @@ TEST_CASE("square_lattice: fixed edges lie one spacing, free edges half a spacin
     const auto fixed = ameoto::build_square_lattice(0.4, 0.3, h, RectangleEdges{});
     CHECK(fixed.nx == 11);   // square_lattice.hpp: L = (n + 1) h
     CHECK(fixed.ny == 8);
-    CHECK(fixed.length_x == doctest::Approx(0.4).epsilon(1e-12));
-    CHECK(fixed.length_y == doctest::Approx(0.3).epsilon(1e-12));
-    CHECK(fixed.node_area == doctest::Approx(h * h).epsilon(1e-12));
+    CHECK(fixed.length_x == ameoto::test::relative(0.4).epsilon(1e-12));
+    CHECK(fixed.length_y == ameoto::test::relative(0.3).epsilon(1e-12));
+    CHECK(fixed.node_area == ameoto::test::relative(h * h).epsilon(1e-12));
     CHECK(fixed.nodes.size() == 88u);
     CHECK(fixed.links.size() == static_cast<std::size_t>(10 * 8 + 11 * 7));
-    CHECK(fixed.nodes[0].x == doctest::Approx(h).epsilon(1e-12));
-    CHECK(fixed.nodes[static_cast<std::size_t>(fixed.index(10, 7))].y == doctest::Approx(0.3 - h).epsilon(1e-12));
+    CHECK(fixed.nodes[0].x == ameoto::test::relative(h).epsilon(1e-12));
+    CHECK(fixed.nodes[static_cast<std::size_t>(fixed.index(10, 7))].y == ameoto::test::relative(0.3 - h).epsilon(1e-12));
     // Corners have 2 fixed neighbours, edges 1, the interior none; 4 neighbours in all.
     CHECK(fixed.anchor_links[static_cast<std::size_t>(fixed.index(0, 0))] == 2);
     CHECK(fixed.anchor_links[static_cast<std::size_t>(fixed.index(5, 0))] == 1);
@@ -46,8 +47,8 @@ TEST_CASE("square_lattice: fixed edges lie one spacing, free edges half a spacin
     const auto free_top = ameoto::build_square_lattice(0.4, 0.3, hf, RectangleEdges{true, true, true, false});
     CHECK(free_top.nx == 9);
     CHECK(free_top.ny == 7);
-    CHECK(free_top.length_y == doctest::Approx(0.3).epsilon(1e-12));
-    CHECK(free_top.nodes[static_cast<std::size_t>(free_top.index(4, 6))].y == doctest::Approx(0.3 - 0.5 * hf).epsilon(1e-12));
+    CHECK(free_top.length_y == ameoto::test::relative(0.3).epsilon(1e-12));
+    CHECK(free_top.nodes[static_cast<std::size_t>(free_top.index(4, 6))].y == ameoto::test::relative(0.3 - 0.5 * hf).epsilon(1e-12));
     CHECK(free_top.anchor_links[static_cast<std::size_t>(free_top.index(4, 6))] == 0);   // top row: free above
     CHECK(free_top.nearest_node({0.21, 0.29}) == free_top.index(4, 6));
     CHECK_THROWS_AS(ameoto::build_square_lattice(0.01, 0.3, 0.1, RectangleEdges{}), std::invalid_argument);

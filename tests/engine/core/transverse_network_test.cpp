@@ -15,6 +15,7 @@
 #include "tests/engine/core/integrators/test_bodies.hpp"
 #include "tests/support/rt_probe_scope.hpp"
 #include "tests/support/test_constants.hpp"
+#include "tests/support/relative_approx.hpp"
 
 using namespace ameoto::test::common;
 
@@ -63,7 +64,7 @@ TEST_CASE("transverse_network: an undamped anchored mass oscillates at the warpe
         net.finalize(kT);
         // A single anchored mass: omega_max^2 = k/m exactly, so 1.5^2 / 4 = 0.5625 < 0.9: no sub-steps.
         REQUIRE(net.stability().sub_steps == 1);
-        CHECK(net.stability().margin() == doctest::Approx(w0t * w0t / 4.0).epsilon(1e-12));
+        CHECK(net.stability().margin() == ameoto::test::relative(w0t * w0t / 4.0).epsilon(1e-12));
         const double dt = kT / net.stability().sub_steps;
 
         net.apply_force(a, 1.0);
@@ -167,7 +168,7 @@ TEST_CASE("transverse_network: margin is the exact Jury condition for one damped
     net.add_anchor(a, m * omega0 * omega0, 0.0);
     net.finalize(kT);
     CHECK(net.stability().sub_steps == 1);
-    CHECK(net.stability().margin() == doctest::Approx((0.64 + 2.0 * (z / m) * kT) / 4.0).epsilon(1e-12));
+    CHECK(net.stability().margin() == ameoto::test::relative((0.64 + 2.0 * (z / m) * kT) / 4.0).epsilon(1e-12));
 }
 
 TEST_CASE("transverse_network: a network beyond 4096 sub-steps is refused") {
@@ -187,7 +188,7 @@ TEST_CASE("transverse_network: internal links conserve momentum") {
     auto momentum = [&] { return net.mass(a) * net.velocity(a) + net.mass(b) * net.velocity(b); };
     const double p0 = momentum();
     // The impulse given: F T = 2 N * T (rounding only).
-    CHECK(p0 == doctest::Approx(2.0 * kT).epsilon(1e-12));
+    CHECK(p0 == ameoto::test::relative(2.0 * kT).epsilon(1e-12));
     const double eps = std::numeric_limits<double>::epsilon();
     double worst = 0.0, rounding_bound = 0.0, worst_over_bound = 0.0;
     for (int n = 0; n < 10000; ++n) {
@@ -251,7 +252,7 @@ TEST_CASE("transverse_network: damping makes energy decay") {
         // The centre of mass keeps p^2 / (2 M) = half the initial kinetic energy when the impulse hit one
         // of two equal masses; the relative half decays away. 1 % (explicit-scheme ripple).
         CHECK(e1 < e0);
-        CHECK(e1 == doctest::Approx(0.5 * e0).epsilon(0.01));
+        CHECK(e1 == ameoto::test::relative(0.5 * e0).epsilon(0.01));
     }
 }
 
@@ -343,7 +344,7 @@ TEST_CASE("transverse_network: every integrator conserves the momentum of a free
             return p;
         };
         const double p0 = momentum();
-        CHECK(p0 == doctest::Approx(1.5 * kT).epsilon(1e-9));
+        CHECK(p0 == ameoto::test::relative(1.5 * kT).epsilon(1e-9));
         double worst = 0.0, worst_force = 0.0;
         for (int n = 0; n < 10000; ++n) {
             worst_force = std::max(worst_force, std::abs(net.step()));

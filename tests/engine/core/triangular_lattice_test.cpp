@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // Tests for engine/core/triangular_lattice: the node lattice over a convex polygon with fixed/free edges.
 #include <doctest/doctest.h>
+#include "tests/support/relative_approx.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -54,7 +55,7 @@ double distance_to_boundary(const std::vector<PolygonEdge>& poly, Point2 p) {
 
 TEST_CASE("triangular_lattice: polygon area and containment") {
     CHECK(ameoto::polygon_area(square(2.0)) == doctest::Approx(4.0).epsilon(1e-15));
-    CHECK(ameoto::polygon_area(triangle(true)) == doctest::Approx(0.5 * (0.9 * 0.7 - 0.1 * 0.3)).epsilon(1e-15));
+    CHECK(ameoto::polygon_area(triangle(true)) == ameoto::test::relative(0.5 * (0.9 * 0.7 - 0.1 * 0.3)).epsilon(1e-15));
     CHECK(ameoto::polygon_contains(square(1.0), {0.5, 0.5}));
     CHECK_FALSE(ameoto::polygon_contains(square(1.0), {1.5, 0.5}));
     CHECK_FALSE(ameoto::polygon_contains(square(1.0), {0.5, -0.01}));
@@ -74,7 +75,7 @@ TEST_CASE("triangular_lattice: node area and link geometry") {
     const auto lat = ameoto::build_triangular_lattice(triangle(true), h);
     CHECK(lat.spacing == h);
     // triangular_lattice.hpp: node area (sqrt 3 / 2) h^2 (rounding only).
-    CHECK(lat.node_area == doctest::Approx(std::sqrt(3.0) / 2.0 * h * h).epsilon(1e-14));
+    CHECK(lat.node_area == ameoto::test::relative(std::sqrt(3.0) / 2.0 * h * h).epsilon(1e-14));
     REQUIRE(lat.anchor_links.size() == lat.nodes.size());
     for (const auto& p : lat.nodes) CHECK(ameoto::polygon_contains(triangle(true), p));
     // Every link joins two distinct nodes one spacing apart (a triangular lattice), and no pair twice.
@@ -82,7 +83,7 @@ TEST_CASE("triangular_lattice: node area and link geometry") {
     for (const auto& l : lat.links) {
         REQUIRE(l.a != l.b);
         const Point2 a = lat.nodes[static_cast<std::size_t>(l.a)], b = lat.nodes[static_cast<std::size_t>(l.b)];
-        CHECK(std::hypot(a.x - b.x, a.y - b.y) == doctest::Approx(h).epsilon(1e-12));
+        CHECK(std::hypot(a.x - b.x, a.y - b.y) == ameoto::test::relative(h).epsilon(1e-12));
         for (int other : seen[static_cast<std::size_t>(l.a)]) CHECK(other != l.b);
         seen[static_cast<std::size_t>(l.a)].push_back(l.b);
         seen[static_cast<std::size_t>(l.b)].push_back(l.a);
@@ -167,10 +168,10 @@ TEST_CASE("triangular_lattice: node count times node area approximates the polyg
     const auto poly = triangle(true);
     const auto lat = ameoto::build_triangular_lattice(poly, ameoto::spacing_for_node_count(poly, 200));
     // Brief: within 15 % for a 200-node triangle (boundary cells are cut).
-    CHECK(lat.nodes.size() * lat.node_area == doctest::Approx(ameoto::polygon_area(poly)).epsilon(0.15));
+    CHECK(lat.nodes.size() * lat.node_area == ameoto::test::relative(ameoto::polygon_area(poly)).epsilon(0.15));
     // And it converges: a much finer lattice is within 2 % (perimeter * h / area ~ 1.5 %).
     const auto fine = ameoto::build_triangular_lattice(poly, lat.spacing / 8.0);
-    CHECK(fine.nodes.size() * fine.node_area == doctest::Approx(ameoto::polygon_area(poly)).epsilon(0.02));
+    CHECK(fine.nodes.size() * fine.node_area == ameoto::test::relative(ameoto::polygon_area(poly)).epsilon(0.02));
 }
 
 TEST_CASE("triangular_lattice: nearest_node returns the nearest node") {

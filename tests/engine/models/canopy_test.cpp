@@ -12,6 +12,7 @@
 #include "engine/core/random.hpp"
 #include "engine/models/canopy.hpp"
 #include "tests/support/test_constants.hpp"
+#include "tests/support/relative_approx.hpp"
 
 using namespace ameoto::test::common;
 
@@ -31,12 +32,12 @@ TEST_CASE("canopy: plan area is N R^2 sin(2 pi / N) / 2") {
             CAPTURE(r);
             const ameoto::Canopy c(ameoto::CanopyGeometry{n, r, 30}, ameoto::MembraneMaterial::nylon_canopy(), kT);
             // canopy.hpp: plan area (rounding only).
-            CHECK(c.area() == doctest::Approx(n * r * r * std::sin(2.0 * kPi / n) / 2.0).epsilon(1e-12));
+            CHECK(c.area() == ameoto::test::relative(n * r * r * std::sin(2.0 * kPi / n) / 2.0).epsilon(1e-12));
             CHECK(c.panel_count() == n);
         }
     }
     // canopy.hpp: 0.707 m^2 for 8 panels of 0.5 m.
-    CHECK(default_canopy().area() == doctest::Approx(0.7071).epsilon(1e-3));
+    CHECK(default_canopy().area() == ameoto::test::relative(0.7071).epsilon(1e-3));
 }
 
 TEST_CASE("canopy: default panels have about 50 masses and are stable") {
@@ -68,7 +69,7 @@ TEST_CASE("canopy: locate finds the panel under a point") {
         CHECK(hit.node < c.panel(k).network.mass_count());
         // The centroid lies along the panel's azimuth at 2/3 of its height from the shaft.
         CHECK(std::atan2(p.y, p.x) == doctest::Approx(std::remainder(c.panel_azimuth(k), 2.0 * kPi)).epsilon(1e-12));
-        CHECK(std::hypot(p.x, p.y) == doctest::Approx(2.0 / 3.0 * 0.5 * std::cos(kPi / 8)).epsilon(1e-12));
+        CHECK(std::hypot(p.x, p.y) == ameoto::test::relative(2.0 / 3.0 * 0.5 * std::cos(kPi / 8)).epsilon(1e-12));
     }
     // Outside the radius at any azimuth: no panel.
     for (int i = 0; i < 360; ++i) {
@@ -137,7 +138,7 @@ TEST_CASE("canopy: forces move the hit panel only, and the runtime guard resets 
     c.step(forces.data());
     for (int k = 0; k < c.panel_count(); ++k) {
         CAPTURE(k);
-        if (k == 3) CHECK(forces[static_cast<std::size_t>(k)] == doctest::Approx(0.5).epsilon(1e-12));   // first step: the external force
+        if (k == 3) CHECK(forces[static_cast<std::size_t>(k)] == ameoto::test::relative(0.5).epsilon(1e-12));   // first step: the external force
         else CHECK(forces[static_cast<std::size_t>(k)] == 0.0);
     }
     c.apply_force({}, 1.0);   // panel -1: ignored
@@ -196,9 +197,9 @@ TEST_CASE("canopy: curvature puts the nodes on a spherical cap, moving along its
             // Same plan point as the flat canopy, lifted onto the sphere |p - centre| = Rc (rounding).
             CHECK(p.x == doctest::Approx(q.x).epsilon(1e-15));
             CHECK(p.y == doctest::Approx(q.y).epsilon(1e-15));
-            CHECK(ameoto::norm(p - centre) == doctest::Approx(rc).epsilon(1e-14));
+            CHECK(ameoto::norm(p - centre) == ameoto::test::relative(rc).epsilon(1e-14));
             // Unit normal along the radius, pointing out and up.
-            CHECK(ameoto::norm(n) == doctest::Approx(1.0).epsilon(1e-14));
+            CHECK(ameoto::norm(n) == ameoto::test::relative(1.0).epsilon(1e-14));
             const auto radial = (p - centre) / rc;
             CHECK(ameoto::norm(n - radial) < 1e-14);
             CHECK(n.z > 0.0);
@@ -206,7 +207,7 @@ TEST_CASE("canopy: curvature puts the nodes on a spherical cap, moving along its
         }
     }
     // Rim height sqrt(Rc^2 - R^2) - Rc (a 0.109 m deep cap for Rc = 1.2 m), shaft at 0.
-    CHECK(curved.rest_height(r, 0.0) == doctest::Approx(std::sqrt(rc * rc - r * r) - rc).epsilon(1e-14));
+    CHECK(curved.rest_height(r, 0.0) == ameoto::test::relative(std::sqrt(rc * rc - r * r) - rc).epsilon(1e-14));
     CHECK(curved.rest_height(0.0, 0.0) == 0.0);
     // A force moves the node along its normal: position = rest + u n.
     std::vector<double> forces(8);
@@ -218,7 +219,7 @@ TEST_CASE("canopy: curvature puts the nodes on a spherical cap, moving along its
     CHECK(u > 0.0);
     const auto moved = curved.node_position(hit.panel, hit.node) - curved.rest_position(hit.panel, hit.node);
     CHECK(ameoto::norm(moved - u * curved.normal(hit.panel, hit.node)) < 1e-16);   // rounding of |rest| ~ 0.3 m
-    CHECK(curved.normal_velocity(hit.panel, hit.node) == doctest::Approx(u / kT).epsilon(1e-12));   // from rest
+    CHECK(curved.normal_velocity(hit.panel, hit.node) == ameoto::test::relative(u / kT).epsilon(1e-12));   // from rest
     // The dynamics are the flat panel's (shallow shell, canopy.hpp): the same net force.
     ameoto::Canopy flat2(ameoto::CanopyGeometry{}, ameoto::MembraneMaterial::nylon_canopy(), kT);
     std::vector<double> flat_forces(8);

@@ -15,6 +15,7 @@
 #include "engine/models/drop.hpp"
 #include "engine/scene/terminal_speed.hpp"
 #include "tests/support/test_constants.hpp"
+#include "tests/support/relative_approx.hpp"
 
 using namespace ameoto::test::common;
 
@@ -177,8 +178,8 @@ TEST_CASE("drop: one mass per 1 mm drop volume, the drop's mass exact") {
             CHECK(std::abs(c.masses - target) <= 0.2 * target);   // whole shells (lattice_ball.hpp)
         }
         const double m = 998.0 * kPi * d * d * d / 6.0;
-        CHECK(c.total_mass == doctest::Approx(m).epsilon(1e-15));
-        CHECK(c.node_mass * c.masses == doctest::Approx(m).epsilon(1e-14));
+        CHECK(c.total_mass == ameoto::test::relative(m).epsilon(1e-15));
+        CHECK(c.node_mass * c.masses == ameoto::test::relative(m).epsilon(1e-14));
     }
     CHECK(ameoto::calibrate_drop(5e-3, ameoto::liquids::water()).masses == 122);   // 125 targeted
 }
@@ -191,33 +192,33 @@ TEST_CASE("drop: Rayleigh's n = 2 frequency and Lamb's decay time (physics.md se
     CHECK(ameoto::rayleigh_frequency(5e-3, kWater20) == doctest::Approx(31.0).epsilon(0.5 / 31.0 + 1e-3));
     // tau = a^2 / ((n-1)(2n+1) nu): n = 2, a = 1 mm, nu = 1e-6: 0.2 s.
     const Liquid nu1{"nu = 1e-6", 1000.0, 0.07, 1e-3};
-    CHECK(ameoto::lamb_decay_time(2e-3, nu1) == doctest::Approx(0.2).epsilon(1e-12));
-    CHECK(ameoto::lamb_decay_time(2e-3, nu1, 3) == doctest::Approx(1e-6 / (2.0 * 7.0 * 1e-6)).epsilon(1e-12));
+    CHECK(ameoto::lamb_decay_time(2e-3, nu1) == ameoto::test::relative(0.2).epsilon(1e-12));
+    CHECK(ameoto::lamb_decay_time(2e-3, nu1, 3) == ameoto::test::relative(1e-6 / (2.0 * 7.0 * 1e-6)).epsilon(1e-12));
 }
 
 TEST_CASE("drop: the calibration's closed forms (k, z, break force, core)") {
     const Liquid& water = ameoto::liquids::water();
     const auto c = ameoto::calibrate_drop(5e-3, water);
     const double omega2 = 2.0 * kPi * c.rayleigh_hz;
-    CHECK(c.stiffness == doctest::Approx(c.node_mass * omega2 * omega2 / c.lambda2).epsilon(1e-14));
+    CHECK(c.stiffness == ameoto::test::relative(c.node_mass * omega2 * omega2 / c.lambda2).epsilon(1e-14));
     // z = 2 k / (tau omega^2) = (5/4) (mu a / sigma) k
-    CHECK(c.damping == doctest::Approx(1.25 * water.viscosity * 2.5e-3 / water.surface_tension * c.stiffness).epsilon(1e-12));
-    CHECK(c.break_force == doctest::Approx(0.5 * kPi * water.surface_tension * c.spacing).epsilon(1e-14));
-    CHECK(c.core_length == doctest::Approx(0.9 * c.spacing).epsilon(1e-14));
-    CHECK(c.core_stiffness == doctest::Approx(c.node_mass * std::pow(15.0 / c.spacing, 2)).epsilon(1e-14));
+    CHECK(c.damping == ameoto::test::relative(1.25 * water.viscosity * 2.5e-3 / water.surface_tension * c.stiffness).epsilon(1e-12));
+    CHECK(c.break_force == ameoto::test::relative(0.5 * kPi * water.surface_tension * c.spacing).epsilon(1e-14));
+    CHECK(c.core_length == ameoto::test::relative(0.9 * c.spacing).epsilon(1e-14));
+    CHECK(c.core_stiffness == ameoto::test::relative(c.node_mass * std::pow(15.0 / c.spacing, 2)).epsilon(1e-14));
     // k = 32 pi sigma / (3 N lambda): independent of the diameter for a given lattice.
-    CHECK(c.stiffness == doctest::Approx(32.0 * kPi * water.surface_tension / (3.0 * c.masses * c.lambda2)).epsilon(1e-12));
+    CHECK(c.stiffness == ameoto::test::relative(32.0 * kPi * water.surface_tension / (3.0 * c.masses * c.lambda2)).epsilon(1e-12));
     // Breaking strain F / (k h) = 3 N lambda / 64, independent of sigma: 1.18 at 5 mm, 0.33 at 2 mm.
-    CHECK(c.break_force / (c.stiffness * c.spacing) == doctest::Approx(3.0 * 122 * c.lambda2 / 64.0).epsilon(1e-12));
+    CHECK(c.break_force / (c.stiffness * c.spacing) == ameoto::test::relative(3.0 * 122 * c.lambda2 / 64.0).epsilon(1e-12));
     const auto c2 = ameoto::calibrate_drop(2e-3, water);
-    CHECK(c2.break_force / (c2.stiffness * c2.spacing) == doctest::Approx(3.0 * 7 * 1.0 / 64.0).epsilon(1e-9));
+    CHECK(c2.break_force / (c2.stiffness * c2.spacing) == ameoto::test::relative(3.0 * 7 * 1.0 / 64.0).epsilon(1e-9));
     ameoto::DropOptions no_core;
     no_core.core = false;
     CHECK(ameoto::calibrate_drop(5e-3, water, no_core).core_stiffness == 0.0);
     // Arrival speed: Gunn & Kinzer for water, times sqrt(rho / rho_w) otherwise.
     CHECK(c.arrival_speed == ameoto::terminal_speed(5e-3));
     CHECK(ameoto::calibrate_drop(5e-3, ameoto::liquids::heavy_oil()).arrival_speed ==
-          doctest::Approx(ameoto::terminal_speed(5e-3) * std::sqrt(960.0 / 998.0)).epsilon(1e-14));
+          ameoto::test::relative(ameoto::terminal_speed(5e-3) * std::sqrt(960.0 / 998.0)).epsilon(1e-14));
     CHECK_THROWS_AS(ameoto::calibrate_drop(0.0, water), std::invalid_argument);
     CHECK_THROWS_AS(ameoto::calibrate_drop(2e-3, Liquid{"bad", 1.0, 0.07, 1e-3}), std::invalid_argument);
 }
@@ -269,7 +270,7 @@ TEST_CASE("drop: the n = 2 eigenvalue by Lanczos equals the dense eigensolver's;
         }
         MESSAGE(s.mass_count() << " masses: lambda_2 " << lattice->lambda2 << " (share " << lattice->weight2
                                << "), lowest non-zero " << lowest);
-        CHECK(lattice->lambda2 == doctest::Approx(best_lambda).epsilon(1e-9));   // both exact to rounding
+        CHECK(lattice->lambda2 == ameoto::test::relative(best_lambda).epsilon(1e-9));   // both exact to rounding
         CHECK(std::abs(lattice->weight2 - best) < 0.01);   // near-degenerate neighbours are grouped differently
         CHECK(lattice->weight2 > 0.5);   // the stretch is mostly one mode
         if (target == 27) CHECK(lowest < 0.25 * lattice->lambda2);   // a solid's soft mode, not the liquid's
@@ -399,7 +400,7 @@ TEST_CASE("drop: drag presets: Beard's quadratic reaches the terminal speed, the
         return -drop.body.momentum().z / drop.body.total_mass();
     };
     const double quadratic = speed_after(DragPreset::quadratic, 3.0);
-    CHECK(quadratic == doctest::Approx(ameoto::terminal_speed(d)).epsilon(0.03));
+    CHECK(quadratic == ameoto::test::relative(ameoto::terminal_speed(d)).epsilon(0.03));
     CHECK(speed_after(DragPreset::seed_linear, 3.0) > 25.0);
     CHECK(speed_after(DragPreset::none, 1.0) == doctest::Approx(ameoto::constants::gravity).epsilon(1e-9));
 
@@ -413,7 +414,7 @@ TEST_CASE("drop: after a breakup each piece has the drag of a drop of its own vo
     Body3D& body = drop.body;
     const int n = body.mass_count();
     const double b = ameoto::drag::drop_quadratic_drag(d);
-    for (int i = 0; i < n; ++i) CHECK(body.quadratic_drag(i) == doctest::Approx(b / n).epsilon(1e-15));   // intact: b / N each
+    for (int i = 0; i < n; ++i) CHECK(body.quadratic_drag(i) == ameoto::test::relative(b / n).epsilon(1e-15));   // intact: b / N each
     body.finalize(kT);
     for (int step = 0; step < static_cast<int>(0.01 / kT); ++step) {
         push_off_floor(body);
@@ -427,7 +428,7 @@ TEST_CASE("drop: after a breakup each piece has the drag of a drop of its own vo
     for (int i = 0; i < n; ++i) piece_drag[static_cast<std::size_t>(cc.component_of(i))] += body.quadratic_drag(i);
     for (int c = 0; c < cc.count(); ++c) {
         const double d_piece = d * std::cbrt(static_cast<double>(cc.size_of(c)) / n);   // same volume
-        CHECK(piece_drag[static_cast<std::size_t>(c)] == doctest::Approx(ameoto::drag::drop_quadratic_drag(d_piece)).epsilon(1e-12));
+        CHECK(piece_drag[static_cast<std::size_t>(c)] == ameoto::test::relative(ameoto::drag::drop_quadratic_drag(d_piece)).epsilon(1e-12));
     }
     // A piece of one mass has more drag per mass than the intact drop had (area over volume).
     CHECK(ameoto::drag::drop_quadratic_drag(d / std::cbrt(static_cast<double>(n))) > b / n);

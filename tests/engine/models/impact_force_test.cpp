@@ -10,6 +10,7 @@
 
 #include "engine/models/impact_force.hpp"
 #include "tests/support/test_constants.hpp"
+#include "tests/support/relative_approx.hpp"
 
 using namespace ameoto::test::common;
 
@@ -33,7 +34,7 @@ TEST_CASE("impact_force: the pool delivers exactly the impulse added") {
         CHECK(pool->active() == 0);
         CHECK(other_target == 0);
         // impact_force.hpp: the last sample delivers the rest, so the impulse is exact to rounding (1e-12).
-        CHECK(delivered == doctest::Approx(impulse).epsilon(1e-12));
+        CHECK(delivered == ameoto::test::relative(impulse).epsilon(1e-12));
         // The pulse lasts ceil(duration / dt) samples (one at least). The duration is rounded up, so
         // 100 samples may become 101 through rounding of 100 dt / dt.
         CHECK(emitted >= std::max(1, static_cast<int>(std::ceil(samples - 1e-9))));
@@ -55,7 +56,7 @@ TEST_CASE("impact_force: concurrent pulses each deliver their own impulse") {
     CHECK(pool->active() == 0);
     for (const auto& [node, impulse] : expected) {
         CAPTURE(node);
-        CHECK(delivered[node] == doctest::Approx(impulse).epsilon(1e-12));   // rounding only
+        CHECK(delivered[node] == ameoto::test::relative(impulse).epsilon(1e-12));   // rounding only
     }
 }
 
@@ -88,10 +89,10 @@ TEST_CASE("impact_force: the force rises like sqrt(t) and peaks at a third of th
     CHECK(std::abs(static_cast<double>(peak) - samples / 3.0) < 0.01 * samples);
     // Peak force J (15 / 4 tau) (1/3)^(1/2) (2/3) with tau the duration: 1 % (sampling at mid-steps).
     const double tau = samples * kT;
-    CHECK(f[peak] == doctest::Approx(impulse * 15.0 / (4.0 * tau) * std::sqrt(1.0 / 3.0) * 2.0 / 3.0).epsilon(0.01));
+    CHECK(f[peak] == ameoto::test::relative(impulse * 15.0 / (4.0 * tau) * std::sqrt(1.0 / 3.0) * 2.0 / 3.0).epsilon(0.01));
     // Rise like t^(1/2): force at 4x the time is 2x (times the (1 - s) factor), 1 %.
     const double s1 = 20.5 / samples, s4 = 82.5 / samples;
-    CHECK(f[82] / f[20] == doctest::Approx(std::sqrt(s4 / s1) * (1.0 - s4) / (1.0 - s1)).epsilon(0.01));
+    CHECK(f[82] / f[20] == ameoto::test::relative(std::sqrt(s4 / s1) * (1.0 - s4) / (1.0 - s1)).epsilon(0.01));
     // Never pulls.
     for (double x : f) CHECK(x >= 0.0);
 }
@@ -106,7 +107,7 @@ TEST_CASE("impact_force: peak force of a real drop matches Gordillo et al. 0.8 r
     REQUIRE(pool->add({0, 0}, m * v, d / v, dt));
     double peak = 0.0;
     while (pool->active() > 0) pool->emit(dt, [&](ameoto::CanopyHit, double force) { peak = std::max(peak, force); });
-    CHECK(peak == doctest::Approx(0.8 * rho * v * v * d * d).epsilon(0.06));
+    CHECK(peak == ameoto::test::relative(0.8 * rho * v * v * d * d).epsilon(0.06));
 }
 
 TEST_CASE("impact_force: each sample carries the shape's integral over that sample") {
@@ -127,6 +128,6 @@ TEST_CASE("impact_force: each sample carries the shape's integral over that samp
             integral += impulse * 15.0 / 4.0 * std::sqrt(s) * (1.0 - s) / (samples * m);
         }
         CAPTURE(k);
-        CHECK(got[static_cast<std::size_t>(k)] == doctest::Approx(integral).epsilon(1e-6));
+        CHECK(got[static_cast<std::size_t>(k)] == ameoto::test::relative(integral).epsilon(1e-6));
     }
 }

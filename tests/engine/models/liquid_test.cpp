@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // Tests for engine/models/liquid: presets, lookup by name, validation of custom liquids.
 #include <doctest/doctest.h>
+#include "tests/support/relative_approx.hpp"
 
 #include <limits>
 #include <stdexcept>
@@ -16,18 +17,18 @@ TEST_CASE("liquid: presets carry the seed's water and cited milk and heavy oil")
     CHECK(water.surface_tension == 7.49e-2);   // seed section 5.1.1, exactly
     CHECK(water.viscosity == 1.52e-3);         // seed section 5.1.1, exactly
     CHECK(water.density == 998.0);
-    CHECK(water.kinematic_viscosity() == doctest::Approx(1.52e-3 / 998.0).epsilon(1e-15));
+    CHECK(water.kinematic_viscosity() == ameoto::test::relative(1.52e-3 / 998.0).epsilon(1e-15));
 
     const Liquid& milk = ameoto::liquids::milk();   // Walstra et al. 2006; J. Dairy Res. 50:259 (1983)
     CHECK(milk.density == 1030.0);
-    CHECK(milk.surface_tension == doctest::Approx(0.052));
-    CHECK(milk.viscosity == doctest::Approx(2.0e-3));
+    CHECK(milk.surface_tension == ameoto::test::relative(0.052));
+    CHECK(milk.viscosity == ameoto::test::relative(2.0e-3));
     // The cited fit gamma(T) = 1.8e-4 T^2 - 0.163 T + 55.6 mN/m at 20 C: 52.4 mN/m (preset to 1 %).
-    CHECK(milk.surface_tension == doctest::Approx((1.8e-4 * 400.0 - 0.163 * 20.0 + 55.6) * 1e-3).epsilon(0.01));
+    CHECK(milk.surface_tension == ameoto::test::relative((1.8e-4 * 400.0 - 0.163 * 20.0 + 55.6) * 1e-3).epsilon(0.01));
 
     const Liquid& oil = ameoto::liquids::heavy_oil();   // IFO 380 at 50 C: 380 mm^2/s * 960 kg/m^3
-    CHECK(oil.viscosity == doctest::Approx(380e-6 * 960.0).epsilon(1e-12));
-    CHECK(oil.kinematic_viscosity() == doctest::Approx(380e-6).epsilon(1e-12));
+    CHECK(oil.viscosity == ameoto::test::relative(380e-6 * 960.0).epsilon(1e-12));
+    CHECK(oil.kinematic_viscosity() == ameoto::test::relative(380e-6).epsilon(1e-12));
 
     CHECK(ameoto::liquids::presets().size() == 3);
     for (const Liquid& l : ameoto::liquids::presets()) CHECK(ameoto::validate(l).empty());

@@ -14,6 +14,7 @@
 #include "engine/models/membrane_collision.hpp"
 #include "tests/support/rt_probe_scope.hpp"
 #include "tests/support/test_constants.hpp"
+#include "tests/support/relative_approx.hpp"
 
 using namespace ameoto::test::common;
 
@@ -104,25 +105,25 @@ TEST_CASE("membrane_collision: one elastic collision exchanges momentum exactly 
     CHECK(std::abs(p_after - p_before) <= 1e-15 * std::abs(p_before));
     const double e_before = 0.5 * (c.m1 * c.v1 * c.v1 + c.m2 * c.v2 * c.v2);
     const double e_after = 0.5 * (c.m1 * c.v1_after * c.v1_after + c.m2 * c.v2_after * c.v2_after);
-    CHECK(e_after == doctest::Approx(e_before).epsilon(1e-14));
+    CHECK(e_after == ameoto::test::relative(e_before).epsilon(1e-14));
     // The textbook elastic result (membrane_collision.hpp, e = 1).
     const double m1 = c.m1, m2 = c.m2;
-    CHECK(c.v1_after == doctest::Approx(((m1 - m2) * v0) / (m1 + m2)).epsilon(1e-14));
-    CHECK(c.v2_after == doctest::Approx(2.0 * m1 * v0 / (m1 + m2)).epsilon(1e-14));
-    CHECK(c.impulse == doctest::Approx(m1 * (c.v1_after - c.v1)).epsilon(1e-14));
+    CHECK(c.v1_after == ameoto::test::relative(((m1 - m2) * v0) / (m1 + m2)).epsilon(1e-14));
+    CHECK(c.v2_after == ameoto::test::relative(2.0 * m1 * v0 / (m1 + m2)).epsilon(1e-14));
+    CHECK(c.impulse == ameoto::test::relative(m1 * (c.v1_after - c.v1)).epsilon(1e-14));
 
     // The exchange acts as the force m (v' - v) / T over one step (seed 4.3): after both bodies step,
     // their velocities are v1' and v2' (the node starts from rest, so no link acts within that step).
     canopy.step(forces.data());
     drops.step();
-    CHECK(drops.v[0].z == doctest::Approx(c.v1_after).epsilon(1e-13));
+    CHECK(drops.v[0].z == ameoto::test::relative(c.v1_after).epsilon(1e-13));
     CHECK(drops.v[0].x == 0.0);   // frictionless: tangential components untouched
     CHECK(drops.v[0].y == 0.0);
-    CHECK(canopy.normal_velocity(3, 20) == doctest::Approx(c.v2_after).epsilon(1e-12));
+    CHECK(canopy.normal_velocity(3, 20) == ameoto::test::relative(c.v2_after).epsilon(1e-12));
     const double p_stepped = m1 * drops.v[0].z + m2 * canopy.normal_velocity(3, 20);
     CHECK(std::abs(p_stepped - p_before) <= 1e-12 * std::abs(p_before));
     // And the panel's net force over that step is the node's share: -J / T (renderer's F_net).
-    CHECK(forces[3] == doctest::Approx(-c.impulse / kT).epsilon(1e-12));
+    CHECK(forces[3] == ameoto::test::relative(-c.impulse / kT).epsilon(1e-12));
     CHECK(collider.collisions() == 1);
 }
 
@@ -147,8 +148,8 @@ TEST_CASE("membrane_collision: restitution below 1 loses (1/2) mu (1 - e^2) v_re
         CHECK(c.v2 != 0.0);
         const double m1 = c.m1, m2 = c.m2, mu = m1 * m2 / (m1 + m2), vrel = c.v1 - c.v2;
         // membrane_collision.hpp, the closed forms.
-        CHECK(c.v1_after == doctest::Approx(((m1 - e * m2) * c.v1 + (1 + e) * m2 * c.v2) / (m1 + m2)).epsilon(1e-12));
-        CHECK(c.v2_after == doctest::Approx(((m2 - e * m1) * c.v2 + (1 + e) * m1 * c.v1) / (m1 + m2)).epsilon(1e-12));
+        CHECK(c.v1_after == ameoto::test::relative(((m1 - e * m2) * c.v1 + (1 + e) * m2 * c.v2) / (m1 + m2)).epsilon(1e-12));
+        CHECK(c.v2_after == ameoto::test::relative(((m2 - e * m1) * c.v2 + (1 + e) * m1 * c.v1) / (m1 + m2)).epsilon(1e-12));
         const double p0 = m1 * c.v1 + m2 * c.v2, p1 = m1 * c.v1_after + m2 * c.v2_after;
         CHECK(std::abs(p1 - p0) <= 1e-15 * (std::abs(m1 * c.v1) + std::abs(m2 * c.v2)));
         const double e0 = 0.5 * (m1 * c.v1 * c.v1 + m2 * c.v2 * c.v2);
@@ -160,7 +161,7 @@ TEST_CASE("membrane_collision: restitution below 1 loses (1/2) mu (1 - e^2) v_re
         drops.step();
         const Vec3 dv = drops.v[0] - v;
         CHECK(ameoto::norm(dv - ameoto::dot(dv, n) * n) < 1e-12 * ameoto::norm(dv));
-        CHECK(ameoto::dot(drops.v[0], n) == doctest::Approx(c.v1_after).epsilon(1e-12));
+        CHECK(ameoto::dot(drops.v[0], n) == ameoto::test::relative(c.v1_after).epsilon(1e-12));
     }
 }
 
@@ -179,19 +180,19 @@ TEST_CASE("membrane_collision: several masses on one node in one step are sequen
         e0 += 0.5 * c.m1 * c.v1 * c.v1;
     }
     // Each collision starts from the node velocity the previous one left.
-    for (std::size_t i = 1; i < log.size(); ++i) CHECK(log[i].v2 == doctest::Approx(log[i - 1].v2_after).epsilon(1e-15));
+    for (std::size_t i = 1; i < log.size(); ++i) CHECK(log[i].v2 == ameoto::test::relative(log[i - 1].v2_after).epsilon(1e-15));
     double e1 = 0.5 * log.back().m2 * log.back().v2_after * log.back().v2_after;
     p1 = log.back().m2 * log.back().v2_after;
     for (const auto& c : log) {
         p1 += c.m1 * c.v1_after;
         e1 += 0.5 * c.m1 * c.v1_after * c.v1_after;
     }
-    CHECK(p1 == doctest::Approx(p0).epsilon(1e-14));
-    CHECK(e1 == doctest::Approx(e0).epsilon(1e-14));
+    CHECK(p1 == ameoto::test::relative(p0).epsilon(1e-14));
+    CHECK(e1 == ameoto::test::relative(e0).epsilon(1e-14));
     // After both step, the node's velocity is the last v2' (from rest: no link acts in that step).
     std::vector<double> forces(8);
     canopy.step(forces.data());
-    CHECK(canopy.normal_velocity(0, 25) == doctest::Approx(log.back().v2_after).epsilon(1e-12));
+    CHECK(canopy.normal_velocity(0, 25) == ameoto::test::relative(log.back().v2_after).epsilon(1e-12));
     // A new step forgets this step's pending velocities.
     TestMasses one;
     one.add({at.x, at.y, canopy.node_position(0, 25).z - 1e-6}, {0.0, 0.0, -9.0}, kDropMass);

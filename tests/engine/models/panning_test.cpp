@@ -6,6 +6,7 @@
 
 #include "engine/models/panning.hpp"
 #include "tests/support/test_constants.hpp"
+#include "tests/support/relative_approx.hpp"
 
 using namespace ameoto::test::common;
 
@@ -39,8 +40,8 @@ TEST_CASE("pan_gains keep constant power") {
     CHECK(g[0] == doctest::Approx(0.0).epsilon(1e-12).scale(1.0));
     CHECK(g[1] == doctest::Approx(1.0));
     g = ameoto::pan_gains(0.0, 2);
-    CHECK(g[0] == doctest::Approx(std::sqrt(0.5)).epsilon(1e-12));
-    CHECK(g[1] == doctest::Approx(std::sqrt(0.5)).epsilon(1e-12));
+    CHECK(g[0] == ameoto::test::relative(std::sqrt(0.5)).epsilon(1e-12));
+    CHECK(g[1] == ameoto::test::relative(std::sqrt(0.5)).epsilon(1e-12));
     // Ring of 4 from front-left, clockwise: speakers at 45, -45, -135, 135 deg.
     const double speaker[4] = {kPi / 4, -kPi / 4, -3 * kPi / 4, 3 * kPi / 4};
     for (int s = 0; s < 4; ++s) {
@@ -50,7 +51,7 @@ TEST_CASE("pan_gains keep constant power") {
     }
     // Straight ahead is half way between front-left and front-right.
     g = ameoto::pan_gains(0.0, 4);
-    CHECK(g[0] == doctest::Approx(std::sqrt(0.5)).epsilon(1e-12));
-    CHECK(g[1] == doctest::Approx(std::sqrt(0.5)).epsilon(1e-12));
+    CHECK(g[0] == ameoto::test::relative(std::sqrt(0.5)).epsilon(1e-12));
+    CHECK(g[1] == ameoto::test::relative(std::sqrt(0.5)).epsilon(1e-12));
     CHECK(ameoto::pan_gains(1.234, 1)[0] == 1.0);
 }

@@ -16,6 +16,7 @@
 #include "engine/models/radiation.hpp"
 #include "tests/support/rt_probe_scope.hpp"
 #include "tests/support/test_constants.hpp"
+#include "tests/support/relative_approx.hpp"
 
 using namespace ameoto::test::common;
 
@@ -141,8 +142,8 @@ TEST_CASE("radiation: one element's impulse arrives as rho0 A a / (2 pi r), dela
         for (std::size_t n = 0; n < out.size(); ++n) {
             CAPTURE(n);
             if (n == 29) {
-                CHECK(out[n][0] == doctest::Approx(expected).epsilon(1e-14));
-                CHECK(out[n][1] == doctest::Approx(-expected).epsilon(1e-14));   // the other face: -a
+                CHECK(out[n][0] == ameoto::test::relative(expected).epsilon(1e-14));
+                CHECK(out[n][1] == ameoto::test::relative(-expected).epsilon(1e-14));   // the other face: -a
             } else {
                 CHECK(std::abs(out[n][0]) <= 1e-14 * expected);
                 CHECK(std::abs(out[n][1]) <= 1e-14 * expected);
@@ -156,15 +157,15 @@ TEST_CASE("radiation: one element's impulse arrives as rho0 A a / (2 pi r), dela
         a[0][0] = a0;
         const auto out = run(rad, a);
         const double g = kRho * area * a0 / (2.0 * kPi * r);   // the point lies in the plane: side +
-        CHECK(out[24][0] == doctest::Approx(0.7 * g).epsilon(1e-12));
-        CHECK(out[25][0] == doctest::Approx(0.3 * g).epsilon(1e-12));
+        CHECK(out[24][0] == ameoto::test::relative(0.7 * g).epsilon(1e-12));
+        CHECK(out[25][0] == ameoto::test::relative(0.3 * g).epsilon(1e-12));
         double total = 0.0;
         for (const auto& o : out) total += o[0];
-        CHECK(total == doctest::Approx(g).epsilon(1e-14));   // the interpolation keeps the area
+        CHECK(total == ameoto::test::relative(g).epsilon(1e-14));   // the interpolation keeps the area
     }
     SUBCASE("a listening point on the element: the disc's own integral rho0 a a_eq") {
         ameoto::RayleighRadiator rad({{{0.0, 0.0, 0.0}, {0.0, 0.0, 1.0}, area, 0}}, {{0.0, 0.0, 0.0}}, 1, kT);
-        CHECK(rad.gain(0, 0) == doctest::Approx(kRho * std::sqrt(area / kPi)).epsilon(1e-14));
+        CHECK(rad.gain(0, 0) == ameoto::test::relative(kRho * std::sqrt(area / kPi)).epsilon(1e-14));
     }
 }
 
@@ -355,14 +356,14 @@ TEST_CASE("radiation: two ears hear the inter-aural delay and level from the geo
     ameoto::Canopy canopy(ameoto::CanopyGeometry{}, ameoto::MembraneMaterial::nylon_canopy(), kT);
     const auto layout = ameoto::ListenerLayout::ears({0.0, 0.0, -0.3}, 0.0, 0.18);
     REQUIRE(layout.channels() == 2);
-    CHECK(layout.points[0].y == doctest::Approx(0.09).epsilon(1e-15));    // left ear: +y when facing +x
-    CHECK(layout.points[1].y == doctest::Approx(-0.09).epsilon(1e-15));
+    CHECK(layout.points[0].y == ameoto::test::relative(0.09).epsilon(1e-15));    // left ear: +y when facing +x
+    CHECK(layout.points[1].y == ameoto::test::relative(-0.09).epsilon(1e-15));
     ameoto::FarFieldRadiation ff(canopy, layout, kT);
     // Panel 2 is at azimuth 90 degrees: on the listener's left.
     const auto& rad = ff.radiator();
     const int node = 20, e = 2 * canopy.nodes_per_panel() + node;
     const Vec3 x = canopy.rest_position(2, node);
-    CHECK(rad.distance(0, e) == doctest::Approx(ameoto::norm(x - layout.points[0])).epsilon(1e-14));
+    CHECK(rad.distance(0, e) == ameoto::test::relative(ameoto::norm(x - layout.points[0])).epsilon(1e-14));
     CHECK(rad.delay_samples(0, e) == doctest::Approx(rad.distance(0, e) / kC / kT).epsilon(1e-14));
     CHECK(rad.delay_samples(0, e) < rad.delay_samples(1, e));
     // Strike it: the left channel's first arrival leads the right one's, and it is louder.
@@ -526,7 +527,7 @@ TEST_CASE("radiation: bad arguments are refused") {
         if (links == 6) interior = i;
     }
     REQUIRE(interior >= 0);
-    CHECK(ameoto::MassPickup(canopy, 0, interior).full_scale_m() == doctest::Approx(10.0 / (6.0 * 1000.0 / std::sqrt(3.0))).epsilon(1e-12));
+    CHECK(ameoto::MassPickup(canopy, 0, interior).full_scale_m() == ameoto::test::relative(10.0 / (6.0 * 1000.0 / std::sqrt(3.0))).epsilon(1e-12));
     CHECK(ameoto::MassPickup(canopy, 0, interior, 1e-3).full_scale_m() == 1e-3);
     CHECK_THROWS_AS(ameoto::MassPickup::at(canopy, 2.0, 0.0), std::invalid_argument);
     CHECK_THROWS_AS(ameoto::FarFieldRadiation(canopy, ameoto::ListenerLayout{}, kT), std::invalid_argument);

@@ -3,6 +3,7 @@
 #include "engine/render/lod_governor.hpp"
 
 #include <doctest/doctest.h>
+#include "tests/support/relative_approx.hpp"
 
 #include <cmath>
 #include <initializer_list>
@@ -37,7 +38,7 @@ TEST_CASE("lod: over budget, detail falls at once and recovers slowly; tightenin
     LodGovernor g(LodSettings{.budget = 0.5, .max_full = 16});
     CHECK(g.detail() == 1.0);
     g.end_block(0.75, 0, 64.0 / 48000.0);   // 150 % of the budget
-    CHECK(g.detail() == doctest::Approx(0.5));
+    CHECK(g.detail() == ameoto::test::relative(0.5));
     // A 5 mm drop at 0.4 m (+29 dB) needs 6 + 40 * 0.5 = 26 dB: still full; a 3 mm one (+20 dB) is not.
     CHECK(g.choose(5e-3, 9.09, 0.4, 0) == LodTier::full);
     CHECK(g.choose(3e-3, 8.06, 0.4, 0) == LodTier::template_);
@@ -46,7 +47,7 @@ TEST_CASE("lod: over budget, detail falls at once and recovers slowly; tightenin
     CHECK(g.choose(5e-3, 9.09, 0.4, 0) == LodTier::template_);
     // Under budget: 0.5 per second back.
     for (int i = 0; i < 375; ++i) g.end_block(0.1, 0, 64.0 / 48000.0);   // 0.5 s
-    CHECK(g.detail() == doctest::Approx(0.25).epsilon(0.01));
+    CHECK(g.detail() == ameoto::test::relative(0.25).epsilon(0.01));
     for (int i = 0; i < 1500; ++i) g.end_block(0.1, 0, 64.0 / 48000.0);
     CHECK(g.detail() == 1.0);
     // The tier is monotonic in the detail: at lower detail no drop gets a richer tier.
@@ -77,36 +78,36 @@ TEST_CASE("lod: a lattice drop is priced from measured load: its mean cost and i
     CHECK(g.lattice_affordable());
     // 1 s with no lattice drop at 20 % load: the base.
     for (int i = 0; i < 750; ++i) g.observe_load(0.20, LatticeActivity{0, false}, block);
-    CHECK(g.lattice_price().base == doctest::Approx(0.20));
+    CHECK(g.lattice_price().base == ameoto::test::relative(0.20));
     CHECK(g.lattice_affordable());
     // One drop awake costs 8 % a block (5 s: the 0.25 s mean has settled), its spawn block 0.35 above base.
     g.observe_load(0.55, LatticeActivity{1, true}, block);
     for (int i = 0; i < 3750; ++i) g.observe_load(0.28, LatticeActivity{1, false}, block);
-    CHECK(g.lattice_price().mean == doctest::Approx(0.08).epsilon(0.01));
-    CHECK(g.lattice_price().recent == doctest::Approx(0.28).epsilon(0.01));
+    CHECK(g.lattice_price().mean == ameoto::test::relative(0.08).epsilon(0.01));
+    CHECK(g.lattice_price().recent == ameoto::test::relative(0.28).epsilon(0.01));
     // Decayed by exp(-5 s / 120 s) since: 0.35 * 0.96 = 0.34. recent + event = 0.62 > 0.6: not yet.
-    CHECK(g.lattice_price().event == doctest::Approx(0.35 * std::exp(-5.0 / 120.0)).epsilon(0.01));
+    CHECK(g.lattice_price().event == ameoto::test::relative(0.35 * std::exp(-5.0 / 120.0)).epsilon(0.01));
     CHECK_FALSE(g.lattice_affordable());
     // 10 s more at 22 %: 0.35 * exp(-15 / 120) = 0.31; recent + event = 0.53 <= 0.6: affordable.
     for (int i = 0; i < 7500; ++i) g.observe_load(0.22, LatticeActivity{1, false}, block);
-    CHECK(g.lattice_price().event == doctest::Approx(0.35 * std::exp(-15.0 / 120.0)).epsilon(0.01));
+    CHECK(g.lattice_price().event == ameoto::test::relative(0.35 * std::exp(-15.0 / 120.0)).epsilon(0.01));
     CHECK(g.lattice_affordable());
     for (int i = 0; i < 750; ++i) g.observe_load(0.28, LatticeActivity{1, false}, block);
     CHECK(g.choose(5e-3, 9.09, 0.4, 1) == LodTier::full);
     // A heavier shatter: 0.55 above the base with another drop awake (0.55 - 0.08 = 0.47 its own). Now
     // recent + event = 0.28 + 0.47 > 0.6: a loud near drop becomes a template, counted as priced out.
     g.observe_load(0.75, LatticeActivity{2, true}, block);
-    CHECK(g.lattice_price().event == doctest::Approx(0.47).epsilon(0.01));
+    CHECK(g.lattice_price().event == ameoto::test::relative(0.47).epsilon(0.01));
     CHECK_FALSE(g.lattice_affordable());
     CHECK(g.choose(5e-3, 9.09, 0.4, 1) == LodTier::template_);
     CHECK(g.counts().priced_out == 1);
     // The memory fades over minutes (120 s), not seconds: 3 s later at 25 % load it still does not fit;
     // 30 s later (0.47 * exp(-0.25) = 0.37), at 20 % load, it does.
     for (int i = 0; i < 2250; ++i) g.observe_load(0.25, LatticeActivity{0, false}, block);
-    CHECK(g.lattice_price().event == doctest::Approx(0.47 * std::exp(-3.0 / 120.0)).epsilon(0.02));
+    CHECK(g.lattice_price().event == ameoto::test::relative(0.47 * std::exp(-3.0 / 120.0)).epsilon(0.02));
     CHECK_FALSE(g.lattice_affordable());
     for (int i = 0; i < 20250; ++i) g.observe_load(0.20, LatticeActivity{0, false}, block);
-    CHECK(g.lattice_price().event == doctest::Approx(0.47 * std::exp(-30.0 / 120.0)).epsilon(0.02));
+    CHECK(g.lattice_price().event == ameoto::test::relative(0.47 * std::exp(-30.0 / 120.0)).epsilon(0.02));
     CHECK(g.lattice_affordable());
     // The mean budget: a load near the budget leaves no room for one more drop's 8 %.
     for (int i = 0; i < 750; ++i) g.observe_load(0.35, LatticeActivity{0, false}, block);

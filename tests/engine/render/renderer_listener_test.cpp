@@ -15,6 +15,7 @@
 #include "engine/render/renderer.hpp"
 #include "engine/scene/scene_description.hpp"
 #include "tests/support/plate_left_scene.hpp"
+#include "tests/support/relative_approx.hpp"
 
 namespace listener_test {
 
@@ -126,8 +127,8 @@ TEST_CASE("facing turn: the world bus turned by f is the encoding of every direc
     for (int n = 0; n < ameoto::FacingTurn::glide_frames / 2; ++n) t.step();
     float x_in[4] = {1, 0, 0, 1}, mid[4] = {};   // W and X: a source straight ahead
     t.add_turned(x_in, mid);
-    CHECK(mid[3] == doctest::Approx(0.5));   // X: half of cos 0 + half of cos 90
-    CHECK(mid[1] == doctest::Approx(-0.5));  // Y: the source moves to the right as the body turns left
+    CHECK(mid[3] == ameoto::test::relative(0.5));   // X: half of cos 0 + half of cos 90
+    CHECK(mid[1] == ameoto::test::relative(-0.5));  // Y: the source moves to the right as the body turns left
     for (int n = 0; n < ameoto::FacingTurn::glide_frames; ++n) t.step();
     t.turn_to(0.0);
     for (int n = 0; n < ameoto::FacingTurn::glide_frames; ++n) t.step();
@@ -264,7 +265,7 @@ TEST_CASE("stereo: the head's orientation re-pans every sound by its turned dire
         const double k = std::clamp((n - 4800) / 256.0, 0.0, 1.0);
         const double want = g0 + (g1 - g0) * k;   // the gain at sample n, over the gain before
         CAPTURE(n);
-        CHECK(t[0][static_cast<std::size_t>(n)] / pn == doctest::Approx(want).epsilon(0.01));
+        CHECK(t[0][static_cast<std::size_t>(n)] / pn == ameoto::test::relative(want).epsilon(0.01));
         ++checked;
     }
     CHECK(checked > 300);

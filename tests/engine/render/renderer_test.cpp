@@ -12,6 +12,7 @@
 #include "engine/render/renderer.hpp"
 #include "tests/support/timing_scale.hpp"
 #include "tests/support/test_constants.hpp"
+#include "tests/support/relative_approx.hpp"
 
 using namespace ameoto::test::common;
 
@@ -411,7 +412,7 @@ TEST_CASE("renderer: live, the governor prices lattice drops from the load it is
                         << ", event " << price.event);
         if (live) {
             CHECK(price.known);
-            CHECK(price.base == doctest::Approx(0.2).epsilon(0.05));
+            CHECK(price.base == ameoto::test::relative(0.2).epsilon(0.05));
             CHECK(price.event > 0.55);   // 0.8, fading with a 10 s time constant since it was seen
             CHECK(r.stats().rain_tiers.priced_out > 0);
             CHECK(full_in_last_second == 0);

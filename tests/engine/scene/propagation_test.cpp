@@ -14,6 +14,7 @@
 #include "engine/scene/propagation.hpp"
 #include "tests/support/rt_probe_scope.hpp"
 #include "tests/support/test_constants.hpp"
+#include "tests/support/relative_approx.hpp"
 
 using namespace ameoto::test::common;
 
@@ -121,8 +122,8 @@ TEST_CASE("propagation: 1/r gain relative to 1 m") {
         // Every filter stage has unit DC gain (taps normalised), so the DC gain is the spreading gain:
         // 1 / r, floored at 0.1 m (propagation.hpp); beyond max_distance only the gain follows r.
         // Rounding only: 1e-9.
-        CHECK(dc == doctest::Approx(1.0 / std::max(r, 0.1)).epsilon(1e-9));
-        CHECK(path.gain() == doctest::Approx(1.0 / std::max(r, 0.1)).epsilon(1e-12));
+        CHECK(dc == ameoto::test::relative(1.0 / std::max(r, 0.1)).epsilon(1e-9));
+        CHECK(path.gain() == ameoto::test::relative(1.0 / std::max(r, 0.1)).epsilon(1e-12));
     }
 }
 
@@ -154,7 +155,7 @@ TEST_CASE("propagation: delay to the sample, and the fractional delay's accuracy
     CHECK(worst < 0.005);
     // Sources nearer than the interpolator's and filter's latency are heard at that latency.
     impulse_response(path, 0.01);
-    CHECK(path.delay_samples() == doctest::Approx(path.min_delay_samples()).epsilon(1e-12));
+    CHECK(path.delay_samples() == ameoto::test::relative(path.min_delay_samples()).epsilon(1e-12));
 }
 
 TEST_CASE("propagation: the fractional read is flat (half-sample vs integer delay)") {
@@ -189,7 +190,7 @@ TEST_CASE("propagation: position changes glide (no step larger than the bound; a
             worst = std::max(worst, std::abs(y - prev));
             prev = y;
         }
-        CHECK(prev == doctest::Approx(0.5).epsilon(1e-12));
+        CHECK(prev == ameoto::test::relative(0.5).epsilon(1e-12));
         // Bound: |d(1/r)/dr| <= 1 on [1, 2] times the glide's 1/960 m per sample; 10 % for the filter's
         // change (its DC gain is 1 throughout). A jump would be a 0.5 step.
         MESSAGE("gain glide: largest step " << worst << " (bound " << 1.1 / 960.0 << ")");

@@ -17,6 +17,7 @@
 #include "engine/scene/terminal_speed.hpp"
 #include "tests/support/rt_probe_scope.hpp"
 #include "tests/support/test_constants.hpp"
+#include "tests/support/relative_approx.hpp"
 #include "tests/engine/scene/scene_test_support.hpp"
 
 using ameoto::test::NamedDsd;
@@ -78,7 +79,7 @@ TEST_CASE("rain_spawner: tabulated flux matches impact_flux within 0.2 % from 0.
         const double r = 0.02 * std::pow(400.0 / 0.02, i / 39.0);
         CAPTURE(r);
         // Brief / rain_spawner.cpp: log-log table interpolation, 0.2 %.
-        CHECK(rain.flux_per_m2_s(r) == doctest::Approx(ameoto::impact_flux(mp, r, 0.5, 6.0)).epsilon(0.002));
+        CHECK(rain.flux_per_m2_s(r) == ameoto::test::relative(ameoto::impact_flux(mp, r, 0.5, 6.0)).epsilon(0.002));
     }
     CHECK(rain.flux_per_m2_s(0.0) == 0.0);
     CHECK(rain.flux_per_m2_s(-3.0) == 0.0);
@@ -121,7 +122,7 @@ TEST_CASE("rain_spawner: arrivals are Poisson (Fano factor 1, exponential gaps)"
         CHECK(mean == doctest::Approx(70.68).epsilon(0.05));
         // physics.md s.2: arrivals are Poisson, Fano factor 1; the estimator's standard error is
         // sqrt(2 / n) = 0.014 for 10^4 windows, so +/- 0.05 is 3.5 sigma.
-        CHECK(var / mean == doctest::Approx(1.0).epsilon(0.05));
+        CHECK(var / mean == ameoto::test::relative(1.0).epsilon(0.05));
     }
     SUBCASE("gaps at a low rate: coefficient of variation 1 and P(gap > mean) = 1/e") {
         ameoto::RainSpawner::Config cfg;
@@ -146,9 +147,9 @@ TEST_CASE("rain_spawner: arrivals are Poisson (Fano factor 1, exponential gaps)"
         const double n = static_cast<double>(gaps.size());
         const double mean = s / n, sd = std::sqrt((s2 - s * s / n) / (n - 1));
         // Exponential gaps with mean 1/(flux * area): 5 standard errors (1/sqrt(n) = 1 %) -> 5 %.
-        CHECK(mean == doctest::Approx(1.0 / (rain.flux_per_m2_s(5.0) * cfg.area_m2)).epsilon(0.05));
+        CHECK(mean == ameoto::test::relative(1.0 / (rain.flux_per_m2_s(5.0) * cfg.area_m2)).epsilon(0.05));
         // Exponential: CV = 1; its standard error is ~1/sqrt(n) = 1 %; 5 %.
-        CHECK(sd / mean == doctest::Approx(1.0).epsilon(0.05));
+        CHECK(sd / mean == ameoto::test::relative(1.0).epsilon(0.05));
         const double above = static_cast<double>(std::count_if(gaps.begin(), gaps.end(), [&](double g) { return g > mean; })) / n;
         // Binomial standard error sqrt(p(1-p)/n) = 0.0048; 5 sigma = 0.024.
         CHECK(std::abs(above - std::exp(-1.0)) < 0.024);
@@ -185,7 +186,7 @@ TEST_CASE("rain_spawner: sampled diameters follow the flux-weighted Marshall-Pal
         for (std::size_t i = 0; i < d.size(); ++i) w[i] = 1.0 / v_of_mm(d[i]);
         const double lambda = truncated_exponential_mle(d, w, lo, hi);
         // physics.md s.5 item 6: fitted Lambda within 3 % of 4.1 R^-0.21.
-        CHECK(lambda == doctest::Approx(4.1 * std::pow(r, -0.21)).epsilon(0.03));
+        CHECK(lambda == ameoto::test::relative(4.1 * std::pow(r, -0.21)).epsilon(0.03));
     }
 }
 
@@ -401,7 +402,7 @@ TEST_CASE("rain_spawner: every DSD's sampled diameters follow its flux-weighted 
             const double lambda = fit_lambda(d, dsd, lo, hi);
             const double expected = dsd.lambda_per_mm(r);
             // physics.md s.5 item 6: fitted Lambda within 3 % of the distribution's Lambda(R).
-            CHECK(lambda == doctest::Approx(expected).epsilon(0.03));
+            CHECK(lambda == ameoto::test::relative(expected).epsilon(0.03));
             char buf[96];
             std::snprintf(buf, sizeof buf, "  R=%g: Lambda fit %.4f vs %.4f (%+.2f %%), KS D=%.4f p=%.3f", r, lambda,
                           expected, 100.0 * (lambda / expected - 1.0), ks, p);
@@ -420,7 +421,7 @@ TEST_CASE("rain_spawner: every DSD's counts follow its own flux table; arrivals 
         // The table against the integral: 0.2 % (as for Marshall-Palmer above).
         for (double r : {0.05, 1.0, 5.0, 50.0, 300.0}) {
             CAPTURE(r);
-            CHECK(rain.flux_per_m2_s(r) == doctest::Approx(ameoto::impact_flux(dsd, r, 0.5, 6.0)).epsilon(0.002));
+            CHECK(rain.flux_per_m2_s(r) == ameoto::test::relative(ameoto::impact_flux(dsd, r, 0.5, 6.0)).epsilon(0.002));
         }
         rain.set_rate_now(10.0);
         ameoto::Random rng(77);
@@ -437,7 +438,7 @@ TEST_CASE("rain_spawner: every DSD's counts follow its own flux table; arrivals 
         // Poisson count over 100 s: within 5 standard deviations of the table's flux.
         CHECK(std::abs(sum - expected) < 5.0 * std::sqrt(expected));
         // Fano factor 1 +/- 0.05 (3.5 standard errors for 10^4 windows, as above).
-        CHECK(var / mean == doctest::Approx(1.0).epsilon(0.05));
+        CHECK(var / mean == ameoto::test::relative(1.0).epsilon(0.05));
         char buf[160];
         std::snprintf(buf, sizeof buf, "%s: flux D>=0.5 mm at 1/5/10/50 mm/h = %.0f/%.0f/%.0f/%.0f m^-2 s^-1; counted %.0f m^-2 s^-1 at 10; Fano %.3f",
                       name, rain.flux_per_m2_s(1.0), rain.flux_per_m2_s(5.0), rain.flux_per_m2_s(10.0),

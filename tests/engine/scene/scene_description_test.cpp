@@ -5,6 +5,7 @@
 
 using ameoto::test::error_of;
 #include <doctest/doctest.h>
+#include "tests/support/relative_approx.hpp"
 
 #include <algorithm>
 #include <string>
@@ -41,11 +42,11 @@ TEST_CASE("scene file: every field reads back in SI units") {
     CHECK(s.rain.rate_mm_per_h == 12.5);
     CHECK(s.rain.dsd == "joss-thunderstorm");
     CHECK(s.rain.wind_m_per_s == 4.0);
-    CHECK(s.rain.wind_direction_rad == doctest::Approx(3.14159265358979 / 2));   // degrees in the file
+    CHECK(s.rain.wind_direction_rad == ameoto::test::relative(3.14159265358979 / 2));   // degrees in the file
     CHECK(s.rain.gustiness == 0.25);
     CHECK(s.listener.x_m == 1.0);
     CHECK(s.listener.y_m == -2.0);
-    CHECK(s.listener.facing_rad == doctest::Approx(3.14159265358979 / 4));
+    CHECK(s.listener.facing_rad == ameoto::test::relative(3.14159265358979 / 4));
     CHECK(s.lod.budget_percent == 40.0);
     CHECK(s.lod.max_full == 8);
     REQUIRE(s.surfaces.size() == 2);
@@ -73,7 +74,7 @@ TEST_CASE("scene file: format then parse gives the same scene, for every built-i
     CHECK(parse_scene(format_scene(custom), "again") == custom);
     custom = parse_scene(good, "good.scene");
     const SceneDescription again = parse_scene(format_scene(custom), "again");
-    CHECK(again.rain.wind_direction_rad == doctest::Approx(custom.rain.wind_direction_rad).epsilon(1e-15));
+    CHECK(again.rain.wind_direction_rad == ameoto::test::relative(custom.rain.wind_direction_rad).epsilon(1e-15));
     CHECK(!builtin_scene("no-such-scene"));
     CHECK(builtin_scene("umbrella")->surfaces.size() == 1);
 }

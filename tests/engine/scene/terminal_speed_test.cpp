@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // Tests for engine/scene/terminal_speed: the Gunn & Kinzer (1949) table and its interpolation.
 #include <doctest/doctest.h>
+#include "tests/support/relative_approx.hpp"
 
 #include <cmath>
 #include <fstream>
@@ -60,7 +61,7 @@ TEST_CASE("terminal_speed: reproduces every table point and interpolates between
     for (const auto& row : csv) {
         CAPTURE(row.diameter_mm);
         // Only rounding in the mm -> m -> mm conversion: 1e-12 relative.
-        CHECK(ameoto::terminal_speed(row.diameter_mm * 1e-3) == doctest::Approx(row.speed).epsilon(1e-12));
+        CHECK(ameoto::terminal_speed(row.diameter_mm * 1e-3) == ameoto::test::relative(row.speed).epsilon(1e-12));
     }
     for (std::size_t i = 0; i + 1 < csv.size(); ++i) {
         const double mid = 0.5 * (csv[i].diameter_mm + csv[i + 1].diameter_mm);
@@ -70,7 +71,7 @@ TEST_CASE("terminal_speed: reproduces every table point and interpolates between
         CHECK(v > csv[i].speed);
         CHECK(v < csv[i + 1].speed);
         // terminal_speed.hpp: linear interpolation -> the mean of the neighbours (rounding only, 1e-9).
-        CHECK(v == doctest::Approx(0.5 * (csv[i].speed + csv[i + 1].speed)).epsilon(1e-9));
+        CHECK(v == ameoto::test::relative(0.5 * (csv[i].speed + csv[i + 1].speed)).epsilon(1e-9));
     }
 }
 
@@ -82,12 +83,12 @@ TEST_CASE("terminal_speed: Stokes regime below 0.078 mm, constant above 5.8 mm, 
     for (double d_mm : {0.07, 0.05, 0.039, 0.02, 0.01, 0.001}) {
         CAPTURE(d_mm);
         const double expected = v0 * (d_mm / 0.078) * (d_mm / 0.078);
-        CHECK(ameoto::terminal_speed(d_mm * 1e-3) == doctest::Approx(expected).epsilon(1e-12));
+        CHECK(ameoto::terminal_speed(d_mm * 1e-3) == ameoto::test::relative(expected).epsilon(1e-12));
     }
     // Halving D quarters v.
-    CHECK(ameoto::terminal_speed(0.02e-3) / ameoto::terminal_speed(0.04e-3) == doctest::Approx(0.25).epsilon(1e-12));
+    CHECK(ameoto::terminal_speed(0.02e-3) / ameoto::terminal_speed(0.04e-3) == ameoto::test::relative(0.25).epsilon(1e-12));
     // Continuous at the table's first point from below.
-    CHECK(ameoto::terminal_speed(0.0779999e-3) == doctest::Approx(v0).epsilon(1e-5));
+    CHECK(ameoto::terminal_speed(0.0779999e-3) == ameoto::test::relative(v0).epsilon(1e-5));
     // Above the table: 9.17 m/s (CSV last row), flat.
     for (double d_mm : {5.8, 5.9, 6.0, 7.0, 10.0, 100.0}) {
         CAPTURE(d_mm);

@@ -16,6 +16,7 @@
 #include "engine/scene/wind.hpp"
 #include "tests/support/rt_probe_scope.hpp"
 #include "tests/support/test_constants.hpp"
+#include "tests/support/relative_approx.hpp"
 
 using namespace ameoto::test::common;
 
@@ -106,8 +107,8 @@ TEST_CASE("wind: gusts have the OU mean, standard deviation and correlation time
     CHECK(std::abs(mu_u) < 4.0 * sigma_u * std::sqrt(2.0 * t_u / total));
     CHECK(std::abs(mu_v) < 4.0 * sigma_v * std::sqrt(2.0 * t_v / total));
     // Relative standard error of the sample sd is about sqrt(T / L) (1.1 % for u', 0.6 % for v'); 4 %, 3 %.
-    CHECK(sd_u == doctest::Approx(sigma_u).epsilon(0.04));
-    CHECK(sd_v == doctest::Approx(sigma_v).epsilon(0.03));
+    CHECK(sd_u == ameoto::test::relative(sigma_u).epsilon(0.04));
+    CHECK(sd_v == ameoto::test::relative(sigma_v).epsilon(0.03));
     // OU autocorrelation exp(-lag / T) = 1/e at T_u; its standard error is about sqrt(T / L) here too: +/- 0.04.
     CHECK(std::abs(rho - std::exp(-1.0)) < 0.04);
     // The same process stepped at 4.8 kHz for 2000 s: same sd (10 %, a shorter record).
@@ -119,11 +120,11 @@ TEST_CASE("wind: gusts have the OU mean, standard deviation and correlation time
         fine.advance(1.0 / 4800.0, rng);
         f2 += fine.longitudinal_gust() * fine.longitudinal_gust();
     }
-    CHECK(std::sqrt(f2 / fine_steps) == doctest::Approx(sigma_u).epsilon(0.10));
+    CHECK(std::sqrt(f2 / fine_steps) == ameoto::test::relative(sigma_u).epsilon(0.10));
     // EN 1991-1-4: I = 1 / ln(z / z0) = 0.271 at 2 m, z0 = 0.05 m; gust factor sqrt(1 + 7 I) (rounding only).
-    CHECK(cfg.turbulence_intensity == doctest::Approx(1.0 / std::log(40.0)).epsilon(1e-12));
+    CHECK(cfg.turbulence_intensity == ameoto::test::relative(1.0 / std::log(40.0)).epsilon(1e-12));
     CHECK(wind.gust_factor() == doctest::Approx(std::sqrt(1.0 + 7.0 / std::log(40.0))).epsilon(1e-12));
-    CHECK(ameoto::Wind::turbulence_intensity_at(2.0, 1.0) == doctest::Approx(1.0 / std::log(10.0)).epsilon(1e-12));   // z_min 10 m
+    CHECK(ameoto::Wind::turbulence_intensity_at(2.0, 1.0) == ameoto::test::relative(1.0 / std::log(10.0)).epsilon(1e-12));   // z_min 10 m
 }
 
 TEST_CASE("wind: a steady wind draws no random numbers; the same seed gives the same gusts") {
@@ -171,7 +172,7 @@ TEST_CASE("wind: drops follow the wind, lagging with tau = v_t / g (ramp respons
     // wind.hpp: 12 filters interpolated in ln tau, plus the staircase of a per-sample ramp: 1 % of U.
     CHECK(worst < 0.01 * u);
     // response_time_s is v_t / g: 0.41 s at 1 mm, 0.935 s at 5.8 mm (Gunn-Kinzer 4.03, 9.17 m/s).
-    CHECK(ameoto::Wind::response_time_s(1e-3) == doctest::Approx(4.03 / 9.80665).epsilon(1e-12));
+    CHECK(ameoto::Wind::response_time_s(1e-3) == ameoto::test::relative(4.03 / 9.80665).epsilon(1e-12));
     // Small drops follow the wind fully: a 0.05 mm drop (tau 7 ms) lags a 10 m/s^2 ramp by k tau = 0.07 m/s
     // at most; in a steady wind every drop moves with it (after 33 s the largest's lag is e^-35 of k tau).
     for (int n = 0; n < 30 * 48000; ++n) wind.advance(kDt, rng);
@@ -191,7 +192,7 @@ TEST_CASE("wind: tilt, impact velocity and surface rate factor closed forms in a
         CAPTURE(d_mm);
         const double d = d_mm * 1e-3, vt = ameoto::terminal_speed(d);
         // All closed forms below hold to rounding (1e-12): drops move with the wind; fall speed v_t.
-        CHECK(wind.tilt(d) == doctest::Approx(std::atan(u / vt)).epsilon(1e-12));
+        CHECK(wind.tilt(d) == ameoto::test::relative(std::atan(u / vt)).epsilon(1e-12));
         const auto v = wind.drop_velocity(d);
         CHECK(v.x == doctest::Approx(u * c).epsilon(1e-12));
         CHECK(v.y == doctest::Approx(u * s).epsilon(1e-12));
@@ -201,15 +202,15 @@ TEST_CASE("wind: tilt, impact velocity and surface rate factor closed forms in a
         CHECK(h.normal_speed == doctest::Approx(vt).epsilon(1e-12));
         CHECK(h.tangential.x == doctest::Approx(u * c).epsilon(1e-12));
         CHECK(std::abs(h.tangential.z) < 1e-12);
-        CHECK(h.incidence_rad == doctest::Approx(std::atan(u / vt)).epsilon(1e-12));
+        CHECK(h.incidence_rad == ameoto::test::relative(std::atan(u / vt)).epsilon(1e-12));
         CHECK(wind.surface_rate_factor(d, up) == doctest::Approx(1.0).epsilon(1e-12));
 
         h = wind.impact(d, windward);   // a wall facing the wind: U into it, v_t down it
         CHECK(h.normal_speed == doctest::Approx(u).epsilon(1e-12));
         CHECK(h.tangential.z == doctest::Approx(-vt).epsilon(1e-12));
-        CHECK(h.incidence_rad == doctest::Approx(std::atan(vt / u)).epsilon(1e-12));
+        CHECK(h.incidence_rad == ameoto::test::relative(std::atan(vt / u)).epsilon(1e-12));
         // Blocken & Carmeliet 2004 eq. 2: R_wdr / R_h = U / V_t.
-        CHECK(wind.surface_rate_factor(d, windward) == doctest::Approx(u / vt).epsilon(1e-12));
+        CHECK(wind.surface_rate_factor(d, windward) == ameoto::test::relative(u / vt).epsilon(1e-12));
 
         h = wind.impact(d, lee);   // the lee face: moving away from it, no drops
         CHECK(h.normal_speed == doctest::Approx(-u).epsilon(1e-12));
@@ -249,7 +250,7 @@ TEST_CASE("wind: gusts modulate the rate on a tilted surface, not on a horizonta
                                                                                     << "), sd " << sd);
     // The drops' mean velocity is U, and u_drop < 0 is rare (a 3.7 sigma_u event, less after the lag), so
     // the mean factor is U / v_t; standard error ~ sd sqrt(2 T / L) = 3 %: 10 %.
-    CHECK(mean == doctest::Approx(u / vt).epsilon(0.10));
+    CHECK(mean == ameoto::test::relative(u / vt).epsilon(0.10));
     // It fluctuates: sd of u_drop / v_t is at most sigma_u / v_t = 0.33 (the lag lowers it); above 0.1.
     CHECK(sd > 0.1);
     CHECK(sd < 0.27 * u / vt);

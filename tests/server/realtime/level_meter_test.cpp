@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "tests/support/rt_probe_scope.hpp"
+#include "tests/support/relative_approx.hpp"
 
 using ameoto::LevelMeter;
 using ameoto::MeterWindow;
@@ -51,9 +52,9 @@ TEST_CASE("windows are 100 ms of audio whatever the block size, with the frame a
             // 4800 samples hold exactly 100 cycles of 1 kHz: RMS 1/sqrt(2); the sine reaches within
             // sin(pi/48) of its crest at 48 samples a cycle. Float sums over 4800 samples: 1e-6.
             CHECK(windows[k].peak[0] == doctest::Approx(1.0).epsilon(1e-6));
-            CHECK(windows[k].rms[0] == doctest::Approx(1.0 / std::sqrt(2.0)).epsilon(1e-6));
+            CHECK(windows[k].rms[0] == ameoto::test::relative(1.0 / std::sqrt(2.0)).epsilon(1e-6));
             CHECK(windows[k].peak[1] == 0.25f);
-            CHECK(windows[k].rms[1] == doctest::Approx(0.25).epsilon(1e-6));
+            CHECK(windows[k].rms[1] == ameoto::test::relative(0.25).epsilon(1e-6));
         }
     }
 }

@@ -10,6 +10,7 @@
 
 #include "tests/engine/core/integrators/test_bodies.hpp"
 #include "tests/support/test_constants.hpp"
+#include "tests/support/relative_approx.hpp"
 
 using namespace ameoto::test::common;
 
@@ -85,9 +86,9 @@ TEST_CASE("modal: positions obey the two-pole recursion q[n] = a1 q[n-1] + a2 q[
     const Resonator r = net.modal().resonator(0);
     const double s = z / (2.0 * m), wd = std::sqrt(omega0 * omega0 - s * s);
     // physics.md s.3: a1 = 2 e^{-sT} cos(wd T), a2 = -e^{-2sT}; modal.hpp: g = T e^{-sT} sin(wd T) / wd.
-    CHECK(r.a1 == doctest::Approx(2.0 * std::exp(-s * kT) * std::cos(wd * kT)).epsilon(1e-13));
-    CHECK(r.a2 == doctest::Approx(-std::exp(-2.0 * s * kT)).epsilon(1e-13));
-    CHECK(r.g == doctest::Approx(kT * std::exp(-s * kT) * std::sin(wd * kT) / wd).epsilon(1e-13));
+    CHECK(r.a1 == ameoto::test::relative(2.0 * std::exp(-s * kT) * std::cos(wd * kT)).epsilon(1e-13));
+    CHECK(r.a2 == ameoto::test::relative(-std::exp(-2.0 * s * kT)).epsilon(1e-13));
+    CHECK(r.g == ameoto::test::relative(kT * std::exp(-s * kT) * std::sin(wd * kT) / wd).epsilon(1e-13));
     // The recorded positions, with forces at arbitrary steps: x = q / sqrt(m), p = f / sqrt(m).
     std::vector<double> q, p;
     for (int n = 0; n < 200; ++n) {

@@ -8,6 +8,7 @@
 
 #include "tests/engine/core/integrators/test_bodies.hpp"
 #include "tests/support/test_constants.hpp"
+#include "tests/support/relative_approx.hpp"
 
 using namespace ameoto::test::common;
 
@@ -60,8 +61,8 @@ TEST_CASE("trapezoidal: Newmark average acceleration with a held force: a free m
     net.apply_force(0, 3.0);
     const double f = net.step();
     CHECK(f == doctest::Approx(3.0).epsilon(1e-14));   // momentum change over T: rounding only
-    CHECK(net.position(0) == doctest::Approx(kT * kT * 3.0 / (2.0 * 2e-3)).epsilon(1e-14));
-    CHECK(net.velocity(0) == doctest::Approx(kT * 3.0 / 2e-3).epsilon(1e-14));
+    CHECK(net.position(0) == ameoto::test::relative(kT * kT * 3.0 / (2.0 * 2e-3)).epsilon(1e-14));
+    CHECK(net.velocity(0) == ameoto::test::relative(kT * 3.0 / 2e-3).epsilon(1e-14));
     net.step();   // no force: coasts
-    CHECK(net.position(0) == doctest::Approx(kT * kT * 3.0 / (2.0 * 2e-3) + kT * kT * 3.0 / 2e-3).epsilon(1e-14));
+    CHECK(net.position(0) == ameoto::test::relative(kT * kT * 3.0 / (2.0 * 2e-3) + kT * kT * 3.0 / 2e-3).epsilon(1e-14));
 }
