@@ -184,15 +184,18 @@ TEST_CASE("bubble: the level law, 2 rho_air (3 gamma P0 / rho_w) eps0 / r with e
     }
     MESSAGE("amplitude at 1 m: 0.22 mm ", ameoto::bubble_pressure_amplitude_pa(0.22e-3), " Pa, 0.5 mm ",
             ameoto::bubble_pressure_amplitude_pa(0.5e-3), " Pa, 1 mm ", ameoto::bubble_pressure_amplitude_pa(1e-3), " Pa");
-    // The rendered first crest is the amplitude times the envelope there (within 3 %: the crest falls
-    // between samples, at 6.4 samples per period).
+    // The rendered first crest is the amplitude times the envelope there (within 3 %). The crest falls
+    // between samples, at 6.4 samples per period (the highest sample alone can be 12 % low), so it is read
+    // by the parabola through the highest sample and its neighbours.
     ameoto::Bubble b;
     const double a = 0.22e-3, P = ameoto::bubble_pressure_amplitude_pa(a);
     REQUIRE(b.start(a, P, kRate));
     const std::vector<double> x = render(b, 8);
-    const double crest = *std::max_element(x.begin(), x.end());
+    const auto top = std::max_element(x.begin() + 1, x.end() - 1);
+    const double y0 = *(top - 1), y1 = *top, y2 = *(top + 1);
+    const double crest = y1 - (y0 - y2) * (y0 - y2) / (8.0 * (y0 - 2.0 * y1 + y2));
     const double t_crest = 0.25 / minnaert_reference(a);
-    CHECK(crest == doctest::Approx(P * std::exp(-damping_reference(a) * t_crest)).epsilon(0.03));
+    CHECK(crest == ameoto::test::relative(P * std::exp(-damping_reference(a) * t_crest)).epsilon(0.03));
 }
 
 TEST_CASE("bubble: band limit: not started at or above 0.45 fs; a bubble chirping past it fades 60 dB") {

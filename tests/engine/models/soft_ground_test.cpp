@@ -152,7 +152,19 @@ TEST_CASE("soft_ground: the leaf distribution is the documented one") {
     std::nth_element(f1.begin(), f1.begin() + n / 2, f1.end());
     CHECK(f1[n / 2] == doctest::Approx(2500.0).epsilon(0.02));
     const double mean_ln = sum_ln / n, sd_ln = std::sqrt(sum_ln2 / n - mean_ln * mean_ln);
-    CHECK(sd_ln == doctest::Approx(0.423).epsilon(0.05));
+    // ln(f1 / median) = sigma_stiffness Z1 - 2 sigma_size Z2, a normal of sigma sqrt(0.2^2 + 4 x 0.2^2) =
+    // 0.447, redrawn outside [1, 6] kHz: the normal cut at ln(0.4) and ln(2.4), whose sd is computed here.
+    const double sigma = std::hypot(spec.leaf_stiffness_sigma_ln, 2.0 * spec.leaf_size_sigma_ln);
+    const double lo = std::log(spec.leaf_f1_min_hz / spec.leaf_f1_median_hz), hi = std::log(spec.leaf_f1_max_hz / spec.leaf_f1_median_hz);
+    double w0 = 0.0, w1 = 0.0, w2 = 0.0;
+    for (int k = 0; k < 20000; ++k) {
+        const double x = lo + (hi - lo) * (k + 0.5) / 20000.0, w = std::exp(-0.5 * x * x / (sigma * sigma));
+        w0 += w;
+        w1 += w * x;
+        w2 += w * x * x;
+    }
+    const double cut_sd = std::sqrt(w2 / w0 - (w1 / w0) * (w1 / w0));
+    CHECK(sd_ln == ameoto::test::relative(cut_sd).epsilon(0.02));   // 20 000 draws: the sample's sd is within 0.5 % (1 sigma)
     CHECK(aspect == ameoto::test::relative(1.3).epsilon(0.01));
     CHECK(loss == ameoto::test::relative(0.165).epsilon(0.01));
     CHECK(u == ameoto::test::relative(0.5).epsilon(0.01));

@@ -12,6 +12,7 @@
 #include "engine/models/membrane_collision.hpp"
 #include "engine/models/wet_impact.hpp"
 #include "tests/support/test_constants.hpp"
+#include "engine/core/physical_constants.hpp"
 #include "tests/support/relative_approx.hpp"
 
 using namespace ameoto::test::common;
@@ -121,9 +122,9 @@ TEST_CASE("wet_impact: the phase inverts the depth law; the impulse never pulls,
     CHECK(ameoto::wet_phase(0.0) == 0.0);
     CHECK(ameoto::wet_phase(3.0 / 7.0) == 1.0);
     const ameoto::ContactLaw law{};
-    const double m1 = 5.2e-7, inf = std::numeric_limits<double>::infinity();
+    const double m1 = law.liquid_density * ameoto::constants::pi / 6.0 * 1e-9, inf = std::numeric_limits<double>::infinity();
     const double l = law.parcel(m1);
-    CHECK(l == doctest::Approx(1e-3).epsilon(1e-3));   // 0.52 mg of water: a 1 mm parcel
+    CHECK(l == ameoto::test::relative(1e-3).epsilon(1e-12));   // 0.52 mg of water: a 1 mm parcel
     CHECK(law.reach(m1) == ameoto::test::relative(0.5 * l));
     for (const double m2 : {1e-6, 1e-5, inf})
         for (int k = 0; k <= 40; ++k) {
