@@ -198,18 +198,7 @@ SectorMass sector_mass(const Canopy& canopy, const std::vector<SectorCell>& cell
     // G[(p, i), (q, k)] = g_(q - p mod N)(i, k), so on the panels' Fourier modes (x_q = e^(i theta q) y,
     // theta = 2 pi m / N) it is G_m = sum_d g_d e^(i theta d): N solves of one panel's size in place of
     // one of N panels' (Davis, Circulant Matrices, section 5.6).
-    std::vector<Eigen::MatrixXd> g(static_cast<std::size_t>(panels), Eigen::MatrixXd(n, n));
-    for (int d = 0; d < panels; ++d) {
-        const double turn = canopy.panel_azimuth(d) - canopy.panel_azimuth(0);
-        const double ct = std::cos(turn), st = std::sin(turn);
-        for (int k = 0; k < n; ++k)
-            for (int i = 0; i < n; ++i) {
-                double w = 0.0;
-                for (const std::size_t c : elements[static_cast<std::size_t>(k)].cells)
-                    w += ring_velocity(elements[static_cast<std::size_t>(i)].centroid, cells[c].corners, ct, st);
-                g[static_cast<std::size_t>(d)](i, k) = w;
-            }
-    }
+    const std::vector<Eigen::MatrixXd> g = ring_velocities(canopy, cells, elements);
     // Per Fourier mode m: H_m = rho0 P0' diag(A) G_m^-1 P0 (the header's M_a, seen on the nodes: a node's
     // force is its cells' sum); H_(N-m) = conj(H_m), so m = 0..N/2 suffice. Then the blocks
     // M_d = M[(p, q = p + d)] = (1 / N) sum_m e^(-i theta_m d) H_m (real).

@@ -127,26 +127,6 @@ struct Level {
     std::vector<Eigen::MatrixXcd> block;   // [d], nodes x nodes
 };
 
-// The Biot-Savart velocities of one sampling level's rings (Laplace's kernel): g_d(i, k), the velocity at
-// panel 0's element i from panel d's element k (air_loading.cpp's sector_mass).
-std::vector<Eigen::MatrixXd> ring_velocities(const Canopy& canopy, const std::vector<SectorCell>& cells,
-                                             const std::vector<SectorElement>& elements) {
-    const int panels = canopy.panel_count(), n = static_cast<int>(elements.size());
-    std::vector<Eigen::MatrixXd> g(static_cast<std::size_t>(panels), Eigen::MatrixXd(n, n));
-    for (int d = 0; d < panels; ++d) {
-        const double turn = canopy.panel_azimuth(d) - canopy.panel_azimuth(0);
-        const double ct = std::cos(turn), st = std::sin(turn);
-        for (int kk = 0; kk < n; ++kk)
-            for (int i = 0; i < n; ++i) {
-                double w = 0.0;
-                for (const std::size_t c : elements[static_cast<std::size_t>(kk)].cells)
-                    w += ring_velocity(elements[static_cast<std::size_t>(i)].centroid, cells[c].corners, ct, st);
-                g[static_cast<std::size_t>(d)](i, kk) = w;
-            }
-    }
-    return g;
-}
-
 // The rings' velocities with the Helmholtz kernel: Laplace's less each element's integral of D.
 std::vector<Eigen::MatrixXcd> helmholtz_velocities(const Canopy& canopy, const std::vector<SectorCell>& cells,
                                                    const std::vector<SectorElement>& elements, const std::vector<Eigen::MatrixXd>& laplace,

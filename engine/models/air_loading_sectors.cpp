@@ -6,6 +6,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include <Eigen/Dense>
+
 #include "engine/core/physical_constants.hpp"
 #include "engine/models/canopy.hpp"
 
@@ -93,6 +95,24 @@ std::vector<SectorElement> grouped_elements(const std::vector<SectorCell>& cells
     }
     for (SectorElement& el : out) el.centroid = {el.centroid.x / el.area, el.centroid.y / el.area};
     return out;
+}
+
+std::vector<Eigen::MatrixXd> ring_velocities(const Canopy& canopy, const std::vector<SectorCell>& cells,
+                                             const std::vector<SectorElement>& elements) {
+    const int panels = canopy.panel_count(), n = static_cast<int>(elements.size());
+    std::vector<Eigen::MatrixXd> g(static_cast<std::size_t>(panels), Eigen::MatrixXd(n, n));
+    for (int d = 0; d < panels; ++d) {
+        const double turn = canopy.panel_azimuth(d) - canopy.panel_azimuth(0);
+        const double ct = std::cos(turn), st = std::sin(turn);
+        for (int kk = 0; kk < n; ++kk)
+            for (int i = 0; i < n; ++i) {
+                double w = 0.0;
+                for (const std::size_t c : elements[static_cast<std::size_t>(kk)].cells)
+                    w += ring_velocity(elements[static_cast<std::size_t>(i)].centroid, cells[c].corners, ct, st);
+                g[static_cast<std::size_t>(d)](i, kk) = w;
+            }
+    }
+    return g;
 }
 
 }  // namespace ameoto::air_sectors

@@ -8,9 +8,12 @@
 //   std::vector<SectorCell> c = sector_cells(canopy, rows);   // panel 0's sub-cells, rows from the shaft
 //   single_elements(c), grouped_elements(c, nodes)            // the finer and the coarser level
 //   ring_velocity(p, corners, cos, sin)                       // Biot-Savart at p of a unit ring, turned
+//   ring_velocities(canopy, c, elements)                      // [d]: every element's at every other's
 
 #include <cstddef>
 #include <vector>
+
+#include <Eigen/Dense>
 
 #include "engine/core/triangular_lattice.hpp"
 
@@ -59,6 +62,12 @@ std::vector<SectorElement> single_elements(const std::vector<SectorCell>& cells)
 // (sampling each level's regions afresh moves a node's share by up to a cell, not smoothly in h, which
 // made the extrapolation indefinite).
 std::vector<SectorElement> grouped_elements(const std::vector<SectorCell>& cells, int nodes);
+
+// The Biot-Savart velocities of a level's unit rings (Laplace's kernel), one matrix per panel offset d:
+// g_d(i, k), the velocity at panel 0's element i from panel d's element k (panel d is panel 0 turned by
+// 2 pi d / N, its elements numbered alike).
+std::vector<Eigen::MatrixXd> ring_velocities(const Canopy& canopy, const std::vector<SectorCell>& cells,
+                                             const std::vector<SectorElement>& elements);
 
 }  // namespace air_sectors
 }  // namespace ameoto
