@@ -5,8 +5,10 @@
 // evanescent layer grows as a wave nears the speed of sound); its imaginary part is the radiation
 // resistance, -omega Im M_a. At omega -> 0 it is air_loading.hpp's incompressible M_a.
 //
-// Interface (build phase only: allocates; about 0.5 s of CPU a frequency for the default canopy):
+// Interface (build phase only: allocates; the default canopy's takes about 0.8 s of CPU, or with a
+// builder 0.4 s once and 0.45 s a frequency: 2026-12-06, a loaded 2-core VM):
 //   CanopyAirImpedance z = canopy_air_mass_at(canopy, rho0, c, omega);   // omega in rad/s
+//   CanopyAirImpedanceBuilder b(canopy, rho0, c);  b.at(omega)            // the same at many frequencies
 //   z.fourier[m]    // nodes x nodes, kg: M_a on the panels' Fourier mode m (x_p = e^(i 2 pi m p / N) y)
 //   z.matrix()      // the whole canopy's (panel-major), complex symmetric
 //   The force the air takes from the canopy is F = M_a(omega) u'' for u ~ e^(i omega t).
@@ -53,7 +55,7 @@ CanopyAirImpedance canopy_air_mass_at(const Canopy& canopy, double air_density, 
                                       const CanopyAirMassOptions& options = {});
 
 // The same at many frequencies: the sampling, the rings' Laplace velocities and the static extrapolation
-// once (0.25 s), then about 0.35 s a frequency. Keeps a pointer to the canopy, which must outlive it.
+// once (0.4 s), then about 0.45 s a frequency. Keeps a pointer to the canopy, which must outlive it.
 class CanopyAirImpedanceBuilder {
 public:
     CanopyAirImpedanceBuilder(const Canopy& canopy, double air_density, double speed_of_sound, const CanopyAirMassOptions& options = {});
