@@ -12,8 +12,9 @@
 //   r.pressure[l][f]          // Pa per N at listener l, frequency hz[f] (e^(i omega t))
 //   std::vector<std::complex<double>> F = canopy_air_forces(canopy, panel, node, hz, air);   // per node
 //   directional_force(canopy, F, k, theta, psi)   // what the far field towards (theta, psi) hears
-//   band_energies_db(r.pressure[l], S, hz, 1000, 4000)   // third-octave bands of |P S|^2 on the grid
 //   raised_cosine_spectrum(peak_n, length_s, hz)          // S(f) of the reference's strike
+//   canopy_time_response(canopy, panel, node, listeners, air, c)   // [listener][sample], Pa: the strike
+//                                                          // heard over the reference's 0.2 s record
 //
 // The canopy's equation of motion at frequency omega, (K + i omega C - omega^2 (M + M_a(omega))) u = f,
 // is block circulant over the panels (K, C, M the lattice's, one panel's copied; M_a air_loading's), so
@@ -62,14 +63,25 @@ std::complex<double> directional_force(const Canopy& canopy, const std::vector<s
 CanopyFrequencyResponse canopy_frequency_response(const Canopy& canopy, int panel, int node, const std::vector<Vec3>& listeners,
                                                   const std::vector<double>& hz, const AirMassAt& air, double speed_of_sound);
 
-// Third-octave band energies of |P(f) S(f)|^2 over a uniform grid (hz evenly spaced): for each band
-// centre 1000 * 2^(n / 3) from low_hz to high_hz, the sum over the grid points inside its edges, in dB
-// (relative: for comparing two responses on the same grid). S: the force's spectrum at each hz.
-std::vector<double> band_energies_db(const std::vector<std::complex<double>>& pressure, const std::vector<std::complex<double>>& force,
-                                     const std::vector<double>& hz, double low_hz, double high_hz, std::vector<double>* centres = nullptr);
-
 // The spectrum of a raised-cosine force pulse (peak_n (1 - cos(2 pi t / length)) / 2 over 0..length),
-// integral f(t) e^(-i omega t) dt, N s.
+// integral f(t) e^(-i omega t) dt, N s; and its Laplace transform at any s.
 std::complex<double> raised_cosine_spectrum(double peak_n, double length_s, double hz);
+std::complex<double> raised_cosine_laplace(double peak_n, double length_s, std::complex<double> s);
+
+// The model's pressure in time after a raised-cosine strike, for band levels over the same record as the
+// reference's (its modes ring past the record: a steady spectrum would not do). The Laplace transform is
+// taken on the line Re s = sigma at the frequencies k / period up to max_hz (nothing above) and inverted
+// (synthesize): the period's wrapped tail is e^(-sigma period) of it (-70 dB by default). Pa, sample n at
+// time n / rate_hz.
+struct CanopyTimeResponseSetup {
+    double duration_s = 0.2, rate_hz = 48000.0, max_hz = 4600.0;
+    double period_s = 0.5, sigma = 16.0;   // 1/s
+    double force_n = 1.0, pulse_s = 2e-4;
+};
+std::vector<std::vector<double>> canopy_time_response(const Canopy& canopy, int panel, int node, const std::vector<Vec3>& listeners,
+                                                      const AirMassAt& air, double speed_of_sound,
+                                                      const CanopyTimeResponseSetup& setup = {});
+// x(t) from X(sigma + i 2 pi k / period), k = 0..K (the rest conjugate or zero): samples n / rate_hz.
+std::vector<double> synthesize(const std::vector<std::complex<double>>& laplace, double sigma, double period_s, double rate_hz, int samples);
 
 }  // namespace ameoto::reference
