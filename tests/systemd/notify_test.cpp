@@ -108,7 +108,9 @@ struct Observer {
         stdout_closed = daemon.output_closed();
     }
 
-    void drain_socket() {
+    // The notifications waiting on the socket, in the order they were sent.
+    std::vector<Event> receive_notifications() {
+        std::vector<Event> received;
         for (;;) {
             char data[4096];
             alignas(cmsghdr) char control[CMSG_SPACE(sizeof(ucred))];
@@ -119,7 +121,7 @@ struct Observer {
             message.msg_control = control;
             message.msg_controllen = sizeof control;
             const ssize_t n = recvmsg(socket.socket.fd, &message, MSG_CMSG_CLOEXEC);
-            if (n < 0) return;
+            if (n < 0) return received;
             pid_t sender = 0;
             for (cmsghdr* c = CMSG_FIRSTHDR(&message); c; c = CMSG_NXTHDR(&message, c)) {
                 if (c->cmsg_level == SOL_SOCKET && c->cmsg_type == SCM_CREDENTIALS) {
@@ -133,7 +135,7 @@ struct Observer {
             while (start < text.size()) {
                 std::size_t end = text.find('\n', start);
                 if (end == std::string::npos) end = text.size();
-                if (end > start) events.push_back({Event::notify, text.substr(start, end - start), Clock::now(), sender});
+                if (end > start) received.push_back({Event::notify, text.substr(start, end - start), Clock::now(), sender});
                 start = end + 1;
             }
         }
@@ -147,10 +149,15 @@ struct Observer {
             if (left.count() <= 0) return false;
             pollfd fds[2] = {{socket.socket.fd, POLLIN, 0}, {stdout_closed ? -1 : daemon.output_fd(), POLLIN, 0}};
             poll(fds, 2, static_cast<int>(std::min<long long>(left.count(), 50)) + 1);
-            // ameotod prints a line before the notification that follows from it, so the line is in
-            // the pipe by the time the datagram is here: read stdout first to keep the order causal.
+            // ameotod prints a line before the notification that follows from it, so once a datagram
+            // has been received, every line written before it is in the pipe. Receiving first and
+            // reading stdout second keeps that order; reading stdout first could miss lines the daemon
+            // wrote between the two reads, just before the datagram (it did once, in CI, under the
+            // sanitizers). A line written after a datagram may be placed before it; no check relies
+            // on the opposite.
+            std::vector<Event> received = receive_notifications();
             drain_stdout();
-            drain_socket();
+            events.insert(events.end(), received.begin(), received.end());
         }
         return true;
     }
