@@ -51,8 +51,9 @@ Run run_umbrella(double rate, double full_level_db, double texture_margin_db, in
 // drops' settling (drop_on_canopy.hpp), or the model before it. `ceiling`: the widest vectors the laned
 // canopy's kernels may use (laned_network.hpp): 32 (AVX2 where the CPU has it, the default) or 64 (the
 // opt-in AVX-512 kernels, same bits: timed beside the default, as they may win on another CPU). `air`:
-// the scene's umbrella in air (the built-in scene's, the default) or in vacuum (the model before).
-double time_render(double rate, bool settle, double seconds, int ceiling = 32, bool air = true) {
+// the scene's umbrella in air (the built-in scene's, the default) or in vacuum (the model before). `push`:
+// in air, the contacts' compressible push (air_push.hpp, the default) or the modes alone (the model before it).
+double time_render(double rate, bool settle, double seconds, int ceiling = 32, bool air = true, bool push = true) {
     LanedNetwork::set_default_kernel_ceiling(ceiling);
     SceneDescription scene = *builtin_scene("umbrella");
     scene.surfaces[0].air = air;
@@ -62,6 +63,7 @@ double time_render(double rate, bool settle, double seconds, int ceiling = 32, b
     c.seed = 1;
     c.rain_rate_mm_per_h = rate;
     c.settle = settle;
+    c.air_push = push;
     Renderer r(c);
     constexpr int frames = 4096;
     std::vector<float> left(frames), right(frames);
@@ -79,12 +81,13 @@ struct RenderRow {
     double per_s = 0.0, per_s_before = 0.0, dry_per_s = 0.0;   // CPU s per audio s: least of 3 rounds
     double per_s_avx512 = 0.0, dry_per_s_avx512 = 0.0;   // the same with the canopy's AVX-512 kernels
     double per_s_vacuum = 0.0, dry_per_s_vacuum = 0.0;   // the umbrella in vacuum (the model before air)
+    double per_s_no_push = 0.0;                          // in air without the compressible push (the model before it)
 };
 
 // Three rounds of (settling, the model before it, the dry scene, the same in vacuum) back to back; the
 // least of each (bench drop's estimator: docs/bench.md).
 RenderRow render_row(double rate, double target, double seconds) {
-    RenderRow row{rate, target, 1e300, 1e300, 1e300, 1e300, 1e300, 1e300, 1e300};
+    RenderRow row{rate, target, 1e300, 1e300, 1e300, 1e300, 1e300, 1e300, 1e300, 1e300};
     for (int i = 0; i < 3; ++i) {
         row.per_s = std::min(row.per_s, time_render(rate, true, seconds));
         row.per_s_before = std::min(row.per_s_before, time_render(rate, false, seconds));
@@ -93,6 +96,7 @@ RenderRow render_row(double rate, double target, double seconds) {
         row.dry_per_s_avx512 = std::min(row.dry_per_s_avx512, time_render(0.0, true, seconds, 64));
         row.per_s_vacuum = std::min(row.per_s_vacuum, time_render(rate, true, seconds, 32, false));
         row.dry_per_s_vacuum = std::min(row.dry_per_s_vacuum, time_render(0.0, true, seconds, 32, false));
+        row.per_s_no_push = std::min(row.per_s_no_push, time_render(rate, true, seconds, 32, true, false));
     }
     return row;
 }
@@ -104,10 +108,11 @@ struct Heavy {
 
 // Heavy rain: the umbrella (in air or in vacuum) and a pond at 50 mm/h, 64-frame blocks, the governor on
 // measured load, `seconds` of audio timed after a 1 s ramp-in.
-Heavy heavy_rain(bool air, double seconds) {
+Heavy heavy_rain(bool air, double seconds, bool push = true) {
     SceneDescription scene = heavy_rain_bench_scene();
     scene.surfaces[0].air = air;
     RendererConfig base;
+    base.air_push = push;
     base.sample_rate = bench_sample_rate;
     base.channels = 2;
     base.seed = 5;
@@ -200,6 +205,7 @@ int run_scene_bench(const BenchOptions& options, const CommandIo& io) {
 
     const Heavy heavy = heavy_rain(true, seconds);
     const Heavy heavy_vacuum = heavy_rain(false, seconds);
+    const Heavy heavy_no_push = heavy_rain(true, seconds, false);
 
     // Offline renders (ameoto render scene's work): the default scene at its own rate, and heavy rain.
     const RenderRow renders[] = {render_row(builtin_scene("umbrella")->rain.rate_mm_per_h, 20.0, seconds),
@@ -214,7 +220,7 @@ int run_scene_bench(const BenchOptions& options, const CommandIo& io) {
                    << ",\"realtime_factor_avx512\":" << json_number(1.0 / r.per_s_avx512) << ",\"dry_percent_core\":"
                    << json_number(100.0 * r.dry_per_s) << ",\"dry_percent_core_avx512\":" << json_number(100.0 * r.dry_per_s_avx512)
                    << ",\"realtime_factor_vacuum\":" << json_number(1.0 / r.per_s_vacuum) << ",\"dry_percent_core_vacuum\":"
-                   << json_number(100.0 * r.dry_per_s_vacuum) << "}\n";
+                   << json_number(100.0 * r.dry_per_s_vacuum) << ",\"realtime_factor_no_push\":" << json_number(1.0 / r.per_s_no_push) << "}\n";
         io.out << "{\"suite\":\"scene\",\"measurement\":\"dry umbrella\",\"percent_core\":" << json_number(100.0 * dry_share)
                << ",\"percent_core_vacuum\":" << json_number(100.0 * dry_share_vacuum) << "}\n";
         for (const Tier& t : tiers)
@@ -228,7 +234,8 @@ int run_scene_bench(const BenchOptions& options, const CommandIo& io) {
                << ",\"full_drops\":" << json_number(heavy.full_drops) << ",\"priced_out\":" << json_number(heavy.priced_out)
                << ",\"target_mean_percent\":25,\"target_p999_percent\":60,\"mean_percent_vacuum\":"
                << json_number(100.0 * heavy_vacuum.mean) << ",\"p999_percent_vacuum\":" << json_number(100.0 * heavy_vacuum.p999)
-               << ",\"max_percent_vacuum\":" << json_number(100.0 * heavy_vacuum.worst) << "}\n";
+               << ",\"max_percent_vacuum\":" << json_number(100.0 * heavy_vacuum.worst) << ",\"mean_percent_no_push\":"
+               << json_number(100.0 * heavy_no_push.mean) << ",\"p999_percent_no_push\":" << json_number(100.0 * heavy_no_push.p999) << "}\n";
         return exit_status::ok;
     }
     char line[400];
@@ -263,9 +270,13 @@ int run_scene_bench(const BenchOptions& options, const CommandIo& io) {
                   100.0 * heavy_vacuum.mean, 100.0 * heavy_vacuum.p999, 100.0 * heavy_vacuum.worst, heavy_vacuum.full_drops,
                   heavy_vacuum.priced_out);
     io.out << line;
+    std::snprintf(line, sizeof line,
+                  "  in air without the compressible push (the model before it), same rain: mean %.1f %%, 99.9th percentile %.1f %%\n",
+                  100.0 * heavy_no_push.mean, 100.0 * heavy_no_push.p999);
+    io.out << line;
     io.out << "offline render (ameoto render scene's work: the default umbrella scene, its canopy in air, seed 1, 4096-frame\n"
               "blocks, its build not counted; least of 3 rounds of: with settling, the model before it, the dry scene, the same\n"
-              "in vacuum):\n";
+              "in vacuum, in air without the compressible push):\n";
     for (const RenderRow& r : renders) {
         std::snprintf(line, sizeof line,
                       "  %4.0f mm/h: %.1f x real time (target %.0f: %s); before settling %.1f x, so %.2f x faster; the dry "
@@ -282,6 +293,11 @@ int run_scene_bench(const BenchOptions& options, const CommandIo& io) {
                       "             the umbrella in vacuum (the model before air), same rounds: %.1f x real time (air is %.2f x "
                       "faster); its dry scene %.1f %% of a core\n",
                       1.0 / r.per_s_vacuum, r.per_s_vacuum / r.per_s, 100.0 * r.dry_per_s_vacuum);
+        io.out << line;
+        std::snprintf(line, sizeof line,
+                      "             in air without the compressible push (the model before it), same rounds: %.1f x real time (the "
+                      "push costs %.2f x)\n",
+                      1.0 / r.per_s_no_push, r.per_s / r.per_s_no_push);
         io.out << line;
     }
     return exit_status::ok;

@@ -307,8 +307,8 @@ void run_canopy_bands(Report& r, double dx) {
     const Point2 c = shape.panel_centroid(0);
     const Point2 points[3] = {c, {c.x * 1.35, c.y + 0.03}, {c.x * 0.55, c.y - 0.02}};
     const char* where[3] = {"0.3 m under the shaft", "1 m to the side", "3 m away"};
-    double worst = 0.0, compressible_worst = 0.0;
-    std::vector<double> worst_per_case, compressible_per_case;
+    double worst = 0.0, compressible_worst = 0.0, push_worst = 0.0;
+    std::vector<double> worst_per_case, compressible_per_case, push_per_case;
     const AirMassAt compressible = compressible_air_mass(shape, constants::air_density, constants::speed_of_sound_air, 50.0);
     for (const Point2 at : points) {
         CanopyBandsSetup s;
@@ -337,6 +337,17 @@ void run_canopy_bands(Report& r, double dx) {
             r.line(row.append(" dB (worst ").append(fixed(w, 1)).append(")"));
             worst = std::max(worst, w);
             worst_per_case.push_back(w);
+            // The same with the compressible push (air_push.hpp): what the server plays.
+            std::string push_row = "    with the compressible push:";
+            double pw = 0.0;
+            for (std::size_t k = 0; k < b.fast_push[l].size(); ++k) {
+                const double d = b.push_difference(static_cast<int>(l), static_cast<int>(k));
+                pw = std::max(pw, std::abs(d));
+                push_row.append(1, ' ').append(fixed(b.fast_push[l][k].centre_hz, 0)).append(1, ' ').append(signed_fixed(d, 1));
+            }
+            r.line(push_row.append(" dB (worst ").append(fixed(pw, 1)).append(")"));
+            push_worst = std::max(push_worst, pw);
+            push_per_case.push_back(pw);
             const std::vector<BandLevel> levels = third_octave_levels(compressible_p[l], 1.0 / 48000.0, s.low_hz, s.high_hz);
             std::string compressible_row = "    the compressible jump:";
             double cw = 0.0;
@@ -350,13 +361,16 @@ void run_canopy_bands(Report& r, double dx) {
             compressible_per_case.push_back(cw);
         }
     }
-    const bool ok = worst <= 3.0;
-    r.line("  worst band, fast model against reference: " + fixed(worst, 1) + " dB (target 3 dB): " + r.judge(ok));
+    const bool ok = push_worst <= 3.0;   // what the server plays: the modes and the compressible push
+    r.line("  worst band, the server's model (its modes and the compressible push) against reference: " + fixed(push_worst, 1) +
+           " dB (target 3 dB): " + r.judge(ok));
+    r.line("  worst band, its modes' taps alone (the model before the push) against reference: " + fixed(worst, 1) + " dB");
     r.line("  worst band, the compressible jump against reference: " + fixed(compressible_worst, 1) +
            " dB (not yet the server's model; docs/canopy-air.md)");
     r.figure("dx_m", dx > 0.0 ? dx : 0.01);
     r.raw("worst_db", array(worst_per_case));
     r.raw("compressible_worst_db", array(compressible_per_case));
+    r.raw("push_worst_db", array(push_per_case));
     r.raw("ok", ok ? "true" : "false");
     r.close("canopy-bands");
 }
@@ -377,8 +391,9 @@ std::string reference_usage() {
            "  canopy      the default canopy's first 10 panel modes in air, the fast model against them (3 %)\n"
            "  canopy-bands  the canopy in air (--air on) against the reference: third-octave band\n"
            "              levels 63 Hz..4 kHz, three strikes, three listeners (within 3 dB; dx 10 mm:\n"
-           "              about 4 minutes on a quiet machine); with each listener, the air's\n"
-           "              compressible jump (solved offline) against the reference\n"
+           "              about 2 minutes on a quiet machine): the server's model (its modes and\n"
+           "              the compressible push), its modes alone, and the air's compressible\n"
+           "              jump (solved offline), each against the reference\n"
            "\n"
            "Options:\n"
            "  --dx M      grid spacing in m for every validation chosen (0.001..0.1)\n"

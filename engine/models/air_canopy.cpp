@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <utility>
 
 #include "engine/core/integrators/mode_decay.hpp"
 #include "engine/models/air_canopy_kernels.hpp"
@@ -85,6 +86,12 @@ void AirCanopyState::init(const AirCanopyModes& m) {
     v_.assign(nodes, 0.0);
     u_stamp_.assign(nodes, 0);
     v_stamp_.assign(nodes, 0);
+    for (Forces* f : {&pending_, &taken_}) {
+        f->node.assign(nodes, 0);
+        f->newtons.assign(nodes, 0.0);
+        f->count = 0;
+    }
+    forced_stamp_.assign(nodes, 0);
     steps_ = 1;
     kernels_ = &air_kernels();   // chosen here, in the build phase: the first call initialises a static
     for (std::size_t k = 0; k < n; ++k) omega2_[k] = m.omega[static_cast<Eigen::Index>(k)] * m.omega[static_cast<Eigen::Index>(k)];
@@ -93,6 +100,8 @@ void AirCanopyState::init(const AirCanopyModes& m) {
 void AirCanopyState::step(const AirCanopyModes& m) {
     kernels_->advance(static_cast<std::size_t>(m.modes), q_.data(), qd_.data(), p_.data(), a_.data(), m.t11.data(), m.t12.data(),
                           m.t21.data(), m.t22.data(), m.time_step_s, 1.0 / m.time_step_s);
+    std::swap(pending_, taken_);   // the vectors' buffers trade places: no allocation
+    pending_.clear();
     ++steps_;
 }
 
@@ -105,6 +114,8 @@ bool AirCanopyState::finite() const {
 void AirCanopyState::reset() {
     for (auto* v : {&q_, &qd_, &p_, &a_})
         for (double& x : *v) x = 0.0;
+    pending_.clear();
+    taken_.clear();
     ++steps_;
 }
 

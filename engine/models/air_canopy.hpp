@@ -18,6 +18,8 @@
 //   s.displacement(m, node), s.velocity(m, node)         // u, du/dt along the node's normal
 //   s.accelerations()                                    // each mode's mean q'' over the last step
 //   s.displacement_bound(m), s.velocity_bound(m)         // >= |u|, >= |du/dt| at every node, O(modes)
+//   s.forced_nodes(), s.forced_node(j), s.forced_newtons(j)   // the forces the last step took, summed per
+//                                                        // node (the compressible push: air_push.hpp)
 //   s.finite(), s.reset(), s.energy()
 //
 // Modes (air_loading.hpp): Phi' (M + M_a) Phi = I, u = Phi q, and each mode obeys
@@ -26,7 +28,7 @@
 // radiation damping (air_loading.hpp, radiation_damping). The step is the modal integrator's
 // (core/integrators/modal.hpp: the kick q' += T p, then the exact transition over T): exact for any T.
 // Cutoff: modes above max_frequency_hz are dropped (they neither move nor radiate). The default keeps
-// every mode the lattice has (the 400-node default canopy's: 82 to 870 Hz in air): the lattice
+// every mode the lattice has (the 400-node default canopy's: 84.6 to 962.6 Hz in air): the lattice
 // itself is the resolution limit, and a panel's modes above about 700 Hz already have wavelengths under
 // four lattice spacings (docs/canopy-air.md, "In air").
 // Contact: a collision needs the node's mass as an impact sees it (membrane_collision.cpp): in air the
@@ -87,6 +89,12 @@ public:
         double* const p = p_.data();
         const int n = m.modes;
         for (int k = 0; k < n; ++k) p[k] += newtons * row[k];
+        const auto i = static_cast<std::size_t>(node);
+        if (forced_stamp_[i] != steps_) {   // a node's first force this step: listed once (at most every node)
+            forced_stamp_[i] = steps_;
+            pending_.node[static_cast<std::size_t>(pending_.count++)] = node;
+        }
+        pending_.newtons[i] += newtons;
     }
     void step(const AirCanopyModes& m);
     // A node's reading costs a sum over the modes; the collisions read the same nodes many times a step
@@ -102,6 +110,9 @@ public:
     // sum_k max_i |phi_ik| |q_k'| >= |du_i/dt| at every node, likewise: the drop's coarse-step floor
     // (drop_on_canopy_collide.cpp) needs only a bound on the fastest node.
     double velocity_bound(const AirCanopyModes& m) const { return bound(m, qd_, bounds_[1], bound_stamp_[1]); }
+    int forced_nodes() const { return taken_.count; }
+    int forced_node(int j) const { return taken_.node[static_cast<std::size_t>(j)]; }
+    double forced_newtons(int j) const { return taken_.newtons[static_cast<std::size_t>(taken_.node[static_cast<std::size_t>(j)])]; }
     bool finite() const;
     void reset();
     double energy() const;   // J: 1/2 sum (q'^2 + w^2 q^2), the membrane's and the air's near field
@@ -129,6 +140,19 @@ private:
     std::uint64_t steps_ = 1;
     mutable std::vector<double> u_, v_;
     mutable std::vector<std::uint64_t> u_stamp_, v_stamp_;
+    // The forces of the step being gathered and of the step taken: the nodes listed in order, each
+    // node's sum (sized to the nodes by init: no list can overflow). step() swaps them.
+    struct Forces {
+        std::vector<int> node;
+        std::vector<double> newtons;   // per node
+        int count = 0;
+        void clear() {
+            for (int j = 0; j < count; ++j) newtons[static_cast<std::size_t>(node[static_cast<std::size_t>(j)])] = 0.0;
+            count = 0;
+        }
+    };
+    Forces pending_, taken_;
+    std::vector<std::uint64_t> forced_stamp_;
     mutable double bounds_[2] = {0.0, 0.0};
     mutable std::uint64_t bound_stamp_[2] = {0, 0};
 };

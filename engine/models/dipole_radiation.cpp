@@ -11,7 +11,8 @@
 
 namespace ameoto {
 
-DipoleRadiation::DipoleRadiation(const Canopy& canopy, const ListenerLayout& layout, double time_step_s, const AirMedium& air) {
+DipoleRadiation::DipoleRadiation(const Canopy& canopy, const ListenerLayout& layout, double time_step_s, const AirMedium& air,
+                                 const DipoleOptions& options) {
     const AirCanopyModes* m = canopy.air_modes();
     if (m == nullptr) throw std::invalid_argument("dipole radiation: the canopy is not in air");
     if (!(time_step_s > 0.0)) throw std::invalid_argument("dipole radiation: the time step must be positive");
@@ -111,12 +112,39 @@ DipoleRadiation::DipoleRadiation(const Canopy& canopy, const ListenerLayout& lay
         step_a_.assign(a_.size(), 0.0);
         step_b_.assign(b_.size(), 0.0);
     }
+    int longest = 0;
+    for (int d : delay_) longest = std::max(longest, d + 1);
+    if (options.compressible_push) {
+        // Each point's filters at unit gain (air_push.hpp); a channel scales them by its panel gains.
+        std::vector<double> density(r.size(), 0.0);
+        for (int k = 0; k < panels; ++k)
+            for (int i = 0; i < nodes; ++i)
+                density[static_cast<std::size_t>(k * nodes + i)] = canopy.panel(k).network.mass(i) > 0.0 ? canopy.panel(k).material.areal_density : 0.0;
+        crossover_ = push_crossover(*m);
+        for (std::size_t point = 0; point < layout.points.size() && crossover_.hz > 0.0; ++point) {
+            PushPoint at;
+            distances(layout.points[point], at.delay);
+            at.r = r;
+            at.cos_theta = cos_theta;
+            push_.push_back(design_push_filters(*m, crossover_, density, at, air));
+            const PushFilters& f = push_.back();
+            for (int e = 0; e < panels * nodes && f.taps > 0; ++e)
+                longest = std::max(longest, f.offset[static_cast<std::size_t>(e)] + f.taps);
+        }
+        push_panels_ = panels;
+        push_nodes_per_panel_ = nodes;
+        push_point_ = layout.channel_point;
+        push_gain_.assign(static_cast<std::size_t>(channels_) * static_cast<std::size_t>(panels), 1.0);
+        for (int ch = 0; ch < channels_ && !layout.panel_gain.empty(); ++ch)
+            for (int k = 0; k < panels; ++k)
+                push_gain_[static_cast<std::size_t>(ch * panels + k)] = layout.panel_gain[static_cast<std::size_t>(ch)][static_cast<std::size_t>(k)];
+        push_rest_gain_ = push_gain_;
+        low_.assign(static_cast<std::size_t>(channels_), LowPassState{});
+    }
     previous_.assign(static_cast<std::size_t>(modes_), 0.0);
     kernels_ = &air_kernels();   // here, in the build phase (the first call initialises a static)
-    int longest = 0;
-    for (int d : delay_) longest = std::max(longest, d);
     length_ = 1;
-    while (length_ <= longest + 1) length_ *= 2;
+    while (length_ <= longest) length_ *= 2;
     mask_ = length_ - 1;
     ring_.assign(static_cast<std::size_t>(channels_) * static_cast<std::size_t>(length_), 0.0);
     now_ = 0;
@@ -141,13 +169,16 @@ void DipoleRadiation::process(const Canopy& canopy, double* pressures_pa) {
             }
         }
     }
+    if (!push_.empty()) play_push(canopy.air_state());
     for (int ch = 0; ch < channels_; ++ch) {
         const std::size_t base = static_cast<std::size_t>(ch) * modes;
         double* const row = ring_.data() + static_cast<std::size_t>(ch) * static_cast<std::size_t>(length_);
         // sum_k A_k abar_k[n] + B_k abar_k[n-1], in eight running sums (lane_sums.hpp: one would be a chain
         // of 800 dependent additions a sample), AVX2 where the CPU has it (the same bits).
         const double y = kernels_->taps(a_.data() + base, acc, b_.data() + base, previous_.data(), modes);
-        row[(now_ + delay_[static_cast<std::size_t>(ch)]) & mask_] = std::isfinite(y) ? y : 0.0;
+        const double heard = std::isfinite(y) ? y : 0.0;
+        // With the push, the modes are heard through the crossover's low half (air_push.hpp).
+        row[(now_ + delay_[static_cast<std::size_t>(ch)]) & mask_] += push_.empty() ? heard : low_[static_cast<std::size_t>(ch)].process(crossover_, heard);
         pressures_pa[ch] = row[now_];
         row[now_] = 0.0;
     }
@@ -155,13 +186,38 @@ void DipoleRadiation::process(const Canopy& canopy, double* pressures_pa) {
     now_ = (now_ + 1) & mask_;
 }
 
+// Each node the step's forces touched, through its filter into every channel's ring (air_push.hpp).
+void DipoleRadiation::play_push(const AirCanopyState& state) {
+    for (int j = 0; j < state.forced_nodes(); ++j) {
+        const int e = state.forced_node(j);
+        const double f = state.forced_newtons(j);
+        if (!std::isfinite(f) || f == 0.0) continue;
+        const int panel = e / push_nodes_per_panel_;
+        for (int ch = 0; ch < channels_; ++ch) {
+            const PushFilters& filters = push_[static_cast<std::size_t>(push_point_[static_cast<std::size_t>(ch)])];
+            const double g = f * push_gain_[static_cast<std::size_t>(ch * push_panels_ + panel)];
+            if (filters.taps == 0 || g == 0.0) continue;
+            const double* fir = filters.fir.data() + static_cast<std::size_t>(e) * static_cast<std::size_t>(filters.taps);
+            double* const row = ring_.data() + static_cast<std::size_t>(ch) * static_cast<std::size_t>(length_);
+            // Two runs of the ring, each contiguous (so the loops vectorise): to its end, then from its start.
+            const int start = (now_ + filters.offset[static_cast<std::size_t>(e)]) & mask_;
+            const int first = std::min(filters.taps, length_ - start);
+            double* const head = row + start;
+            for (int tap = 0; tap < first; ++tap) head[tap] += g * fir[tap];
+            for (int tap = first; tap < filters.taps; ++tap) row[tap - first] += g * fir[tap];
+        }
+    }
+}
+
 void DipoleRadiation::reset() {
     std::fill(previous_.begin(), previous_.end(), 0.0);
     std::fill(ring_.begin(), ring_.end(), 0.0);
+    for (LowPassState& l : low_) l.reset();
 }
 
 bool DipoleRadiation::set_panel_gains(const double* gains, int glide_frames) {
     if (panels_ == 0) return false;
+    if (!push_gain_.empty()) std::copy(gains, gains + push_gain_.size(), push_gain_.begin());
     const auto modes = static_cast<std::size_t>(modes_);
     for (int ch = 0; ch < channels_; ++ch)
         for (std::size_t q = 0; q < modes; ++q) {
@@ -180,6 +236,7 @@ bool DipoleRadiation::set_panel_gains(const double* gains, int glide_frames) {
 
 bool DipoleRadiation::set_rest_gains(int glide_frames) {
     if (panels_ == 0) return false;
+    push_gain_ = push_rest_gain_;   // same size: a copy, no allocation
     target_a_ = rest_a_;
     target_b_ = rest_b_;
     start_glide(glide_frames);

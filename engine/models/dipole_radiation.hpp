@@ -11,6 +11,7 @@
 //                                               // never allocates
 //   d.delay_samples(channel)                    // D: the bulk delay (the nearest node's, whole samples)
 //   d.coefficients(channel, mode)               // {A, B}: the mode's two taps (below)
+//   d.push_filters(point)                       // with options.compressible_push: the point's filters
 //
 // Source. A thin screen in free air is a double layer: the pressure at x is
 //   p(x) = integral over the screen of Delta p(y) dG/dn_y dS(y),  G = e^{-ikr} / (4 pi r)
@@ -41,14 +42,21 @@
 // approximation for the spectrum far from the mode (the broadband part of an impact).
 // Cost per sample: 2 x modes x channels multiply-adds (the default canopy: 400 modes; mono 800).
 // Distance floor: r_i >= a_eq / 2, a_eq = sqrt(A_i / pi), as the Rayleigh path (radiation.hpp).
-// Approximated: the force is the incompressible near field's (the air's compressibility changes the
-// pressure jump itself only near and above coincidence: air_loading.hpp); the canopy shades nothing and
-// nothing reflects; a curved canopy's pressure jump is its plan's (air_loading.hpp) along each node's
-// own normal.
+// The compressible push (DipoleOptions::compressible_push): above the highest mode, the modes' taps
+// hear a contact's push through the incompressible jump. With the push, a crossover above the highest
+// mode (air_push.hpp) hears the modes through its low half, and each force the canopy took in the step
+// (summed per node: AirCanopyState::forced_*) through its node's filter: the high half of a point force
+// on a limp screen in compressible air. Cost: per forced node and channel, the filter's length (4.5 ms:
+// 216 at 48 kHz) multiply-adds a sample; per channel, four biquad sections. With panel gains the
+// filter is the point's at unit gain times the node's panel's gain (a turn changes it at once).
+// Approximated: without the push, the force is the incompressible near field's; the canopy shades
+// nothing and nothing reflects; a curved canopy's pressure jump is its plan's (air_loading.hpp) along
+// each node's own normal.
 
 #include <utility>
 #include <vector>
 
+#include "engine/models/air_push.hpp"
 #include "engine/models/canopy.hpp"
 #include "engine/models/radiation.hpp"
 
@@ -56,10 +64,15 @@ namespace ameoto {
 
 struct AirKernels;
 
+struct DipoleOptions {
+    bool compressible_push = false;   // the push above the modes through compressible air (air_push.hpp)
+};
+
 class DipoleRadiation {
 public:
     DipoleRadiation() = default;
-    DipoleRadiation(const Canopy& canopy, const ListenerLayout& layout, double time_step_s, const AirMedium& air = AirMedium{});
+    DipoleRadiation(const Canopy& canopy, const ListenerLayout& layout, double time_step_s, const AirMedium& air = AirMedium{},
+                    const DipoleOptions& options = DipoleOptions{});
 
     void process(const Canopy& canopy, double* pressures_pa);
     void reset();
@@ -73,6 +86,11 @@ public:
     int channels() const { return channels_; }
     int modes() const { return modes_; }
     int delay_samples(int channel) const { return delay_[static_cast<std::size_t>(channel)]; }
+    const PushFilters* push_filters(int point) const {
+        return point >= 0 && point < static_cast<int>(push_.size()) && push_[static_cast<std::size_t>(point)].taps > 0
+                   ? &push_[static_cast<std::size_t>(point)]
+                   : nullptr;
+    }
     std::pair<double, double> coefficients(int channel, int mode) const {
         const std::size_t at = static_cast<std::size_t>(channel) * static_cast<std::size_t>(modes_) + static_cast<std::size_t>(mode);
         return {a_[at], b_[at]};
@@ -91,6 +109,15 @@ private:
     int panels_ = 0, glide_left_ = 0;
     std::vector<double> panel_a_, panel_b_, rest_a_, rest_b_, target_a_, target_b_, step_a_, step_b_;
     void start_glide(int glide_frames);
+    // The compressible push: each point's filters, each channel's point, and each channel's gain per
+    // panel ([channel * panels + panel]; the layout's, or a turn's).
+    PushCrossover crossover_;
+    std::vector<LowPassState> low_;   // per channel
+    std::vector<PushFilters> push_;
+    std::vector<int> push_point_;
+    std::vector<double> push_gain_, push_rest_gain_;
+    int push_panels_ = 0, push_nodes_per_panel_ = 0;
+    void play_push(const AirCanopyState& state);
 };
 
 }  // namespace ameoto

@@ -161,7 +161,9 @@ DropOnCanopy::DropOnCanopy(Built, const DropOnCanopyConfig& config, Canopy&& can
     if (!config_.air && canopy_.in_air()) canopy_.set_air(nullptr);
     // The dipoles are heard only in the far field: a mass pickup (the impact templates' 51 runs) has none
     // to build (their build was a quarter of a scene's in air).
-    if (config_.air && config_.output == SceneOutput::far_field) dipole_ = DipoleRadiation(canopy_, far_field_.layout(), dt_);
+    if (config_.air && config_.output == SceneOutput::far_field)
+        dipole_ = DipoleRadiation(canopy_, far_field_.layout(), dt_, AirMedium{config_.air_options.air_density, config_.air_options.speed_of_sound},
+                                  DipoleOptions{.compressible_push = config_.air_push});
     // The band collide() keeps to (see there): the rest cap spans bottom_ (its rim) to top_ (the shaft);
     // the normal's vertical component is smallest at the rim, so reach_ vertically is at least 5 cm
     // along any normal inside the rim's circle.

@@ -156,6 +156,9 @@ struct DropOnCanopyConfig {
                                                    // flat or curved); false: the lattice in vacuum under the
                                                    // baffled Rayleigh sum (network above), the seed's model
     AirCanopyOptions air_options{};                // in air: the air, the added mass's sampling, the cutoff
+    bool air_push = true;                          // in air, heard in the far field: each contact's push
+                                                   // above the modes through compressible air (air_push.hpp);
+                                                   // false: the modes' taps alone (the model before it)
     bool operator==(const DropOnCanopyConfig&) const = default;
 };
 

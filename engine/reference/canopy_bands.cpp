@@ -87,18 +87,25 @@ CanopyBandsResult compare_canopy_bands(const CanopyBandsSetup& setup) {
     ListenerLayout layout;
     layout.points = setup.listeners;
     for (std::size_t l = 0; l < setup.listeners.size(); ++l) layout.channel_point.push_back(static_cast<int>(l));
-    DipoleRadiation dipole(canopy, layout, dt);
     const auto steps = static_cast<long>(s.duration_s * setup.fast_rate_hz);
-    std::vector<std::vector<double>> fast(setup.listeners.size(), std::vector<double>(static_cast<std::size_t>(steps)));
-    std::vector<double> panel_forces(static_cast<std::size_t>(canopy.panel_count())), p(setup.listeners.size());
-    for (long n = 0; n < steps; ++n) {
-        const double f = strike_force(s, (static_cast<double>(n) + 0.5) * dt);
-        if (f != 0.0) canopy.apply_force({s.panel, r.struck_node}, f);
-        canopy.step(panel_forces.data());
-        dipole.process(canopy, p.data());
-        for (std::size_t l = 0; l < p.size(); ++l) fast[l][static_cast<std::size_t>(n)] = p[l];
-    }
-    for (const auto& x : fast) out.fast.push_back(third_octave_levels(x, dt, setup.low_hz, setup.high_hz));
+    auto play = [&](const DipoleOptions& options) {
+        Canopy struck(canopy);   // a copy never stepped: each run starts from rest
+        DipoleRadiation dipole(struck, layout, dt, AirMedium{}, options);
+        std::vector<std::vector<double>> fast(setup.listeners.size(), std::vector<double>(static_cast<std::size_t>(steps)));
+        std::vector<double> panel_forces(static_cast<std::size_t>(struck.panel_count())), p(setup.listeners.size());
+        for (long n = 0; n < steps; ++n) {
+            const double f = strike_force(s, (static_cast<double>(n) + 0.5) * dt);
+            if (f != 0.0) struck.apply_force({s.panel, r.struck_node}, f);
+            struck.step(panel_forces.data());
+            dipole.process(struck, p.data());
+            for (std::size_t l = 0; l < p.size(); ++l) fast[l][static_cast<std::size_t>(n)] = p[l];
+        }
+        std::vector<std::vector<BandLevel>> levels;
+        for (const auto& x : fast) levels.push_back(third_octave_levels(x, dt, setup.low_hz, setup.high_hz));
+        return levels;
+    };
+    out.fast = play(DipoleOptions{});
+    out.fast_push = play(DipoleOptions{.compressible_push = true});
     return out;
 }
 

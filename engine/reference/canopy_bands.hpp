@@ -29,11 +29,16 @@ struct CanopyBandsSetup {
 
 struct CanopyBandsResult {
     std::vector<std::vector<BandLevel>> fast, reference;   // [listener][band]
+    std::vector<std::vector<BandLevel>> fast_push;         // the fast model with the compressible push (air_push.hpp)
     std::vector<bool> inside_box;                          // per listener: the box's pressure (else the double layer)
     int struck_node = -1;
     double reference_seconds = 0.0;                        // the reference's run time (wall clock)
     double difference(int listener, int band) const {
         return fast[static_cast<std::size_t>(listener)][static_cast<std::size_t>(band)].level_db -
+               reference[static_cast<std::size_t>(listener)][static_cast<std::size_t>(band)].level_db;
+    }
+    double push_difference(int listener, int band) const {
+        return fast_push[static_cast<std::size_t>(listener)][static_cast<std::size_t>(band)].level_db -
                reference[static_cast<std::size_t>(listener)][static_cast<std::size_t>(band)].level_db;
     }
 };

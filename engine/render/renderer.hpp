@@ -105,6 +105,9 @@ struct RendererConfig {
     MembraneMaterial material = MembraneMaterial::nylon_canopy();
     bool air = false;                     // the canopy in air (air_canopy.hpp) or in vacuum; the scene's
                                           // umbrella air= key through configure_for_scene
+    bool air_push = true;                 // in air: the contacts' push above the modes through compressible
+                                          // air (air_push.hpp); false: the modes alone (the model before it,
+                                          // which ameoto bench scene measures beside it)
     ImpactModel impact = ImpactModel::wet;  // how drops meet the canopy (wet_impact.hpp); the umbrella's
                                           // impact= key through configure_for_scene
     Liquid liquid = liquids::water();

@@ -149,6 +149,7 @@ DropOnCanopyConfig Renderer::umbrella_config(const RendererConfig& config) {
     c.network = config.canopy_network;
     c.settle = config.settle;
     c.air = config.air;
+    c.air_push = config.air_push;
     c.impact = config.impact;   // the templates and texture grains are recorded from this config too
     return c;
 }

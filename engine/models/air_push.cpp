@@ -1,0 +1,137 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The compressible push's crossover and filters: see air_push.hpp for the equations.
+#include "engine/models/air_push.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <stdexcept>
+
+#include "engine/core/physical_constants.hpp"
+
+namespace ameoto {
+
+namespace {
+
+using cplx = std::complex<double>;
+
+constexpr double above_top_mode = 1.4;     // the corner over the highest mode
+constexpr double highest_corner = 0.3;     // of the rate
+constexpr double lead_s = 0.5e-3;          // each filter's start before the modes' bulk delay D
+constexpr double length_s = 4.0e-3;        // each filter's length after D
+constexpr double period_s = 0.02;          // the design's frequency grid: 1 / period apart
+constexpr double roll_from = 0.35, roll_to = 0.45;   // of the rate: the filters' own roll-off
+
+// A second-order Butterworth section of quality q at the prewarped corner, bilinear (RBJ's cookbook forms).
+Biquad section(double corner_hz, double rate_hz, double q, bool high) {
+    const double w0 = 2.0 * constants::pi * corner_hz / rate_hz;
+    const double cw = std::cos(w0), alpha = std::sin(w0) / (2.0 * q);
+    const double a0 = 1.0 + alpha;
+    Biquad s;
+    if (high) {
+        s.b0 = (1.0 + cw) / 2.0 / a0;
+        s.b1 = -(1.0 + cw) / a0;
+    } else {
+        s.b0 = (1.0 - cw) / 2.0 / a0;
+        s.b1 = (1.0 - cw) / a0;
+    }
+    s.b2 = s.b0;
+    s.a1 = -2.0 * cw / a0;
+    s.a2 = (1.0 - alpha) / a0;
+    return s;
+}
+
+cplx response(const Biquad& s, cplx z) {
+    const cplx zi = 1.0 / z;
+    return (s.b0 + s.b1 * zi + s.b2 * zi * zi) / (1.0 + s.a1 * zi + s.a2 * zi * zi);
+}
+
+double fall(double f, double from, double to) {
+    if (f <= from) return 1.0;
+    if (f >= to) return 0.0;
+    return 0.5 * (1.0 + std::cos(constants::pi * (f - from) / (to - from)));
+}
+
+}  // namespace
+
+PushCrossover push_crossover(const AirCanopyModes& m) {
+    PushCrossover x;
+    double top_hz = 0.0;
+    for (Eigen::Index k = 0; k < m.omega.size(); ++k) top_hz = std::max(top_hz, m.omega[k] / (2.0 * constants::pi));
+    const double rate = 1.0 / m.time_step_s;
+    const double corner = above_top_mode * top_hz;
+    if (!(top_hz > 0.0) || corner > highest_corner * rate) return x;
+    x.hz = corner;
+    // Butterworth of order 4: sections of q = 1 / (2 cos(pi / 8)) and 1 / (2 cos(3 pi / 8)); twice over.
+    const double q[2] = {1.0 / (2.0 * std::cos(constants::pi / 8.0)), 1.0 / (2.0 * std::cos(3.0 * constants::pi / 8.0))};
+    for (int i = 0; i < 4; ++i) {
+        x.low[i] = section(corner, rate, q[i % 2], false);
+        x.high[i] = section(corner, rate, q[i % 2], true);
+    }
+    return x;
+}
+
+PushFilters design_push_filters(const AirCanopyModes& m, const PushCrossover& x, const std::vector<double>& areal_density,
+                                const PushPoint& point, const AirMedium& air) {
+    const auto nodes = static_cast<std::size_t>(m.nodes);
+    const auto modes = static_cast<std::size_t>(m.modes);
+    if (areal_density.size() != nodes || point.r.size() != nodes || point.cos_theta.size() != nodes)
+        throw std::invalid_argument("push filters: one density, distance and angle per node");
+    PushFilters out;
+    if (!(x.hz > 0.0)) return out;
+    const double t = m.time_step_s, rate = 1.0 / t, c = air.speed_of_sound, rho = air.density;
+    int n = 256;
+    while (n * t < period_s) n *= 2;
+    const int half = n / 2;
+    const int lead = static_cast<int>(std::lround(lead_s * rate));
+    out.taps = static_cast<int>(std::lround((lead_s + length_s) * rate));
+
+    // The high half and the roll-off at each bin, and e^{2 pi i q / n} for the inverse transform.
+    std::vector<cplx> high(static_cast<std::size_t>(half + 1)), turn(static_cast<std::size_t>(n));
+    for (int b = 1; b <= half; ++b) {
+        const cplx z = std::polar(1.0, 2.0 * constants::pi * b / n);
+        cplx h = fall(b * rate / n, roll_from * rate, roll_to * rate);
+        for (const Biquad& s : x.high) h *= response(s, z);
+        high[static_cast<std::size_t>(b)] = h;
+    }
+    for (int q = 0; q < n; ++q) turn[static_cast<std::size_t>(q)] = std::polar(1.0, 2.0 * constants::pi * q / n);
+
+    out.offset.assign(nodes, 0);
+    out.fir.assign(nodes * static_cast<std::size_t>(out.taps), 0.0);
+    std::vector<cplx> spectrum(static_cast<std::size_t>(half + 1));
+    for (std::size_t e = 0; e < nodes; ++e) {
+        const double r = point.r[e], cos_theta = point.cos_theta[e], s = areal_density[e];
+        bool moves = false;
+        for (std::size_t k = 0; k < modes && !moves; ++k) moves = m.shape[e * modes + k] != 0.0;
+        out.offset[e] = std::max(0, point.delay - lead);
+        if (!moves || !(s > 0.0)) continue;
+        for (int b = 1; b <= half; ++b) {
+            const double w = 2.0 * constants::pi * b * rate / n;
+            const double beta = w * s / (2.0 * rho * c);
+            const cplx held = (std::polar(1.0, w * t) - 1.0) / cplx(0.0, w * t);
+            const double phase = w * point.delay * t;   // the modes' bulk delay D (air_push.hpp)
+            spectrum[static_cast<std::size_t>(b)] = high[static_cast<std::size_t>(b)] * cos_theta / (4.0 * constants::pi) *
+                                                    cplx(1.0 / (r * r), w / (c * r)) * std::polar(1.0, -phase) /
+                                                    cplx(1.0, beta * std::abs(cos_theta)) * held;
+        }
+        double* fir = out.fir.data() + e * static_cast<std::size_t>(out.taps);
+        const int edge = std::max(1, out.taps / 16);   // the tail's taper
+        for (int tap = 0; tap < out.taps; ++tap) {
+            const long at = out.offset[e] + tap;   // samples from the step
+            double sum = 0.0;
+            for (int b = 1; b <= half; ++b) {   // a real response: each bin and its mirror (the high half is 0 at DC)
+                const cplx v = spectrum[static_cast<std::size_t>(b)] * turn[static_cast<std::size_t>((static_cast<long>(b) * at) % n)];
+                sum += (b == half ? 1.0 : 2.0) * v.real();
+            }
+            // Both ends tapered: the start over half the lead (what rings ahead of D is cut there), the
+            // tail over its last sixteenth.
+            double taper = 1.0;
+            if (tap < lead / 2) taper = 0.5 * (1.0 - std::cos(constants::pi * (tap + 0.5) / (lead / 2)));
+            if (tap >= out.taps - edge) taper = 0.5 * (1.0 - std::cos(constants::pi * (out.taps - tap - 0.5) / edge));
+            fir[tap] = taper * sum / n;
+        }
+    }
+    return out;
+}
+
+}  // namespace ameoto
