@@ -7,6 +7,7 @@
 #include <complex>
 #include <stdexcept>
 
+#include "engine/core/fft.hpp"
 #include "engine/core/physical_constants.hpp"
 
 namespace ameoto {
@@ -86,19 +87,21 @@ PushFilters design_push_filters(const AirCanopyModes& m, const PushCrossover& x,
     const int lead = static_cast<int>(std::lround(lead_s * rate));
     out.taps = static_cast<int>(std::lround((lead_s + length_s) * rate));
 
-    // The high half and the roll-off at each bin, and e^{2 pi i q / n} for the inverse transform.
-    std::vector<cplx> high(static_cast<std::size_t>(half + 1)), turn(static_cast<std::size_t>(n));
+    // What every node shares at each bin: the high half, the roll-off, the force held over the step, the
+    // modes' bulk delay D (air_push.hpp), 1 / (4 pi).
+    std::vector<cplx> common(static_cast<std::size_t>(half + 1));
     for (int b = 1; b <= half; ++b) {
-        const cplx z = std::polar(1.0, 2.0 * constants::pi * b / n);
-        cplx h = fall(b * rate / n, roll_from * rate, roll_to * rate);
+        const double w = 2.0 * constants::pi * b * rate / n;
+        const cplx z = std::polar(1.0, w * t);
+        cplx h = fall(b * rate / n, roll_from * rate, roll_to * rate) / (4.0 * constants::pi);
         for (const Biquad& s : x.high) h *= response(s, z);
-        high[static_cast<std::size_t>(b)] = h;
+        const cplx held = (z - 1.0) / cplx(0.0, w * t);
+        common[static_cast<std::size_t>(b)] = h * held * std::polar(1.0, -w * point.delay * t);
     }
-    for (int q = 0; q < n; ++q) turn[static_cast<std::size_t>(q)] = std::polar(1.0, 2.0 * constants::pi * q / n);
 
     out.offset.assign(nodes, 0);
     out.fir.assign(nodes * static_cast<std::size_t>(out.taps), 0.0);
-    std::vector<cplx> spectrum(static_cast<std::size_t>(half + 1));
+    std::vector<cplx> spectrum(static_cast<std::size_t>(half + 1)), period(static_cast<std::size_t>(n));
     for (std::size_t e = 0; e < nodes; ++e) {
         const double r = point.r[e], cos_theta = point.cos_theta[e], s = areal_density[e];
         bool moves = false;
@@ -108,21 +111,23 @@ PushFilters design_push_filters(const AirCanopyModes& m, const PushCrossover& x,
         for (int b = 1; b <= half; ++b) {
             const double w = 2.0 * constants::pi * b * rate / n;
             const double beta = w * s / (2.0 * rho * c);
-            const cplx held = (std::polar(1.0, w * t) - 1.0) / cplx(0.0, w * t);
-            const double phase = w * point.delay * t;   // the modes' bulk delay D (air_push.hpp)
-            spectrum[static_cast<std::size_t>(b)] = high[static_cast<std::size_t>(b)] * cos_theta / (4.0 * constants::pi) *
-                                                    cplx(1.0 / (r * r), w / (c * r)) * std::polar(1.0, -phase) /
-                                                    cplx(1.0, beta * std::abs(cos_theta)) * held;
+            spectrum[static_cast<std::size_t>(b)] = common[static_cast<std::size_t>(b)] * cos_theta * cplx(1.0 / (r * r), w / (c * r)) /
+                                                    cplx(1.0, beta * std::abs(cos_theta));
         }
+        // The response over one period: the inverse transform of the real signal's spectrum (each bin and
+        // its mirror; the high half is 0 at DC, the roll-off at Nyquist), as the conjugate of the forward
+        // transform of the conjugate.
+        period[0] = 0.0;
+        period[static_cast<std::size_t>(half)] = spectrum[static_cast<std::size_t>(half)].real();
+        for (int b = 1; b < half; ++b) {
+            period[static_cast<std::size_t>(b)] = std::conj(spectrum[static_cast<std::size_t>(b)]);
+            period[static_cast<std::size_t>(n - b)] = spectrum[static_cast<std::size_t>(b)];
+        }
+        fft_in_place(period);
         double* fir = out.fir.data() + e * static_cast<std::size_t>(out.taps);
         const int edge = std::max(1, out.taps / 16);   // the tail's taper
         for (int tap = 0; tap < out.taps; ++tap) {
-            const long at = out.offset[e] + tap;   // samples from the step
-            double sum = 0.0;
-            for (int b = 1; b <= half; ++b) {   // a real response: each bin and its mirror (the high half is 0 at DC)
-                const cplx v = spectrum[static_cast<std::size_t>(b)] * turn[static_cast<std::size_t>((static_cast<long>(b) * at) % n)];
-                sum += (b == half ? 1.0 : 2.0) * v.real();
-            }
+            const double sum = period[static_cast<std::size_t>((out.offset[e] + tap) % n)].real();   // samples from the step
             // Both ends tapered: the start over half the lead (what rings ahead of D is cut there), the
             // tail over its last sixteenth.
             double taper = 1.0;
