@@ -326,39 +326,25 @@ void run_canopy_bands(Report& r, double dx) {
         // record, its modes and its push, from the Laplace transform of its frequency-domain solution.
         const std::vector<std::vector<double>> compressible_p = canopy_time_response(shape, s.reference.panel, b.struck_node, s.listeners,
                                                                                     compressible, constants::speed_of_sound_air);
-        for (std::size_t l = 0; l < b.fast.size(); ++l) {
-            std::string row = "  " + std::string(where[l]) + ":";
+        // One row: each band's level less the reference's; the worst |difference| goes to `worst` and `cases`.
+        auto row = [&](std::string label, const std::vector<BandLevel>& levels, const std::vector<BandLevel>& reference,
+                       double& worst_of_all, std::vector<double>& cases) {
             double w = 0.0;
-            for (std::size_t k = 0; k < b.fast[l].size(); ++k) {
-                const double d = b.difference(static_cast<int>(l), static_cast<int>(k));
+            for (std::size_t k = 0; k < levels.size() && k < reference.size(); ++k) {
+                const double d = levels[k].level_db - reference[k].level_db;
                 w = std::max(w, std::abs(d));
-                row.append(1, ' ').append(fixed(b.fast[l][k].centre_hz, 0)).append(1, ' ').append(signed_fixed(d, 1));
+                label.append(1, ' ').append(fixed(levels[k].centre_hz, 0)).append(1, ' ').append(signed_fixed(d, 1));
             }
-            r.line(row.append(" dB (worst ").append(fixed(w, 1)).append(")"));
-            worst = std::max(worst, w);
-            worst_per_case.push_back(w);
-            // The same with the compressible push (air_push.hpp): what the server plays.
-            std::string push_row = "    with the compressible push:";
-            double pw = 0.0;
-            for (std::size_t k = 0; k < b.fast_push[l].size(); ++k) {
-                const double d = b.push_difference(static_cast<int>(l), static_cast<int>(k));
-                pw = std::max(pw, std::abs(d));
-                push_row.append(1, ' ').append(fixed(b.fast_push[l][k].centre_hz, 0)).append(1, ' ').append(signed_fixed(d, 1));
-            }
-            r.line(push_row.append(" dB (worst ").append(fixed(pw, 1)).append(")"));
-            push_worst = std::max(push_worst, pw);
-            push_per_case.push_back(pw);
-            const std::vector<BandLevel> levels = third_octave_levels(compressible_p[l], 1.0 / 48000.0, s.low_hz, s.high_hz);
-            std::string compressible_row = "    the compressible jump:";
-            double cw = 0.0;
-            for (std::size_t k = 0; k < levels.size() && k < b.reference[l].size(); ++k) {
-                const double d = levels[k].level_db - b.reference[l][k].level_db;
-                cw = std::max(cw, std::abs(d));
-                compressible_row.append(1, ' ').append(fixed(levels[k].centre_hz, 0)).append(1, ' ').append(signed_fixed(d, 1));
-            }
-            r.line(compressible_row.append(" dB (worst ").append(fixed(cw, 1)).append(")"));
-            compressible_worst = std::max(compressible_worst, cw);
-            compressible_per_case.push_back(cw);
+            r.line(label.append(" dB (worst ").append(fixed(w, 1)).append(")"));
+            worst_of_all = std::max(worst_of_all, w);
+            cases.push_back(w);
+        };
+        for (std::size_t l = 0; l < b.fast.size(); ++l) {
+            row("  " + std::string(where[l]) + ":", b.fast[l], b.reference[l], worst, worst_per_case);
+            // What the server plays: the modes and the compressible push (air_push.hpp).
+            row("    with the compressible push:", b.fast_push[l], b.reference[l], push_worst, push_per_case);
+            row("    the compressible jump:", third_octave_levels(compressible_p[l], 1.0 / 48000.0, s.low_hz, s.high_hz), b.reference[l],
+                compressible_worst, compressible_per_case);
         }
     }
     const bool ok = push_worst <= 3.0;   // what the server plays: the modes and the compressible push

@@ -37,10 +37,6 @@ struct CanopyBandsResult {
         return fast[static_cast<std::size_t>(listener)][static_cast<std::size_t>(band)].level_db -
                reference[static_cast<std::size_t>(listener)][static_cast<std::size_t>(band)].level_db;
     }
-    double push_difference(int listener, int band) const {
-        return fast_push[static_cast<std::size_t>(listener)][static_cast<std::size_t>(band)].level_db -
-               reference[static_cast<std::size_t>(listener)][static_cast<std::size_t>(band)].level_db;
-    }
 };
 
 CanopyBandsResult compare_canopy_bands(const CanopyBandsSetup& setup);
