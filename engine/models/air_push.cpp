@@ -23,30 +23,6 @@ constexpr double length_s = 4.0e-3;        // each filter's length after D
 constexpr double period_s = 0.02;          // the design's frequency grid: 1 / period apart
 constexpr double roll_from = 0.35, roll_to = 0.45;   // of the rate: the filters' own roll-off
 
-// A second-order Butterworth section of quality q at the prewarped corner, bilinear (RBJ's cookbook forms).
-Biquad section(double corner_hz, double rate_hz, double q, bool high) {
-    const double w0 = 2.0 * constants::pi * corner_hz / rate_hz;
-    const double cw = std::cos(w0), alpha = std::sin(w0) / (2.0 * q);
-    const double a0 = 1.0 + alpha;
-    Biquad s;
-    if (high) {
-        s.b0 = (1.0 + cw) / 2.0 / a0;
-        s.b1 = -(1.0 + cw) / a0;
-    } else {
-        s.b0 = (1.0 - cw) / 2.0 / a0;
-        s.b1 = (1.0 - cw) / a0;
-    }
-    s.b2 = s.b0;
-    s.a1 = -2.0 * cw / a0;
-    s.a2 = (1.0 - alpha) / a0;
-    return s;
-}
-
-cplx response(const Biquad& s, cplx z) {
-    const cplx zi = 1.0 / z;
-    return (s.b0 + s.b1 * zi + s.b2 * zi * zi) / (1.0 + s.a1 * zi + s.a2 * zi * zi);
-}
-
 double fall(double f, double from, double to) {
     if (f <= from) return 1.0;
     if (f >= to) return 0.0;
@@ -66,8 +42,8 @@ PushCrossover push_crossover(const AirCanopyModes& m) {
     // Butterworth of order 4: sections of q = 1 / (2 cos(pi / 8)) and 1 / (2 cos(3 pi / 8)); twice over.
     const double q[2] = {1.0 / (2.0 * std::cos(constants::pi / 8.0)), 1.0 / (2.0 * std::cos(3.0 * constants::pi / 8.0))};
     for (int i = 0; i < 4; ++i) {
-        x.low[i] = section(corner, rate, q[i % 2], false);
-        x.high[i] = section(corner, rate, q[i % 2], true);
+        x.low[i] = butterworth_section(false, corner, rate, q[i % 2]);
+        x.high[i] = butterworth_section(true, corner, rate, q[i % 2]);
     }
     return x;
 }
@@ -94,7 +70,7 @@ PushFilters design_push_filters(const AirCanopyModes& m, const PushCrossover& x,
         const double w = 2.0 * constants::pi * b * rate / n;
         const cplx z = std::polar(1.0, w * t);
         cplx h = fall(b * rate / n, roll_from * rate, roll_to * rate) / (4.0 * constants::pi);
-        for (const Biquad& s : x.high) h *= response(s, z);
+        for (const Biquad& s : x.high) h *= s.response(z);
         const cplx held = (z - 1.0) / cplx(0.0, w * t);
         common[static_cast<std::size_t>(b)] = h * held * std::polar(1.0, -w * point.delay * t);
     }

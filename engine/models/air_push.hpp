@@ -46,14 +46,11 @@
 
 #include <vector>
 
+#include "engine/core/biquad.hpp"
 #include "engine/models/air_canopy.hpp"
 #include "engine/models/radiation.hpp"
 
 namespace ameoto {
-
-struct Biquad {
-    double b0 = 1.0, b1 = 0.0, b2 = 0.0, a1 = 0.0, a2 = 0.0;   // y = b0 x + b1 x1 + b2 x2 - a1 y1 - a2 y2
-};
 
 struct PushCrossover {
     double hz = 0.0;          // the corner (0: none)
@@ -80,17 +77,9 @@ PushFilters design_push_filters(const AirCanopyModes& modes, const PushCrossover
 
 // The low half, run on a channel's modal sound. Audio-safe.
 struct LowPassState {
-    double x1[4] = {}, x2[4] = {}, y1[4] = {}, y2[4] = {};
+    BiquadState section[4];
     double process(const PushCrossover& crossover, double x) {
-        for (int i = 0; i < 4; ++i) {
-            const Biquad& q = crossover.low[i];
-            const double y = q.b0 * x + q.b1 * x1[i] + q.b2 * x2[i] - q.a1 * y1[i] - q.a2 * y2[i];
-            x2[i] = x1[i];
-            x1[i] = x;
-            y2[i] = y1[i];
-            y1[i] = y;
-            x = y;
-        }
+        for (int i = 0; i < 4; ++i) x = section[i].process(crossover.low[i], x);
         return x;
     }
     void reset() { *this = LowPassState{}; }

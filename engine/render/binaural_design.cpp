@@ -6,6 +6,7 @@
 #include <complex>
 #include <stdexcept>
 
+#include "engine/core/biquad.hpp"
 #include "engine/core/fft.hpp"
 #include "engine/core/physical_constants.hpp"
 
@@ -46,33 +47,10 @@ double binaural_legendre(int n, double x) {
     return p1;
 }
 
-struct CrossoverBiquad {
-    double b0, b1, b2, a1, a2;   // a0 normalised to 1
-};
-
-// RBJ cookbook low-pass / high-pass, Q = 1/sqrt(2) (Butterworth).
-CrossoverBiquad crossover_butterworth(bool high, double fc, double rate) {
-    const double w0 = 2.0 * constants::pi * fc / rate;
-    const double cw = std::cos(w0), alpha = std::sin(w0) / (2.0 * (1.0 / std::sqrt(2.0)));
-    const double a0 = 1.0 + alpha;
-    CrossoverBiquad q{};
-    if (high) {
-        q.b0 = (1.0 + cw) / 2.0 / a0; q.b1 = -(1.0 + cw) / a0; q.b2 = q.b0;
-    } else {
-        q.b0 = (1.0 - cw) / 2.0 / a0; q.b1 = (1.0 - cw) / a0; q.b2 = q.b0;
-    }
-    q.a1 = -2.0 * cw / a0;
-    q.a2 = (1.0 - alpha) / a0;
-    return q;
-}
-
-void crossover_run(const CrossoverBiquad& q, std::vector<double>& x) {   // direct form I, in place
-    double x1 = 0, x2 = 0, y1 = 0, y2 = 0;
-    for (double& v : x) {
-        const double y = q.b0 * v + q.b1 * x1 + q.b2 * x2 - q.a1 * y1 - q.a2 * y2;
-        x2 = x1; x1 = v; y2 = y1; y1 = y;
-        v = y;
-    }
+// RBJ cookbook low-pass / high-pass, Q = 1/sqrt(2) (Butterworth), run in place (direct form I).
+void crossover_run(const Biquad& q, std::vector<double>& x) {
+    BiquadState state;
+    for (double& v : x) v = state.process(q, v);
 }
 
 }  // namespace
@@ -128,7 +106,8 @@ std::vector<double> max_re_weights(int order) {
 
 void linkwitz_riley_4(const std::vector<double>& x, double fc_hz, double rate_hz, std::vector<double>& lp,
                       std::vector<double>& hp) {
-    const CrossoverBiquad l = crossover_butterworth(false, fc_hz, rate_hz), h = crossover_butterworth(true, fc_hz, rate_hz);
+    const Biquad l = butterworth_section(false, fc_hz, rate_hz, 1.0 / std::sqrt(2.0));
+    const Biquad h = butterworth_section(true, fc_hz, rate_hz, 1.0 / std::sqrt(2.0));
     lp = x;
     crossover_run(l, lp);
     crossover_run(l, lp);
