@@ -98,6 +98,15 @@ void AirCanopyState::init(const AirCanopyModes& m) {
 }
 
 void AirCanopyState::step(const AirCanopyModes& m) {
+    // The step's generalised forces, phi_k' f, one projection per forced node (apply_force gathers them).
+    double* const p = p_.data();
+    const int n = m.modes;
+    for (int j = 0; j < pending_.count; ++j) {
+        const auto i = static_cast<std::size_t>(pending_.node[static_cast<std::size_t>(j)]);
+        const double f = pending_.newtons[i];
+        const double* row = m.shape.data() + i * static_cast<std::size_t>(n);
+        for (int k = 0; k < n; ++k) p[k] += f * row[k];
+    }
     kernels_->advance(static_cast<std::size_t>(m.modes), q_.data(), qd_.data(), p_.data(), a_.data(), m.t11.data(), m.t12.data(),
                           m.t21.data(), m.t22.data(), m.time_step_s, 1.0 / m.time_step_s);
     std::swap(pending_, taken_);   // the vectors' buffers trade places: no allocation
