@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <ctime>
 #include <exception>
 #include <future>
 #include <optional>
@@ -29,20 +30,42 @@ int ImpactTemplateTable::nearest(double diameter_m) const {
     return lo;
 }
 
+double ImpactTemplateTable::worst_cpu_s(int frames) const {
+    if (cpu_chunks <= 0 || frames <= 0) return 0.0;
+    const int window = std::min(cpu_chunks, (frames + cpu_chunk - 1) / cpu_chunk);
+    double worst = 0.0;
+    for (std::size_t k = 0; k < diameters_m.size(); ++k) {
+        const double* cum = cpu_s.data() + k * static_cast<std::size_t>(cpu_chunks + 1);
+        for (int c = 0; c + window <= cpu_chunks; ++c) worst = std::max(worst, cum[c + window] - cum[c]);
+    }
+    return worst;
+}
+
 namespace {
+
+double thread_cpu_seconds() {
+    timespec t{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+    return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
 
 // One grid size: a fresh scene, one drop, `length` samples of the force the membrane takes, into
 // `forces` (length values). Returns the samples up to the last non-zero force. Touches nothing shared
 // but the process's lattice cache (drop.cpp, locked) and, read only, the prototype canopy, so sizes can
 // be recorded on several threads. prototype null: the scene builds its own canopy (CanopyBuild::per_size).
-int record_one(const DropOnCanopyConfig& c, const Canopy* prototype, double diameter_m, int length, double* forces) {
+// cpu: the run's thread CPU time, cumulative at every cpu_chunk samples from the drop's spawn (chunks + 1
+// values).
+int record_one(const DropOnCanopyConfig& c, const Canopy* prototype, double diameter_m, int length, double* forces, double* cpu) {
     const double x = 0.5 * c.geometry.radius_m * std::cos(0.0), y = 0.0;
     DropOnCanopy run = prototype ? DropOnCanopy(c, *prototype) : DropOnCanopy(c);
+    const double start = thread_cpu_seconds();
     run.drop(diameter_m, 0.0, x, y);
     const Vec3 n = run.canopy().surface_normal(x, y);
     float frame[1];
+    cpu[0] = 0.0;
     for (int i = 0; i < length; ++i) {
         run.process_frame(frame);
+        if ((i + 1) % ImpactTemplateTable::cpu_chunk == 0) cpu[(i + 1) / ImpactTemplateTable::cpu_chunk] = thread_cpu_seconds() - start;
         // The membrane takes the opposite of what the drop masses took.
         forces[i] = -dot(run.contact_force(), n);
     }
@@ -66,6 +89,8 @@ ImpactTemplateTable record(const DropOnCanopyConfig& scene, const Canopy* given,
     t.length = static_cast<int>(std::ceil(grid.seconds * scene.sample_rate));
     t.forces.assign(t.diameters_m.size() * static_cast<std::size_t>(t.length), 0.0);
     t.used.assign(t.diameters_m.size(), 0);
+    t.cpu_chunks = t.length / ImpactTemplateTable::cpu_chunk;
+    t.cpu_s.assign(t.diameters_m.size() * static_cast<std::size_t>(t.cpu_chunks + 1), 0.0);
     for (const double d : t.diameters_m) t.speeds_m_per_s.push_back(arrival_speed(d, scene.liquid.density));
 
     DropOnCanopyConfig c = scene;
@@ -95,7 +120,8 @@ ImpactTemplateTable record(const DropOnCanopyConfig& scene, const Canopy* given,
             // data() + offset, not &forces[offset]: with a refused configuration the length can be 0 and
             // the table empty, and indexing an empty vector is undefined (UBSan caught it).
             t.used[static_cast<std::size_t>(k)] = record_one(c, shared, t.diameters_m[static_cast<std::size_t>(k)], t.length,
-                                                             t.forces.data() + static_cast<std::size_t>(k) * static_cast<std::size_t>(t.length));
+                                                             t.forces.data() + static_cast<std::size_t>(k) * static_cast<std::size_t>(t.length),
+                                                             t.cpu_s.data() + static_cast<std::size_t>(k) * static_cast<std::size_t>(t.cpu_chunks + 1));
     };
     std::vector<std::future<void>> helpers;
     for (int i = 1; i < threads; ++i) helpers.push_back(std::async(std::launch::async, work));

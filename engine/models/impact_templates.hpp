@@ -53,10 +53,19 @@ struct ImpactTemplateTable {
     int length = 0;                          // samples per recording (the stride of `forces`)
     std::vector<int> used;                   // per size: samples up to the last non-zero force (playback ends there)
     std::vector<double> forces;              // [k * length + n], N on the membrane along +n (negative: down)
+    // What each recording cost on this machine: its run's thread CPU time, cumulative at every cpu_chunk
+    // samples, [k * (cpu_chunks + 1) + c] after c chunks. Measured, so it differs from run to run: only
+    // the governor's first price of a lattice drop reads it (worst_cpu_s; lod_governor.hpp).
+    static constexpr int cpu_chunk = 16;
+    int cpu_chunks = 0;
+    std::vector<double> cpu_s;
 
     bool empty() const { return diameters_m.empty(); }
     double force(int k, int n) const { return forces[static_cast<std::size_t>(k * length + n)]; }
     int nearest(double diameter_m) const;    // grid index nearest in log D
+    // The most CPU time (s) any recording took in `frames` consecutive samples (windows starting on a
+    // chunk): what one lattice drop's spawn and breakup may add to a block of that length. Audio-safe.
+    double worst_cpu_s(int frames) const;
 };
 
 struct TemplateGrid {

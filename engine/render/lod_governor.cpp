@@ -89,8 +89,12 @@ void LodGovernor::observe_load(double measured_load, const LatticeActivity& acti
     p.event *= std::exp(-block_seconds / event_memory_s);
 }
 
+void LodGovernor::set_lattice_prior(double event) {
+    if (std::isfinite(event) && event >= 0.0) price_.prior = event;
+}
+
 bool LodGovernor::lattice_admissible(int full_active) const {
-    if (!price_.known) return true;   // offline, or nothing measured yet: reproducible, no spacing
+    if (!price_.known) return lattice_affordable();   // offline (no prior): reproducible, no spacing
     if (since_full_s_ < settings_.full_spacing_s) return false;
     if (measured_full_s_ < learning_s && full_active > 0) return false;
     return lattice_affordable();
@@ -98,8 +102,10 @@ bool LodGovernor::lattice_admissible(int full_active) const {
 
 bool LodGovernor::lattice_affordable() const {
     const LatticePrice& p = price_;
-    if (!p.known) return true;   // offline, or nothing measured yet
-    return p.recent + p.mean <= settings_.budget && p.recent + p.event <= std::max(settings_.peak_budget, settings_.budget);
+    const double peak = std::max(settings_.peak_budget, settings_.budget);
+    const double event = std::max(p.event, p.prior);
+    if (!p.known) return event <= peak;   // offline: no prior, nothing measured
+    return p.recent + p.mean <= settings_.budget && p.recent + event <= peak;
 }
 
 }  // namespace ameoto

@@ -11,6 +11,9 @@
 //   g.end_block(measured_load, drops_this_block, block_seconds);  // after each block: load in 0..1+
 //   g.observe_load(load, LatticeActivity{...}, block_seconds);    // live only: each callback's load and what
 //                                                        // the lattice drops did in it (prices them)
+//   g.set_lattice_prior(event)                           // live only: a spawn and breakup's cost measured
+//                                                        // before the stream (fraction of the period): the
+//                                                        // event price's floor
 //   g.detail()                                           // 0..1: how much detail the load allows now
 //   g.masking_db()                                       // the density's masking level now
 //
@@ -51,8 +54,16 @@
 // A drop is then admitted to the full tier only if, besides the rules above, its price fits:
 //   recent + mean <= budget  (its expected cost keeps the mean under the budget), and
 //   recent + event <= max(peak_budget, budget)  (its spawn and breakup block fits under the peak limit);
-// otherwise it becomes a template (counted in counts().priced_out). Before anything is measured (offline,
-// or before the first callback) every drop that the rules above choose is admitted.
+// otherwise it becomes a template (counted in counts().priced_out). Offline (no prior and nothing
+// measured) every drop that the rules above choose is admitted.
+// The prior (live): the first lattice drop would otherwise teach its event price by the block it
+// overruns: a 5 mm drop's breakup on the canopy in air took one 64-frame block to 230-260 % of the period
+// (ameoto bench scene, 2026-12-06). The renderer gives set_lattice_prior, before its first block and
+// after each scene change, what the impact templates' recordings of the same lattice drops on the same
+// canopy cost this machine in a block's length (ImpactTemplateTable::worst_cpu_s, measured while the
+// scene was built: the largest drop's breakup). The event price is never taken below it: unlike a
+// measured block, which may hold the machine's noise and so fades, the prior is the drop's own work.
+// Until the first load is measured a drop is admitted only if the prior alone fits under the peak limit.
 // Spacing (live only), because each price is one drop's and the worst blocks of two drops must not land
 // together: a lattice drop is admitted
 //   - at least full_spacing_s (default 0.1 s, the length of a 5 mm drop's spawn, impact and breakup:
@@ -89,6 +100,7 @@ struct LatticeActivity {
 struct LatticePrice {
     bool known = false;    // a load has been observed (live)
     double base = 0.0, mean = 0.0, event = 0.0, recent = 0.0;
+    double prior = 0.0;    // the event price's floor (set_lattice_prior; 0 offline)
 };
 
 struct LodCounts {
@@ -106,6 +118,7 @@ public:
     LodTier choose(double diameter_m, double speed_m_per_s, double distance_m, int full_active);
     void end_block(double measured_load, int drops, double block_seconds);
     void observe_load(double measured_load, const LatticeActivity& activity, double block_seconds);
+    void set_lattice_prior(double event);   // the event price's floor from now on (header)
     bool lattice_affordable() const;
     const LatticePrice& lattice_price() const { return price_; }
 

@@ -109,6 +109,7 @@ void Renderer::swap_scene(const Command& c) {
     fading_level_ = level_;   // a material or liquid change keeps the scene's level gain
     fade_left_ = static_cast<int>(0.5 / dt_);
     scene_ = incoming;
+    prior_frames_ = 0;
     grains_->set_calibration(scene_->texture);
     if (ambisonic()) encode_grains(scene_->drops.canopy());
     hand_over_listener();
@@ -159,6 +160,7 @@ void Renderer::load_scene(const Command& c) {
     set_level_db(loaded->level_gain_db, true);
     output_.set_gain_db(loaded->gain_db);
     scene_ = loaded->umbrella.release();
+    prior_frames_ = 0;
     surfaces_ = loaded->surfaces.release();
     has_umbrella_ = loaded->has_umbrella;
     grains_->set_calibration(scene_->texture);
@@ -305,7 +307,15 @@ void Renderer::set_measured_load(double load) {
     if (config_.adaptive_lod) governor_.observe_load(load, last_activity_, last_block_seconds_);
 }
 
+void Renderer::price_lattice_drops(int frames) {
+    prior_frames_ = frames;
+    governor_.set_lattice_prior(has_umbrella_ && frames > 0 ? scene_->templates.worst_cpu_s(frames) / (frames * dt_) : 0.0);
+}
+
 void Renderer::process(int frames, float* const* outputs) {
+    // Live: before a lattice drop can be admitted, the governor knows what one cost in a block this long
+    // when its templates were recorded, on this machine.
+    if (config_.adaptive_lod && frames != prior_frames_) price_lattice_drops(frames);
     const DropPool& pool = scene_->drops.pool();
     const DropPoolStats before = pool.stats();
     const DropPool* pool_before = &pool;

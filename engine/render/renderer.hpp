@@ -283,6 +283,10 @@ private:
     double measured_load_ = 0.0;
     LatticeActivity last_activity_;              // what the lattice drops did in the last process()
     double last_block_seconds_ = 0.0;
+    // The block length (frames) the governor's prior price of a lattice drop was last given for, 0
+    // after a scene change: the prior is its templates' (lod_governor.hpp, set_lattice_prior).
+    int prior_frames_ = 0;
+    void price_lattice_drops(int frames);
     static constexpr int governor_period = 64;   // samples
     int governor_samples_ = 0;
     int block_drops_ = 0;

@@ -121,6 +121,34 @@ TEST_CASE("impact templates: the grid, its lookup, and a recording that pushes t
     }
 }
 
+TEST_CASE("impact templates: each recording's CPU time, and the most any block's length of it took") {
+    // What the governor's first price of a lattice drop reads (lod_governor.hpp, "The prior"): measured,
+    // so the checks are its shape, not its figures.
+    const ImpactTemplateTable& t = table();
+    REQUIRE(t.cpu_chunks == t.length / ImpactTemplateTable::cpu_chunk);
+    REQUIRE(t.cpu_s.size() == t.diameters_m.size() * static_cast<std::size_t>(t.cpu_chunks + 1));
+    double total = 0.0;
+    for (std::size_t k = 0; k < t.diameters_m.size(); ++k) {
+        const double* cum = t.cpu_s.data() + k * static_cast<std::size_t>(t.cpu_chunks + 1);
+        CHECK(cum[0] == 0.0);
+        for (int c = 0; c < t.cpu_chunks; ++c) CHECK(cum[c + 1] >= cum[c]);   // cumulative
+        CHECK(cum[t.cpu_chunks] > 0.0);
+        total = std::max(total, cum[t.cpu_chunks]);
+    }
+    const double w64 = t.worst_cpu_s(64), w256 = t.worst_cpu_s(256), whole = t.worst_cpu_s(t.length);
+    MESSAGE("worst CPU in 64 / 256 frames / a whole recording: " << 1e3 * w64 << " / " << 1e3 * w256 << " / " << 1e3 * whole << " ms");
+    CHECK(w64 > 0.0);
+    CHECK(w64 <= w256);
+    CHECK(w256 <= whole);
+    CHECK(whole == total);   // a window as long as the recording is the whole run
+    CHECK(t.worst_cpu_s(100 * t.length) == total);
+    CHECK(t.worst_cpu_s(0) == 0.0);
+    CHECK(ImpactTemplateTable{}.worst_cpu_s(64) == 0.0);
+    // The breakup is the costly part: the worst 64 frames cost more than an average 64 frames of the
+    // same run (the 20 ms after the impact hold the flight of its pieces too).
+    CHECK(w64 > 1.2 * total * 64.0 / t.length);
+}
+
 TEST_CASE("impact templates: the template sounds like the full model (log-spectral distance within 3 dB)") {
     // The issue's tolerance: 3 dB of log-spectral distance between the tiers for the same drops, in
     // third-octave bands 100 Hz..16 kHz, over 0.1 s after each impact (the first impact and splash; the

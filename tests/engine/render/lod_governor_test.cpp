@@ -115,6 +115,42 @@ TEST_CASE("lod: a lattice drop is priced from measured load: its mean cost and i
     CHECK(g.choose(5e-3, 9.09, 0.4, 0) == LodTier::template_);
 }
 
+TEST_CASE("lod: the prior keeps out a lattice drop whose breakup cannot fit, before and after loads are measured, and does not fade") {
+    constexpr double block = 64.0 / 48000.0;
+    LodGovernor g(LodSettings{.budget = 0.4, .max_full = 4, .peak_budget = 0.5});
+    // A loud near drop, with nothing measured: admitted (offline) until a prior says its breakup takes
+    // 1.3 periods (what the recordings measured on the canopy in air, 64-frame blocks: 130-140 %).
+    CHECK(g.lattice_affordable());
+    g.set_lattice_prior(1.3);
+    CHECK(g.lattice_price().prior == 1.3);
+    CHECK_FALSE(g.lattice_price().known);
+    CHECK_FALSE(g.lattice_affordable());
+    CHECK(g.choose(5e-3, 9.09, 0.4, 0) == LodTier::template_);
+    CHECK(g.counts().priced_out == 1);
+    // Ten minutes of light load later it still does not fit: the prior is the drop's own work.
+    for (int i = 0; i < 600 * 750; ++i) g.observe_load(0.05, LatticeActivity{0, false}, block);
+    CHECK(g.lattice_price().prior == 1.3);
+    CHECK_FALSE(g.lattice_affordable());
+    CHECK(g.choose(5e-3, 9.09, 0.4, 0) == LodTier::template_);
+    // A longer period (the same drop's prior over 1024 frames: 0.21) fits at once.
+    g.set_lattice_prior(0.21);
+    CHECK(g.lattice_affordable());
+    CHECK(g.choose(5e-3, 9.09, 0.4, 0) == LodTier::full);
+    // A measured breakup above the prior counts, and fades back down to the prior, not below it.
+    g.observe_load(0.05 + 0.6, LatticeActivity{1, true}, block);
+    CHECK(g.lattice_price().event == ameoto::test::relative(0.6).epsilon(0.01));
+    CHECK_FALSE(g.lattice_affordable());
+    for (int i = 0; i < 600 * 750; ++i) g.observe_load(0.05, LatticeActivity{0, false}, block);
+    CHECK(g.lattice_price().event < 0.01);
+    CHECK(g.lattice_affordable());
+    g.set_lattice_prior(0.47);   // recent 0.05 + 0.47 > 0.5
+    CHECK_FALSE(g.lattice_affordable());
+    // Nonsense is ignored.
+    g.set_lattice_prior(std::nan(""));
+    g.set_lattice_prior(-1.0);
+    CHECK(g.lattice_price().prior == 0.47);
+}
+
 TEST_CASE("lod: bad measured loads are ignored by the price") {
     LodGovernor g;
     g.observe_load(std::nan(""), LatticeActivity{0, false}, 0.001);
