@@ -38,7 +38,9 @@
 //     energy and colour, panned by the drop's azimuth: models/texture_grains.hpp).
 // The governor sheds detail when the load measured by the caller (set_measured_load, the audio bridge's
 // callback time over the block period) passes the budget (/lod), only when RendererConfig::adaptive_lod
-// is set (live playback); offline renders leave it unset and stay reproducible to the sample.
+// is set (live playback); offline renders leave it unset and stay reproducible to the sample. Live, it
+// also prices a lattice drop before admitting one, starting from what the scene's template recordings
+// cost this machine in a block of the length process() is given (lod_governor.hpp, "The prior").
 // Either way the sound is the membrane's, radiated to the listener (Rayleigh far field), so the first
 // sound of an impact reaches the output latency_samples() later (the nearest node's distance over c:
 // 42 samples at 48 kHz for the default listener 0.3 m under the shaft).
