@@ -57,13 +57,14 @@
 // otherwise it becomes a template (counted in counts().priced_out). Offline (no prior and nothing
 // measured) every drop that the rules above choose is admitted.
 // The prior (live): the first lattice drop would otherwise teach its event price by the block it
-// overruns: a 5 mm drop's breakup on the canopy in air took one 64-frame block to 230-260 % of the period
-// (ameoto bench scene, 2026-12-06). The renderer gives set_lattice_prior, before its first block and
-// after each scene change, what the impact templates' recordings of the same lattice drops on the same
-// canopy cost this machine in a block's length (ImpactTemplateTable::worst_cpu_s, measured while the
-// scene was built: the largest drop's breakup). The event price is never taken below it: unlike a
-// measured block, which may hold the machine's noise and so fades, the prior is the drop's own work.
-// Until the first load is measured a drop is admitted only if the prior alone fits under the peak limit.
+// overruns: a lattice drop's breakup on the canopy in air (775 links) took one 64-frame block to
+// 230-260 % of the period (ameoto bench scene, 2026-12-06). The renderer gives set_lattice_prior, before
+// its first block and after each scene change, what the impact templates' recordings of the same lattice
+// drops on the same canopy cost this machine in a block's length (ImpactTemplateTable::worst_cpu_s,
+// measured while the scene was built: the largest drop's breakup). The event price is never taken below
+// it: unlike a measured block, which may hold the machine's noise and so fades, the prior is the drop's
+// own work. Until the first load is measured a drop is admitted only if the prior alone fits under the
+// peak limit.
 // Spacing (live only), because each price is one drop's and the worst blocks of two drops must not land
 // together: a lattice drop is admitted
 //   - at least full_spacing_s (default 0.1 s, the length of a 5 mm drop's spawn, impact and breakup:
