@@ -11,6 +11,7 @@
 #include "clients/ameoto/json_text.hpp"
 #include "engine/core/integrators/laned_network.hpp"
 #include "engine/render/renderer.hpp"
+#include "engine/render/umbrella_scene.hpp"
 
 namespace ameoto::client {
 namespace {
@@ -104,7 +105,11 @@ RenderRow render_row(double rate, double target, double seconds) {
 struct Heavy {
     double drops_per_s = 0.0, mean = 0.0, p999 = 0.0, worst = 0.0;   // loads as fractions of the block period
     double full_drops = 0.0, priced_out = 0.0;
+    // The governor's prior (lod_governor.hpp): each template size's worst block while the scene was built,
+    // as fractions of a 64-, 256- and 1024-frame period.
+    std::vector<double> prior_diameters_m, prior[3];
 };
+constexpr int prior_frames[3] = {64, 256, 1024};
 
 // Heavy rain: the umbrella (in air or in vacuum) and a pond at 50 mm/h, 64-frame blocks, the governor on
 // measured load, `seconds` of audio timed after a 1 s ramp-in.
@@ -149,6 +154,11 @@ Heavy heavy_rain(bool air, double seconds, bool push = true) {
     // What the governor let through: lattice drops admitted, and those its price turned into templates.
     h.full_drops = static_cast<double>(heavy.stats().rain_tiers.full - full0);
     h.priced_out = static_cast<double>(heavy.stats().rain_tiers.priced_out - priced0);
+    const ImpactTemplateTable& t = heavy.umbrella().templates;
+    h.prior_diameters_m = t.diameters_m;
+    for (int f = 0; f < 3; ++f)
+        for (int k = 0; k < static_cast<int>(t.diameters_m.size()); ++k)
+            h.prior[f].push_back(t.worst_cpu_s(prior_frames[f], k) / (prior_frames[f] / bench_sample_rate));
     return h;
 }
 
@@ -236,6 +246,15 @@ int run_scene_bench(const BenchOptions& options, const CommandIo& io) {
                << json_number(100.0 * heavy_vacuum.mean) << ",\"p999_percent_vacuum\":" << json_number(100.0 * heavy_vacuum.p999)
                << ",\"max_percent_vacuum\":" << json_number(100.0 * heavy_vacuum.worst) << ",\"mean_percent_no_push\":"
                << json_number(100.0 * heavy_no_push.mean) << ",\"p999_percent_no_push\":" << json_number(100.0 * heavy_no_push.p999) << "}\n";
+        io.out << "{\"suite\":\"scene\",\"measurement\":\"lattice prior\",\"diameters_mm\":[";
+        for (std::size_t k = 0; k < heavy.prior_diameters_m.size(); ++k) io.out << (k ? "," : "") << json_number(1e3 * heavy.prior_diameters_m[k]);
+        io.out << "]";
+        for (int f = 0; f < 3; ++f) {
+            io.out << ",\"percent_" << prior_frames[f] << "\":[";
+            for (std::size_t k = 0; k < heavy.prior[f].size(); ++k) io.out << (k ? "," : "") << json_number(100.0 * heavy.prior[f][k]);
+            io.out << "]";
+        }
+        io.out << "}\n";
         return exit_status::ok;
     }
     char line[400];
@@ -274,6 +293,15 @@ int run_scene_bench(const BenchOptions& options, const CommandIo& io) {
                   "  in air without the compressible push (the model before it), same rain: mean %.1f %%, 99.9th percentile %.1f %%\n",
                   100.0 * heavy_no_push.mean, 100.0 * heavy_no_push.p999);
     io.out << line;
+    io.out << "  the governor's prior (each template size's worst block while the scene was built, % of a 64 / 256 / 1024-frame\n"
+              "  period; a rain drop gets a lattice only where its size's figure and the load now fit under 50 %):\n   ";
+    const std::size_t sizes = heavy.prior_diameters_m.size();
+    for (std::size_t k = 0; k < sizes; ++k) {
+        if (k % 4 != 0 && k + 1 != sizes) continue;   // every fourth size (5 % apart) and the largest
+        std::snprintf(line, sizeof line, " %.2f mm %.0f/%.0f/%.0f%s", 1e3 * heavy.prior_diameters_m[k], 100.0 * heavy.prior[0][k],
+                      100.0 * heavy.prior[1][k], 100.0 * heavy.prior[2][k], k + 1 == sizes ? "\n" : (k % 16 == 12 ? ";\n   " : ";"));
+        io.out << line;
+    }
     io.out << "offline render (ameoto render scene's work: the default umbrella scene, its canopy in air, seed 1, 4096-frame\n"
               "blocks, its build not counted; least of 3 rounds of: with settling, the model before it, the dry scene, the same\n"
               "in vacuum, in air without the compressible push):\n";

@@ -30,14 +30,18 @@ int ImpactTemplateTable::nearest(double diameter_m) const {
     return lo;
 }
 
-double ImpactTemplateTable::worst_cpu_s(int frames) const {
-    if (cpu_chunks <= 0 || frames <= 0) return 0.0;
+double ImpactTemplateTable::worst_cpu_s(int frames, int k) const {
+    if (cpu_chunks <= 0 || frames <= 0 || k < 0 || k >= static_cast<int>(diameters_m.size())) return 0.0;
     const int window = std::min(cpu_chunks, (frames + cpu_chunk - 1) / cpu_chunk);
+    const double* cum = cpu_s.data() + static_cast<std::size_t>(k) * static_cast<std::size_t>(cpu_chunks + 1);
     double worst = 0.0;
-    for (std::size_t k = 0; k < diameters_m.size(); ++k) {
-        const double* cum = cpu_s.data() + k * static_cast<std::size_t>(cpu_chunks + 1);
-        for (int c = 0; c + window <= cpu_chunks; ++c) worst = std::max(worst, cum[c + window] - cum[c]);
-    }
+    for (int c = 0; c + window <= cpu_chunks; ++c) worst = std::max(worst, cum[c + window] - cum[c]);
+    return worst;
+}
+
+double ImpactTemplateTable::worst_cpu_s(int frames) const {
+    double worst = 0.0;
+    for (int k = 0; k < static_cast<int>(diameters_m.size()); ++k) worst = std::max(worst, worst_cpu_s(frames, k));
     return worst;
 }
 

@@ -63,8 +63,10 @@ struct ImpactTemplateTable {
     bool empty() const { return diameters_m.empty(); }
     double force(int k, int n) const { return forces[static_cast<std::size_t>(k * length + n)]; }
     int nearest(double diameter_m) const;    // grid index nearest in log D
-    // The most CPU time (s) any recording took in `frames` consecutive samples (windows starting on a
-    // chunk): what one lattice drop's spawn and breakup may add to a block of that length. Audio-safe.
+    // The most CPU time (s) recording k took in `frames` consecutive samples (windows starting on a
+    // chunk): what a lattice drop of that size's spawn and breakup may add to a block of that length;
+    // without k, the most of any size. Audio-safe.
+    double worst_cpu_s(int frames, int k) const;
     double worst_cpu_s(int frames) const;
 };
 

@@ -35,7 +35,7 @@ LodTier LodGovernor::choose(double diameter_m, double speed_m_per_s, double dist
     const double level = level_db(diameter_m, speed_m_per_s, distance_m);
     const double shed = 1.0 - detail_;
     if (full_active < settings_.max_full && level >= settings_.full_level_db + masking_db_ + 40.0 * shed) {
-        if (lattice_admissible(full_active)) {
+        if (lattice_admissible(full_active, diameter_m)) {
             ++counts_.full;
             if (price_.known) since_full_s_ = 0.0;
             return LodTier::full;
@@ -90,20 +90,58 @@ void LodGovernor::observe_load(double measured_load, const LatticeActivity& acti
 }
 
 void LodGovernor::set_lattice_prior(double event) {
-    if (std::isfinite(event) && event >= 0.0) price_.prior = event;
+    if (!(std::isfinite(event) && event >= 0.0)) return;
+    price_.prior = event;
+    prior_sizes_ = 0;
 }
 
-bool LodGovernor::lattice_admissible(int full_active) const {
-    if (!price_.known) return lattice_affordable();   // offline (no prior): reproducible, no spacing
+void LodGovernor::set_lattice_prior(const double* diameters_m, const double* events, int sizes) {
+    // All or nothing: a size or figure that is not finite and positive (non-negative for the events), or
+    // diameters out of order, leave the prior as it was.
+    double largest = 0.0;
+    for (int k = 0; k < sizes; ++k) {
+        if (!(std::isfinite(diameters_m[k]) && diameters_m[k] > 0.0 && std::isfinite(events[k]) && events[k] >= 0.0)) return;
+        if (k > 0 && !(diameters_m[k] > diameters_m[k - 1])) return;
+        largest = std::max(largest, events[k]);
+    }
+    price_.prior = largest;
+    if (sizes <= 0 || sizes > max_prior_sizes) {
+        prior_sizes_ = 0;   // their largest for every size
+        return;
+    }
+    std::copy(diameters_m, diameters_m + sizes, prior_diameters_.begin());
+    std::copy(events, events + sizes, prior_events_.begin());
+    prior_sizes_ = sizes;
+}
+
+double LodGovernor::prior_for(double diameter_m) const {
+    if (prior_sizes_ == 0 || !(diameter_m > 0.0)) return price_.prior;
+    // The nearest size in log D: bisection on the geometric midpoints (as ImpactTemplateTable::nearest).
+    int lo = 0, hi = prior_sizes_ - 1;
+    while (lo < hi) {
+        const int mid = (lo + hi) / 2;
+        if (diameter_m < std::sqrt(prior_diameters_[static_cast<std::size_t>(mid)] * prior_diameters_[static_cast<std::size_t>(mid + 1)])) {
+            hi = mid;
+        } else {
+            lo = mid + 1;
+        }
+    }
+    return prior_events_[static_cast<std::size_t>(lo)];
+}
+
+bool LodGovernor::lattice_admissible(int full_active, double diameter_m) const {
+    if (!price_.known) return lattice_affordable(diameter_m);   // offline (no prior): reproducible, no spacing
     if (since_full_s_ < settings_.full_spacing_s) return false;
     if (measured_full_s_ < learning_s && full_active > 0) return false;
-    return lattice_affordable();
+    return lattice_affordable(diameter_m);
 }
 
-bool LodGovernor::lattice_affordable() const {
+bool LodGovernor::lattice_affordable() const { return lattice_affordable(0.0); }
+
+bool LodGovernor::lattice_affordable(double diameter_m) const {
     const LatticePrice& p = price_;
     const double peak = std::max(settings_.peak_budget, settings_.budget);
-    const double event = std::max(p.event, p.prior);
+    const double event = std::max(p.event, prior_for(diameter_m));
     if (!p.known) return event <= peak;   // offline: no prior, nothing measured
     return p.recent + p.mean <= settings_.budget && p.recent + event <= peak;
 }

@@ -11,9 +11,10 @@
 //   g.end_block(measured_load, drops_this_block, block_seconds);  // after each block: load in 0..1+
 //   g.observe_load(load, LatticeActivity{...}, block_seconds);    // live only: each callback's load and what
 //                                                        // the lattice drops did in it (prices them)
-//   g.set_lattice_prior(event)                           // live only: a spawn and breakup's cost measured
-//                                                        // before the stream (fraction of the period): the
-//                                                        // event price's floor
+//   g.set_lattice_prior(diameters, events, n)            // live only: a spawn and breakup's cost per drop
+//                                                        // size, measured before the stream (fractions of
+//                                                        // the period): the event price's floor
+//   g.set_lattice_prior(event)                           // the same, one figure for every size
 //   g.detail()                                           // 0..1: how much detail the load allows now
 //   g.masking_db()                                       // the density's masking level now
 //
@@ -60,11 +61,13 @@
 // overruns: a lattice drop's breakup on the canopy in air (775 links) took one 64-frame block to
 // 230-260 % of the period (ameoto bench scene, 2026-12-06). The renderer gives set_lattice_prior, before
 // its first block and after each scene change, what the impact templates' recordings of the same lattice
-// drops on the same canopy cost this machine in a block's length (ImpactTemplateTable::worst_cpu_s,
-// measured while the scene was built: the largest drop's breakup). The event price is never taken below
-// it: unlike a measured block, which may hold the machine's noise and so fades, the prior is the drop's
-// own work. Until the first load is measured a drop is admitted only if the prior alone fits under the
-// peak limit.
+// drops on the same canopy cost this machine in a block's length, per recorded size
+// (ImpactTemplateTable::worst_cpu_s, measured while the scene was built: a 1 mm drop's 4 % of a
+// 64-frame period, a 3.5 mm drop's 33 %, the largest's (5.7 mm) 132 % on the 2-CPU VM). A drop's event price
+// is never taken below its size's prior (the nearest recorded size in log D): unlike a measured block,
+// which may hold the machine's noise and so fades, the prior is the drop's own work. Until the first load
+// is measured a drop is admitted only if its prior alone fits under the peak limit. lattice_affordable()
+// without a size, and lattice_price().prior, use the largest size's.
 // Spacing (live only), because each price is one drop's and the worst blocks of two drops must not land
 // together: a lattice drop is admitted
 //   - at least full_spacing_s (default 0.1 s, the length of a 5 mm drop's spawn, impact and breakup:
@@ -75,6 +78,7 @@
 //     priced, and their breakups in the same blocks took a 64-frame callback to 79 % (ameoto bench scene).
 // Drops turned away by the spacing are counted with the priced-out ones.
 
+#include <array>
 #include <cstdint>
 
 namespace ameoto {
@@ -101,7 +105,7 @@ struct LatticeActivity {
 struct LatticePrice {
     bool known = false;    // a load has been observed (live)
     double base = 0.0, mean = 0.0, event = 0.0, recent = 0.0;
-    double prior = 0.0;    // the event price's floor (set_lattice_prior; 0 offline)
+    double prior = 0.0;    // the event price's floor for the costliest size (set_lattice_prior; 0 offline)
 };
 
 struct LodCounts {
@@ -119,8 +123,13 @@ public:
     LodTier choose(double diameter_m, double speed_m_per_s, double distance_m, int full_active);
     void end_block(double measured_load, int drops, double block_seconds);
     void observe_load(double measured_load, const LatticeActivity& activity, double block_seconds);
-    void set_lattice_prior(double event);   // the event price's floor from now on (header)
-    bool lattice_affordable() const;
+    // The event price's floor from now on (header): per size (diameters ascending, m; at most
+    // max_prior_sizes of them, else their largest event for every size), or one for every size.
+    static constexpr int max_prior_sizes = 64;
+    void set_lattice_prior(const double* diameters_m, const double* events, int sizes);
+    void set_lattice_prior(double event);
+    bool lattice_affordable() const;                    // for the costliest size
+    bool lattice_affordable(double diameter_m) const;   // for a drop of this size
     const LatticePrice& lattice_price() const { return price_; }
 
     double detail() const { return detail_; }
@@ -135,7 +144,10 @@ private:
     double rate_per_s_ = 0.0;
     double masking_db_ = 0.0;
     LodCounts counts_;
-    bool lattice_admissible(int full_active) const;   // affordable, spaced, and not while learning alone
+    bool lattice_admissible(int full_active, double diameter_m) const;   // affordable, spaced, and not while learning alone
+    double prior_for(double diameter_m) const;
+    std::array<double, max_prior_sizes> prior_diameters_{}, prior_events_{};
+    int prior_sizes_ = 0;   // 0: price_.prior for every size
     LatticePrice price_;
     bool base_seen_ = false;
     double since_full_s_ = 1e300;   // measured time since the last lattice drop was admitted (live)

@@ -309,7 +309,13 @@ void Renderer::set_measured_load(double load) {
 
 void Renderer::price_lattice_drops(int frames) {
     prior_frames_ = frames;
-    governor_.set_lattice_prior(has_umbrella_ && frames > 0 ? scene_->templates.worst_cpu_s(frames) / (frames * dt_) : 0.0);
+    const ImpactTemplateTable& t = scene_->templates;
+    const int sizes = static_cast<int>(t.diameters_m.size());
+    if (!has_umbrella_ || frames <= 0 || sizes == 0) return governor_.set_lattice_prior(0.0);
+    const double period = frames * dt_;
+    if (sizes > LodGovernor::max_prior_sizes) return governor_.set_lattice_prior(t.worst_cpu_s(frames) / period);
+    for (int k = 0; k < sizes; ++k) prior_events_[static_cast<std::size_t>(k)] = t.worst_cpu_s(frames, k) / period;
+    governor_.set_lattice_prior(t.diameters_m.data(), prior_events_.data(), sizes);
 }
 
 void Renderer::process(int frames, float* const* outputs) {

@@ -39,8 +39,8 @@
 // The governor sheds detail when the load measured by the caller (set_measured_load, the audio bridge's
 // callback time over the block period) passes the budget (/lod), only when RendererConfig::adaptive_lod
 // is set (live playback); offline renders leave it unset and stay reproducible to the sample. Live, it
-// also prices a lattice drop before admitting one, starting from what the scene's template recordings
-// cost this machine in a block of the length process() is given (lod_governor.hpp, "The prior").
+// also prices a lattice drop before admitting one, starting from what the scene's template recording of
+// its size cost this machine in a block of the length process() is given (lod_governor.hpp, "The prior").
 // Either way the sound is the membrane's, radiated to the listener (Rayleigh far field), so the first
 // sound of an impact reaches the output latency_samples() later (the nearest node's distance over c:
 // 42 samples at 48 kHz for the default listener 0.3 m under the shaft).
@@ -288,6 +288,7 @@ private:
     // The block length (frames) the governor's prior price of a lattice drop was last given for, 0
     // after a scene change: the prior is its templates' (lod_governor.hpp, set_lattice_prior).
     int prior_frames_ = 0;
+    std::array<double, LodGovernor::max_prior_sizes> prior_events_{};   // per template size, for the governor
     void price_lattice_drops(int frames);
     static constexpr int governor_period = 64;   // samples
     int governor_samples_ = 0;

@@ -144,6 +144,16 @@ TEST_CASE("impact templates: each recording's CPU time, and the most any block's
     CHECK(t.worst_cpu_s(100 * t.length) == total);
     CHECK(t.worst_cpu_s(0) == 0.0);
     CHECK(ImpactTemplateTable{}.worst_cpu_s(64) == 0.0);
+    // Per size: the whole table's figure is its costliest size's, and the largest drop (it breaks into
+    // hundreds of pieces) costs more in a block than the smallest (one mass).
+    const int sizes = static_cast<int>(t.diameters_m.size());
+    double largest = 0.0;
+    for (int k = 0; k < sizes; ++k) largest = std::max(largest, t.worst_cpu_s(64, k));
+    CHECK(largest == w64);
+    MESSAGE("worst CPU in 64 frames, smallest / largest drop: " << 1e3 * t.worst_cpu_s(64, 0) << " / " << 1e3 * t.worst_cpu_s(64, sizes - 1) << " ms");
+    CHECK(t.worst_cpu_s(64, sizes - 1) > 3.0 * t.worst_cpu_s(64, 0));
+    CHECK(t.worst_cpu_s(64, -1) == 0.0);
+    CHECK(t.worst_cpu_s(64, sizes) == 0.0);
     // The breakup is the costly part: the worst 64 frames cost more than an average 64 frames of the
     // same run (the 20 ms after the impact hold the flight of its pieces too).
     CHECK(w64 > 1.2 * total * 64.0 / t.length);

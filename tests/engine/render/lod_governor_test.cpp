@@ -6,6 +6,7 @@
 #include "tests/support/relative_approx.hpp"
 
 #include <cmath>
+#include <vector>
 #include <initializer_list>
 
 using namespace ameoto;
@@ -149,6 +150,51 @@ TEST_CASE("lod: the prior keeps out a lattice drop whose breakup cannot fit, bef
     g.set_lattice_prior(std::nan(""));
     g.set_lattice_prior(-1.0);
     CHECK(g.lattice_price().prior == 0.47);
+}
+
+TEST_CASE("lod: the prior per size admits the drops whose breakup fits and keeps out those whose does not") {
+    constexpr double block = 64.0 / 48000.0;
+    LodGovernor g(LodSettings{.budget = 0.4, .max_full = 4, .peak_budget = 0.5});
+    // The shape of the recordings on the 2-CPU VM at 64 frames: a 1 mm drop 6 %, 3 mm 37 %, 5 mm 122 %.
+    const double d[3] = {1e-3, 3e-3, 5e-3}, e[3] = {0.06, 0.37, 1.22};
+    g.set_lattice_prior(d, e, 3);
+    CHECK(g.lattice_price().prior == 1.22);   // the costliest size's
+    CHECK_FALSE(g.lattice_affordable());      // without a size: the costliest
+    CHECK(g.lattice_affordable(1e-3));
+    CHECK(g.lattice_affordable(3.2e-3));
+    CHECK_FALSE(g.lattice_affordable(4.5e-3));
+    // The nearest size in log D: 3 and 5 mm meet at sqrt(15) = 3.873 mm; below 0.5 mm the smallest, above
+    // 6 mm the largest.
+    CHECK(g.lattice_affordable(3.86e-3));
+    CHECK_FALSE(g.lattice_affordable(3.89e-3));
+    CHECK(g.lattice_affordable(0.1e-3));
+    CHECK_FALSE(g.lattice_affordable(8e-3));
+    // Offline-style choices before a load: a loud 5 mm drop is a template, a loud 1.5 mm one a lattice drop.
+    CHECK(g.choose(5e-3, 9.09, 0.4, 0) == LodTier::template_);
+    CHECK(g.choose(1.5e-3, 5.5, 0.05, 0) == LodTier::full);
+    // At a measured 20 % load the 3 mm drop's breakup (0.2 + 0.37) no longer fits under the 50 % limit.
+    for (int i = 0; i < 750; ++i) g.observe_load(0.20, LatticeActivity{0, false}, block);
+    CHECK_FALSE(g.lattice_affordable(3e-3));
+    CHECK(g.lattice_affordable(1e-3));
+    // A table that is not one (sizes out of order, a negative figure, NaN) leaves the prior as it was.
+    const double backwards[3] = {5e-3, 3e-3, 1e-3}, negative[3] = {0.06, -0.1, 1.22}, nan[3] = {0.06, std::nan(""), 1.22};
+    g.set_lattice_prior(backwards, e, 3);
+    g.set_lattice_prior(d, negative, 3);
+    g.set_lattice_prior(d, nan, 3);
+    CHECK(g.lattice_price().prior == 1.22);
+    CHECK(g.lattice_affordable(1e-3));
+    // More sizes than the governor holds: their largest for every size.
+    std::vector<double> many_d, many_e;
+    for (int k = 0; k < LodGovernor::max_prior_sizes + 1; ++k) {
+        many_d.push_back(0.5e-3 * std::pow(1.03, k));
+        many_e.push_back(k == LodGovernor::max_prior_sizes ? 0.9 : 0.01);
+    }
+    g.set_lattice_prior(many_d.data(), many_e.data(), static_cast<int>(many_d.size()));
+    CHECK(g.lattice_price().prior == 0.9);
+    CHECK_FALSE(g.lattice_affordable(0.5e-3));
+    // One figure for every size replaces the table.
+    g.set_lattice_prior(0.1);
+    CHECK(g.lattice_affordable(5e-3));
 }
 
 TEST_CASE("lod: bad measured loads are ignored by the price") {
