@@ -10,24 +10,13 @@
 #include <optional>
 #include <thread>
 
+#include "engine/core/nearest_in_log.hpp"
 #include "engine/models/drop.hpp"
 
 namespace ameoto {
 
 int ImpactTemplateTable::nearest(double diameter_m) const {
-    // The grid is geometric: the nearest in log D is found by bisection on the geometric midpoints.
-    int lo = 0, hi = static_cast<int>(diameters_m.size()) - 1;
-    if (hi < 0) return -1;
-    while (lo < hi) {
-        const int mid = (lo + hi) / 2;
-        const double split = std::sqrt(diameters_m[static_cast<std::size_t>(mid)] * diameters_m[static_cast<std::size_t>(mid + 1)]);
-        if (diameter_m < split) {
-            hi = mid;
-        } else {
-            lo = mid + 1;
-        }
-    }
-    return lo;
+    return nearest_in_log(diameters_m.data(), static_cast<int>(diameters_m.size()), diameter_m);
 }
 
 double ImpactTemplateTable::worst_cpu_s(int frames, int k) const {

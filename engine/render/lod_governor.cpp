@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "engine/core/nearest_in_log.hpp"
+
 namespace ameoto {
 
 namespace {
@@ -116,17 +118,7 @@ void LodGovernor::set_lattice_prior(const double* diameters_m, const double* eve
 
 double LodGovernor::prior_for(double diameter_m) const {
     if (prior_sizes_ == 0 || !(diameter_m > 0.0)) return price_.prior;
-    // The nearest size in log D: bisection on the geometric midpoints (as ImpactTemplateTable::nearest).
-    int lo = 0, hi = prior_sizes_ - 1;
-    while (lo < hi) {
-        const int mid = (lo + hi) / 2;
-        if (diameter_m < std::sqrt(prior_diameters_[static_cast<std::size_t>(mid)] * prior_diameters_[static_cast<std::size_t>(mid + 1)])) {
-            hi = mid;
-        } else {
-            lo = mid + 1;
-        }
-    }
-    return prior_events_[static_cast<std::size_t>(lo)];
+    return prior_events_[static_cast<std::size_t>(nearest_in_log(prior_diameters_.data(), prior_sizes_, diameter_m))];
 }
 
 bool LodGovernor::lattice_admissible(int full_active, double diameter_m) const {
