@@ -10,7 +10,7 @@
 //   ReferenceOptions o; std::string error;
 //   ReferenceParse p = parse_reference_options(words, o, error);
 //
-// Validations: piston, disc, timpani, reflection, canopy (default: the first four). Output: one line per
+// Validations: piston, disc, timpani, reflection, canopy, canopy-bands, canopy-drop (default: the first four). Output: one line per
 // figure (target, result, ok or MISS), or with --json one JSON object. Exit: 0 every figure within its
 // target; 1 any missed; 2 usage error.
 
