@@ -312,6 +312,8 @@ void run_canopy_bands(Report& r, double dx) {
     const char* where[3] = {"0.3 m under the shaft", "1 m to the side", "3 m away"};
     double worst = 0.0, compressible_worst = 0.0, push_worst = 0.0;
     std::vector<double> worst_per_case, compressible_per_case, push_per_case;
+    std::vector<std::string> reference_levels;   // per case, per listener: the reference's band levels (JSON)
+    std::vector<double> band_hz;
     const AirMassAt compressible = compressible_air_mass(shape, constants::air_density, constants::speed_of_sound_air, 50.0);
     for (const Point2 at : points) {
         CanopyBandsSetup s;
@@ -342,6 +344,17 @@ void run_canopy_bands(Report& r, double dx) {
             worst_of_all = std::max(worst_of_all, w);
             cases.push_back(w);
         };
+        std::string case_levels = "[";
+        for (std::size_t l = 0; l < b.reference.size(); ++l) {
+            std::vector<double> levels;
+            band_hz.clear();
+            for (const BandLevel& band : b.reference[l]) {
+                levels.push_back(band.level_db);
+                band_hz.push_back(band.centre_hz);
+            }
+            case_levels += (l ? ", " : "") + array(levels);
+        }
+        reference_levels.push_back(case_levels + "]");
         for (std::size_t l = 0; l < b.fast.size(); ++l) {
             row("  " + std::string(where[l]) + ":", b.fast[l], b.reference[l], worst, worst_per_case);
             // What the server plays: the modes and the compressible push (air_push.hpp).
@@ -360,6 +373,12 @@ void run_canopy_bands(Report& r, double dx) {
     r.raw("worst_db", array(worst_per_case));
     r.raw("compressible_worst_db", array(compressible_per_case));
     r.raw("push_worst_db", array(push_per_case));
+    // The reference's own levels (each band's energy, dB re 1 Pa^2 s, for the 1 N strike; [strike][listener][band]), as
+    // tests/engine/models/air_canopy_bands_test.cpp caches them.
+    r.raw("band_hz", array(band_hz));
+    std::string nested = "[";
+    for (std::size_t q = 0; q < reference_levels.size(); ++q) nested += (q ? ", " : "") + reference_levels[q];
+    r.raw("reference_db", nested + "]");
     r.raw("ok", ok ? "true" : "false");
     r.close("canopy-bands");
 }

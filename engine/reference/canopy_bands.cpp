@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
+#include <utility>
 
 #include "engine/core/physical_constants.hpp"
 #include "engine/models/air_canopy.hpp"
@@ -80,6 +81,17 @@ CanopyBandsResult compare_canopy_bands(const CanopyBandsSetup& setup) {
         out.reference.push_back(third_octave_levels(p, r.sample_interval_s, setup.low_hz, setup.high_hz));
     }
 
+    FastCanopyBands fast = fast_canopy_bands(setup, r.struck_node);
+    out.fast = std::move(fast.fast);
+    out.fast_push = std::move(fast.fast_push);
+    return out;
+}
+
+FastCanopyBands fast_canopy_bands(const CanopyBandsSetup& setup, int node) {
+    const CanopyInAirSetup& s = setup.reference;
+    const Canopy vacuum(s.geometry, s.material, 1.0 / setup.fast_rate_hz);
+    if (s.panel < 0 || s.panel >= vacuum.panel_count() || node < 0 || node >= vacuum.nodes_per_panel())
+        throw std::invalid_argument("fast_canopy_bands: the struck panel or node does not exist");
     // The fast model: the same force on the same node, its mean over each step (at the step's middle).
     const double dt = 1.0 / setup.fast_rate_hz;
     Canopy canopy(vacuum);
@@ -95,7 +107,7 @@ CanopyBandsResult compare_canopy_bands(const CanopyBandsSetup& setup) {
         std::vector<double> panel_forces(static_cast<std::size_t>(struck.panel_count())), p(setup.listeners.size());
         for (long n = 0; n < steps; ++n) {
             const double f = strike_force(s, (static_cast<double>(n) + 0.5) * dt);
-            if (f != 0.0) struck.apply_force({s.panel, r.struck_node}, f);
+            if (f != 0.0) struck.apply_force({s.panel, node}, f);
             struck.step(panel_forces.data());
             dipole.process(struck, p.data());
             for (std::size_t l = 0; l < p.size(); ++l) fast[l][static_cast<std::size_t>(n)] = p[l];
@@ -104,6 +116,7 @@ CanopyBandsResult compare_canopy_bands(const CanopyBandsSetup& setup) {
         for (const auto& x : fast) levels.push_back(third_octave_levels(x, dt, setup.low_hz, setup.high_hz));
         return levels;
     };
+    FastCanopyBands out;
     out.fast = play(DipoleOptions{});
     out.fast_push = play(DipoleOptions{.compressible_push = true});
     return out;

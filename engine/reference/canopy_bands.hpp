@@ -11,6 +11,7 @@
 //   CanopyBandsSetup s;  s.reference.dx = 0.01; s.reference.node = 12;   // the reference's setup
 //   CanopyBandsResult r = compare_canopy_bands(s);   // r.fast[l], r.reference[l]: band levels per listener
 //   r.difference(l, b)                               // dB, fast - reference
+//   FastCanopyBands f = fast_canopy_bands(s, node);  // the fast model's levels alone (seconds, no reference)
 
 #include <vector>
 
@@ -40,6 +41,14 @@ struct CanopyBandsResult {
 };
 
 CanopyBandsResult compare_canopy_bands(const CanopyBandsSetup& setup);
+
+// The fast model's side alone (no reference run): the same strike on `node` of setup.reference.panel
+// heard at setup.listeners by the canopy's air-loaded modes without (fast) and with (fast_push) the
+// compressible push, as compare_canopy_bands plays it. For comparisons against cached reference levels.
+struct FastCanopyBands {
+    std::vector<std::vector<BandLevel>> fast, fast_push;   // [listener][band]
+};
+FastCanopyBands fast_canopy_bands(const CanopyBandsSetup& setup, int node);
 
 // The reference's nodes as point forces on the air, for double_layer_pressure (screen_far_field.hpp):
 // each node's rest position and normal, and the force it put on the air at each recorded sample (the

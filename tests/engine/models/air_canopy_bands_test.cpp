@@ -1,0 +1,102 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Issue 19, part 2, over its whole range: the server's canopy in air (its air-loaded modes heard as
+// dipoles, and the compressible push above them) against the reference's band levels at dx 5 mm, the
+// finest run, cached here because it takes 23 minutes. air_canopy_test.cpp runs the reference itself on
+// its cheap grid (80-630 Hz), which ties this cache to the reference as it is.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include <doctest/doctest.h>
+
+#include "engine/models/canopy.hpp"
+#include "engine/reference/canopy_bands.hpp"
+#include "tests/engine/models/air_canopy_bands_reference.hpp"
+#include "tests/support/timing_scale.hpp"
+
+using namespace ameoto;
+
+namespace {
+
+// A pair the server's model misses by more than 3 dB against the 5 mm reference (docs/canopy-air.md,
+// "Band levels with the push"), held where it is so that it cannot drift further unseen.
+struct KnownMiss {
+    int strike, listener;
+    double hz, measured_db;
+};
+// Node 12 (towards the hem) under the shaft at 1.26 kHz: where the crossover's halves overlap, the modes'
+// taps carry the push at gains tuned to the modes' poles. Node 12 to the side at 2.52 (+3.01 dB), 3.15 and
+// 4 kHz: the reference's 5 cm cell radiates with its own directivity, which a point force does not have.
+// Node 43 (towards the shaft) to the side at 630-1000 Hz, node 12 at 3 m at 198 Hz and node 24 under the
+// shaft at 157 Hz: the modes, whose air is the incompressible mass (the compressible jump, solved
+// offline, is within 3 dB in all of them).
+constexpr KnownMiss known_misses[] = {
+    {0, 0, 157.49, -3.1},  {1, 0, 1259.92, -4.3}, {1, 1, 2519.84, +3.0}, {1, 1, 3174.8, +3.8}, {1, 1, 4000.0, +4.2},
+    {1, 2, 198.425, +3.1}, {2, 1, 629.961, -4.8}, {2, 1, 793.701, +3.1}, {2, 1, 1000.0, +4.6},
+};
+
+const KnownMiss* known(int strike, int listener, double hz) {
+    for (const KnownMiss& m : known_misses)
+        if (m.strike == strike && m.listener == listener && std::abs(m.hz / hz - 1.0) < 1e-3) return &m;
+    return nullptr;
+}
+
+}  // namespace
+
+TEST_CASE("air canopy: band levels 63 Hz-4 kHz against the 5 mm reference, three strikes, three listeners") {
+    // The strikes and listeners of `ameoto reference canopy-bands` (its --json reference_db is the cache).
+    const Canopy shape(CanopyGeometry{}, MembraneMaterial::nylon_canopy(), 1.0 / 48000.0);
+    const Point2 c = shape.panel_centroid(0);
+    const Point2 points[3] = {c, {c.x * 1.35, c.y + 0.03}, {c.x * 0.55, c.y - 0.02}};
+    const int expected_nodes[3] = {24, 12, 43};   // the centroid, towards the hem, towards the shaft
+    int misses = 0, modes_alone_misses = 0, pairs = 0;
+    double worst = 0.0;
+    // Under the sanitizers the centroid only: the other two strikes run the same code for another node
+    // (about 0.3 s each in the Release build, the air's modes built again for each).
+    const int strikes = test::sanitized_build() ? 1 : 3;
+    for (int k = 0; k < strikes; ++k) {
+        reference::CanopyBandsSetup s;
+        s.reference.duration_s = 0.2;
+        s.low_hz = 63.0;
+        s.high_hz = 4000.0;
+        const int node = shape.locate(points[k].x, points[k].y).node;
+        REQUIRE(node == expected_nodes[k]);   // the cache's strikes
+        const reference::FastCanopyBands f = reference::fast_canopy_bands(s, node);
+        REQUIRE(f.fast_push.size() == 3);
+        for (int l = 0; l < 3; ++l) {
+            const auto& heard = f.fast_push[static_cast<std::size_t>(l)];
+            const auto& alone = f.fast[static_cast<std::size_t>(l)];
+            REQUIRE(heard.size() == test::canopy_bands_5mm_bands);
+            std::string row;
+            for (std::size_t b = 0; b < heard.size(); ++b) {
+                REQUIRE(heard[b].centre_hz == doctest::Approx(test::canopy_bands_5mm_hz[b]).epsilon(1e-4));
+                const double d = heard[b].level_db - test::canopy_bands_5mm_db[k][l][b];
+                const double d_alone = alone[b].level_db - test::canopy_bands_5mm_db[k][l][b];
+                char text[32];
+                std::snprintf(text, sizeof text, " %.0f %+.1f", heard[b].centre_hz, d);
+                row += text;
+                ++pairs;
+                worst = std::max(worst, std::abs(d));
+                modes_alone_misses += std::abs(d_alone) > 3.0 ? 1 : 0;
+                if (std::abs(d) <= 3.0) continue;
+                ++misses;
+                // Every pair past 3 dB is one of the known ones, and no further off than measured.
+                const KnownMiss* m = known(k, l, heard[b].centre_hz);
+                INFO("node " << node << ", listener " << l << ", " << heard[b].centre_hz << " Hz: " << d << " dB");
+                REQUIRE(m != nullptr);
+                CHECK(d * m->measured_db > 0.0);
+                CHECK(std::abs(d) < std::abs(m->measured_db) + 0.3);
+            }
+            MESSAGE("node " << node << " listener " << l << ":" << row);
+        }
+    }
+    MESSAGE(misses << " of " << pairs << " band-listener pairs past 3 dB with the push (worst " << worst << " dB), " << modes_alone_misses
+                   << " with the modes' taps alone");
+    CHECK(pairs == strikes * 3 * 19);
+    if (strikes < 3) return;
+    CHECK(misses <= 9);
+    // The push is what brings the bands above the modes in: without it 17 pairs miss.
+    CHECK(modes_alone_misses >= 15);
+}
