@@ -383,11 +383,6 @@ void run_canopy_bands(Report& r, double dx) {
     r.close("canopy-bands");
 }
 
-
-// Issue 19's third case: the whole canopy struck by a 2 mm drop (the drop scene in air, its wet impact on
-// panel 2's centroid, what `ameoto render drop --diameter 2` plays) against the reference driven by the
-// same contact force on the struck node (all of it there, where the drop's masses spread over a few),
-// heard at the scene's listener 0.3 m under the shaft, 63 Hz to 4 kHz (the tests' cheap grid: 80-630 Hz).
 // The drop scene's sound at its listener (Pa) and the contact's force on the membrane along +z (N),
 // each sample of `seconds` at `rate`.
 struct DropHeard {
@@ -405,7 +400,7 @@ DropHeard play_drop(bool air, double diameter, double rate, double seconds) {
     DropHeard out;
     out.at = scene.canopy().panel_centroid(2);
     out.hit = scene.canopy().locate(out.at.x, out.at.y);
-    if (!scene.drop(diameter, 0.0, out.at.x, out.at.y)) throw std::runtime_error("canopy-drop: the drop scene refused a 2 mm drop");
+    if (!scene.drop(diameter, 0.0, out.at.x, out.at.y)) throw std::runtime_error("canopy-drop: the drop scene refused the drop");
     const auto steps = static_cast<std::size_t>(seconds * rate);
     out.pressure.resize(steps);
     out.force.resize(steps);
@@ -418,6 +413,10 @@ DropHeard play_drop(bool air, double diameter, double rate, double seconds) {
     return out;
 }
 
+// Issue 19's third case: the whole canopy struck by a 2 mm drop (the drop scene in air, as `ameoto render
+// drop` builds it, its wet impact on panel 2's centroid) against the reference driven by the same contact
+// force on the struck node (all of it there, where the drop's masses spread over a few), heard at the
+// scene's listener 0.3 m under the shaft, 63 Hz to 4 kHz (the tests' cheap grid: 80-630 Hz).
 void run_canopy_drop(Report& r, double dx) {
     const double rate = 48000.0, seconds = 0.2, diameter = 2e-3;
     const DropOnCanopyConfig config;   // the scene's defaults: its liquid, its listener
