@@ -15,7 +15,7 @@ Worker::~Worker() {
     thread_.join();
 }
 
-void Worker::enqueue(std::function<void()> job) {
+void Worker::enqueue(std::function<Delivery()> job) {
     {
         std::lock_guard lock(mutex_);
         jobs_.push_back(std::move(job));
@@ -30,7 +30,7 @@ int Worker::pending() const {
 
 void Worker::run() {
     for (;;) {
-        std::function<void()> job;
+        std::function<Delivery()> job;
         {
             std::unique_lock lock(mutex_);
             wake_.wait(lock, [this] { return stop_ || !jobs_.empty(); });
@@ -39,9 +39,13 @@ void Worker::run() {
             jobs_.pop_front();
             ++running_;
         }
-        job();
-        std::lock_guard lock(mutex_);
-        --running_;
+        Delivery deliver = job();
+        {
+            std::lock_guard lock(mutex_);
+            --running_;
+        }
+        // Posted after the count: whoever runs the result on the io_context sees pending() without it.
+        boost::asio::post(io_, std::move(deliver));
     }
 }
 

@@ -39,26 +39,29 @@ public:
 
     template <typename Result, typename Build, typename Done, typename Failed>
     void submit(Build build, Done done, Failed failed) {
-        enqueue([this, build = std::move(build), done = std::move(done), failed = std::move(failed)]() mutable {
+        // The job returns its delivery; run() posts it only after the job has left pending(), so a
+        // result seen on the io_context is never still counted as running.
+        enqueue([build = std::move(build), done = std::move(done), failed = std::move(failed)]() mutable -> Delivery {
             try {
                 auto result = std::make_shared<Result>(build());
-                boost::asio::post(io_, [done = std::move(done), result]() mutable { done(std::move(*result)); });
+                return [done = std::move(done), result]() mutable { done(std::move(*result)); };
             } catch (const std::exception& e) {
-                boost::asio::post(io_, [failed = std::move(failed), message = std::string(e.what())]() { failed(message); });
+                return [failed = std::move(failed), message = std::string(e.what())]() { failed(message); };
             }
         });
     }
 
-    int pending() const;
+    int pending() const;   // jobs queued or running; a job whose result has been posted is neither
 
 private:
-    void enqueue(std::function<void()> job);
+    using Delivery = std::function<void()>;   // runs on the io_context
+    void enqueue(std::function<Delivery()> job);
     void run();
 
     boost::asio::io_context& io_;
     mutable std::mutex mutex_;
     std::condition_variable wake_;
-    std::deque<std::function<void()>> jobs_;
+    std::deque<std::function<Delivery()>> jobs_;
     int running_ = 0;
     bool stop_ = false;
     std::thread thread_;
