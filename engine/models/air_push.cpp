@@ -48,12 +48,19 @@ PushCrossover push_crossover(const AirCanopyModes& m) {
     return x;
 }
 
-PushFilters design_push_filters(const AirCanopyModes& m, const PushCrossover& x, const std::vector<double>& areal_density,
-                                const PushPoint& point, const AirMedium& air) {
+double tile_directivity(double k_a_sin_theta) {
+    const double x = k_a_sin_theta;
+    if (x < 1e-4) return 1.0 - x * x / 8.0;
+    return 2.0 * std::cyl_bessel_j(1.0, x) / x;
+}
+
+PushFilters design_push_filters(const AirCanopyModes& m, const PushCrossover& x, const PushScreen& screen, const PushPoint& point,
+                                const AirMedium& air) {
     const auto nodes = static_cast<std::size_t>(m.nodes);
     const auto modes = static_cast<std::size_t>(m.modes);
-    if (areal_density.size() != nodes || point.r.size() != nodes || point.cos_theta.size() != nodes)
-        throw std::invalid_argument("push filters: one density, distance and angle per node");
+    const std::vector<double>& areal_density = screen.areal_density;
+    if (areal_density.size() != nodes || screen.tile_radius.size() != nodes || point.r.size() != nodes || point.cos_theta.size() != nodes)
+        throw std::invalid_argument("push filters: one density, tile, distance and angle per node");
     PushFilters out;
     if (!(x.hz > 0.0)) return out;
     const double t = m.time_step_s, rate = 1.0 / t, c = air.speed_of_sound, rho = air.density;
@@ -80,6 +87,7 @@ PushFilters design_push_filters(const AirCanopyModes& m, const PushCrossover& x,
     std::vector<cplx> spectrum(static_cast<std::size_t>(half + 1)), period(static_cast<std::size_t>(n));
     for (std::size_t e = 0; e < nodes; ++e) {
         const double r = point.r[e], cos_theta = point.cos_theta[e], s = areal_density[e];
+        const double a_sin_theta = screen.tile_radius[e] * std::sqrt(std::max(0.0, 1.0 - cos_theta * cos_theta));
         bool moves = false;
         for (std::size_t k = 0; k < modes && !moves; ++k) moves = m.shape[e * modes + k] != 0.0;
         out.offset[e] = std::max(0, point.delay - lead);
@@ -88,7 +96,7 @@ PushFilters design_push_filters(const AirCanopyModes& m, const PushCrossover& x,
             const double w = 2.0 * constants::pi * b * rate / n;
             const double beta = w * s / (2.0 * rho * c);
             spectrum[static_cast<std::size_t>(b)] = common[static_cast<std::size_t>(b)] * cos_theta * cplx(1.0 / (r * r), w / (c * r)) /
-                                                    cplx(1.0, beta * std::abs(cos_theta));
+                                                    cplx(1.0, beta * std::abs(cos_theta)) * tile_directivity(w / c * a_sin_theta);
         }
         // The response over one period: the inverse transform of the real signal's spectrum (each bin and
         // its mirror; the high half is 0 at DC, the roll-off at Nyquist), as the conjugate of the forward

@@ -9,7 +9,8 @@
 //   PushCrossover x = push_crossover(modes);          // x.hz == 0: no room above the modes at this rate
 //   PushPoint p;                                      // the point as the dipoles see it: per node r,
 //                                                     // cos(theta); the modes' bulk delay D
-//   PushFilters f = design_push_filters(modes, x, areal_density, p, air);
+//   PushScreen screen;                                // per node: areal density, tile radius
+//   PushFilters f = design_push_filters(modes, x, screen, p, air);
 //   f.offset[node], f.fir[node * f.taps + j]: a force F (N) applied to node for step n adds F * fir[j]
 //   (Pa) to the pressure the point hears at sample n + offset + j (the sample at which the modes' taps
 //   put p(t_n)). A node that cannot move has an all-zero filter.
@@ -31,9 +32,18 @@
 // corner prewarped), at 1.4 x the highest mode: its halves are in phase and sum to an all-pass, so the
 // modes below and the push above join without a notch, and the highest mode loses 0.57 dB to it.
 // Linkwitz, "Active crossover networks for noncoincident drivers", JAES 24 (1976).
+// Each node's push leaves from its tile, not a point: the lattice's node is the fabric of its cell
+// (about 5 cm across on the default canopy), which moves with it in the added mass (air_loading.hpp)
+// and in the reference alike, so its pressure jump spreads over the cell. Heard as a disc of the
+// node's area (radius a = sqrt(A / pi)) with a uniform jump, its far field carries the disc's
+// directivity 2 J1(k a sin(theta)) / (k a sin(theta)) (Kinsler et al., Fundamentals of Acoustics,
+// 4th ed., 2000, s. 7.4): -2.8 dB at 4 kHz 63 degrees off the normal, under 0.2 dB below 1 kHz, so the
+// modes' taps keep their points. Against the 5 mm reference it took the side's 2.5-4 kHz bands from
+// up to +4.2 dB to within +2.1 (docs/canopy-air.md). A continuous fabric struck by a drop would have
+// no tile (tile_radius 0: a point force).
 // Each filter is the high half times
 //   H(omega) = cos(theta) / (4 pi) (1 / r^2 + i omega / (c r)) e^{-i omega D T} / (1 + i beta |cos(theta)|)
-//              x (e^{i omega T} - 1) / (i omega T)
+//              x 2 J1(k a sin(theta)) / (k a sin(theta)) x (e^{i omega T} - 1) / (i omega T)
 // (the force held over the step, heard at the step's end), rolled off over 0.35-0.45 of the rate so
 // that it rings for a few samples only before D; from 0.5 ms before D, 4.5 ms long (216 taps at 48 kHz),
 // both ends tapered: 90 dB down below 500 Hz.
@@ -62,6 +72,11 @@ struct PushPoint {
     int delay = 0;                      // D: the modes' bulk delay for the point, samples (dipole_radiation.hpp)
 };
 
+struct PushScreen {
+    std::vector<double> areal_density;   // per node (panel-major), kg/m^2; 0: the node cannot move
+    std::vector<double> tile_radius;     // per node, m: the disc of the node's area its push leaves from (0: a point)
+};
+
 struct PushFilters {
     int taps = 0;
     std::vector<int> offset;    // per node, samples from the step
@@ -71,9 +86,11 @@ struct PushFilters {
 // At 1.4 x the highest kept mode; none (hz 0) where that is above 0.3 of the rate or no mode is kept.
 PushCrossover push_crossover(const AirCanopyModes& modes);
 
-// areal_density: per node, kg/m^2 (0: the node cannot move).
-PushFilters design_push_filters(const AirCanopyModes& modes, const PushCrossover& crossover, const std::vector<double>& areal_density,
-                                const PushPoint& point, const AirMedium& air);
+PushFilters design_push_filters(const AirCanopyModes& modes, const PushCrossover& crossover, const PushScreen& screen, const PushPoint& point,
+                                const AirMedium& air);
+
+// A uniform disc's far-field directivity, 2 J1(x) / x at x = k a sin(theta) (1 at x = 0).
+double tile_directivity(double k_a_sin_theta);
 
 // The low half, run on a channel's modal sound. Audio-safe.
 struct LowPassState {

@@ -116,17 +116,22 @@ DipoleRadiation::DipoleRadiation(const Canopy& canopy, const ListenerLayout& lay
     for (int d : delay_) longest = std::max(longest, d + 1);
     if (options.compressible_push) {
         // Each point's filters at unit gain (air_push.hpp); a channel scales them by its panel gains.
-        std::vector<double> density(r.size(), 0.0);
+        PushScreen screen;
+        screen.areal_density.assign(r.size(), 0.0);
+        screen.tile_radius.assign(r.size(), 0.0);
         for (int k = 0; k < panels; ++k)
-            for (int i = 0; i < nodes; ++i)
-                density[static_cast<std::size_t>(k * nodes + i)] = canopy.panel(k).network.mass(i) > 0.0 ? canopy.panel(k).material.areal_density : 0.0;
+            for (int i = 0; i < nodes; ++i) {
+                const auto e = static_cast<std::size_t>(k * nodes + i);
+                screen.areal_density[e] = canopy.panel(k).network.mass(i) > 0.0 ? canopy.panel(k).material.areal_density : 0.0;
+                screen.tile_radius[e] = std::sqrt(m->node_area[e] / constants::pi);
+            }
         crossover_ = push_crossover(*m);
         for (std::size_t point = 0; point < layout.points.size() && crossover_.hz > 0.0; ++point) {
             PushPoint at;
             distances(layout.points[point], at.delay);
             at.r = r;
             at.cos_theta = cos_theta;
-            push_.push_back(design_push_filters(*m, crossover_, density, at, air));
+            push_.push_back(design_push_filters(*m, crossover_, screen, at, air));
             const PushFilters& f = push_.back();
             for (int e = 0; e < panels * nodes && f.taps > 0; ++e)
                 longest = std::max(longest, f.offset[static_cast<std::size_t>(e)] + f.taps);

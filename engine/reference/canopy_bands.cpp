@@ -88,14 +88,20 @@ CanopyBandsResult compare_canopy_bands(const CanopyBandsSetup& setup) {
 }
 
 FastCanopyBands fast_canopy_bands(const CanopyBandsSetup& setup, int node) {
+    Canopy canopy(setup.reference.geometry, setup.reference.material, 1.0 / setup.fast_rate_hz);
+    canopy.set_air(build_air_canopy_modes(canopy, 1.0 / setup.fast_rate_hz));
+    return fast_canopy_bands(setup, canopy, node);
+}
+
+FastCanopyBands fast_canopy_bands(const CanopyBandsSetup& setup, const Canopy& canopy, int node) {
     const CanopyInAirSetup& s = setup.reference;
-    const Canopy vacuum(s.geometry, s.material, 1.0 / setup.fast_rate_hz);
-    if (s.panel < 0 || s.panel >= vacuum.panel_count() || node < 0 || node >= vacuum.nodes_per_panel())
+    if (canopy.air_modes() == nullptr) throw std::invalid_argument("fast_canopy_bands: the canopy is not in air");
+    if (s.panel < 0 || s.panel >= canopy.panel_count() || node < 0 || node >= canopy.nodes_per_panel())
         throw std::invalid_argument("fast_canopy_bands: the struck panel or node does not exist");
     // The fast model: the same force on the same node, its mean over each step (at the step's middle).
     const double dt = 1.0 / setup.fast_rate_hz;
-    Canopy canopy(vacuum);
-    canopy.set_air(build_air_canopy_modes(canopy, dt));
+    if (std::abs(canopy.air_modes()->time_step_s / dt - 1.0) > 1e-9)
+        throw std::invalid_argument("fast_canopy_bands: the canopy's air is built for another rate");
     ListenerLayout layout;
     layout.points = setup.listeners;
     for (std::size_t l = 0; l < setup.listeners.size(); ++l) layout.channel_point.push_back(static_cast<int>(l));

@@ -12,10 +12,12 @@
 //   CanopyBandsResult r = compare_canopy_bands(s);   // r.fast[l], r.reference[l]: band levels per listener
 //   r.difference(l, b)                               // dB, fast - reference
 //   FastCanopyBands f = fast_canopy_bands(s, node);  // the fast model's levels alone (seconds, no reference)
+//   fast_canopy_bands(s, canopy_in_air, node)        // the same on a canopy whose air is built
 
 #include <vector>
 
 #include "engine/core/body3d_vec3.hpp"
+#include "engine/models/canopy.hpp"
 #include "engine/reference/canopy_in_air.hpp"
 #include "engine/reference/screen_far_field.hpp"
 
@@ -49,6 +51,9 @@ struct FastCanopyBands {
     std::vector<std::vector<BandLevel>> fast, fast_push;   // [listener][band]
 };
 FastCanopyBands fast_canopy_bands(const CanopyBandsSetup& setup, int node);
+// The same with the canopy in air already built and never stepped (setup.reference's geometry and
+// material, in air at setup.fast_rate_hz): several strikes share one build of its modes (about 0.3 s).
+FastCanopyBands fast_canopy_bands(const CanopyBandsSetup& setup, const Canopy& in_air, int node);
 
 // The reference's nodes as point forces on the air, for double_layer_pressure (screen_far_field.hpp):
 // each node's rest position and normal, and the force it put on the air at each recorded sample (the

@@ -11,6 +11,7 @@
 
 #include <doctest/doctest.h>
 
+#include "engine/models/air_canopy.hpp"
 #include "engine/models/canopy.hpp"
 #include "engine/reference/canopy_bands.hpp"
 #include "tests/engine/models/air_canopy_bands_reference.hpp"
@@ -27,14 +28,13 @@ struct KnownMiss {
     double hz, measured_db;
 };
 // Node 12 (towards the hem) under the shaft at 1.26 kHz: where the crossover's halves overlap, the modes'
-// taps carry the push at gains tuned to the modes' poles. Node 12 to the side at 2.52 (+3.01 dB), 3.15 and
-// 4 kHz: the reference's 5 cm cell radiates with its own directivity, which a point force does not have.
-// Node 43 (towards the shaft) to the side at 630-1000 Hz, node 12 at 3 m at 198 Hz and node 24 under the
-// shaft at 157 Hz: the modes, whose air is the incompressible mass (the compressible jump, solved
-// offline, is within 3 dB in all of them).
+// taps carry the push at gains tuned to the modes' poles. Node 43 (towards the shaft) to the side at
+// 630-1000 Hz, node 12 at 3 m at 198 Hz and node 24 under the shaft at 157 Hz: the modes, whose air is
+// the incompressible mass (the compressible jump, solved offline, is within 3 dB in all of them).
+// (Node 12 to the side at 2.52-4 kHz, +3.0 to +4.2 dB while the push left from a point, came within
+// +2.1 dB when it left from the node's tile: air_push.hpp.)
 constexpr KnownMiss known_misses[] = {
-    {0, 0, 157.49, -3.1},  {1, 0, 1259.92, -4.3}, {1, 1, 2519.84, +3.0}, {1, 1, 3174.8, +3.8}, {1, 1, 4000.0, +4.2},
-    {1, 2, 198.425, +3.1}, {2, 1, 629.961, -4.8}, {2, 1, 793.701, +3.1}, {2, 1, 1000.0, +4.6},
+    {0, 0, 157.49, -3.1}, {1, 0, 1259.92, -4.4}, {1, 2, 198.425, +3.1}, {2, 1, 629.961, -4.8}, {2, 1, 793.701, +3.1}, {2, 1, 1000.0, +4.6},
 };
 
 const KnownMiss* known(int strike, int listener, double hz) {
@@ -53,17 +53,18 @@ TEST_CASE("air canopy: band levels 63 Hz-4 kHz against the 5 mm reference, three
     const int expected_nodes[3] = {24, 12, 43};   // the centroid, towards the hem, towards the shaft
     int misses = 0, modes_alone_misses = 0, pairs = 0;
     double worst = 0.0;
-    // Under the sanitizers the centroid only: the other two strikes run the same code for another node
-    // (about 0.3 s each in the Release build, the air's modes built again for each).
+    // Under the sanitizers the centroid only: the other two strikes run the same code for another node.
     const int strikes = test::sanitized_build() ? 1 : 3;
+    reference::CanopyBandsSetup s;
+    s.reference.duration_s = 0.2;
+    s.low_hz = 63.0;
+    s.high_hz = 4000.0;
+    Canopy in_air(shape);   // the air's modes built once for the three strikes
+    in_air.set_air(build_air_canopy_modes(in_air, 1.0 / s.fast_rate_hz));
     for (int k = 0; k < strikes; ++k) {
-        reference::CanopyBandsSetup s;
-        s.reference.duration_s = 0.2;
-        s.low_hz = 63.0;
-        s.high_hz = 4000.0;
         const int node = shape.locate(points[k].x, points[k].y).node;
         REQUIRE(node == expected_nodes[k]);   // the cache's strikes
-        const reference::FastCanopyBands f = reference::fast_canopy_bands(s, node);
+        const reference::FastCanopyBands f = reference::fast_canopy_bands(s, in_air, node);
         REQUIRE(f.fast_push.size() == 3);
         for (int l = 0; l < 3; ++l) {
             const auto& heard = f.fast_push[static_cast<std::size_t>(l)];
@@ -96,7 +97,7 @@ TEST_CASE("air canopy: band levels 63 Hz-4 kHz against the 5 mm reference, three
                    << " with the modes' taps alone");
     CHECK(pairs == strikes * 3 * 19);
     if (strikes < 3) return;
-    CHECK(misses <= 9);
+    CHECK(misses <= 6);
     // The push is what brings the bands above the modes in: without it 17 pairs miss.
     CHECK(modes_alone_misses >= 15);
 }

@@ -56,12 +56,13 @@ cplx filter_response(const PushFilters& f, std::size_t node, double hz) {
 
 struct PointView {
     PushPoint point;
-    std::vector<double> density;
+    PushScreen screen;
 };
 
 // The point as the dipoles see it (r, cos(theta) per node; D the nearest node's delay), every node of
-// areal density s.
-PointView view(const Canopy& canopy, Vec3 listener, double s) {
+// areal density s, each node's push from its tile (the disc of its area) or, tiles false, a point.
+PointView view(const Canopy& canopy, Vec3 listener, double s, bool tiles = true) {
+    const AirCanopyModes& m = *canopy.air_modes();
     PointView v;
     double nearest = 1e300;
     for (int k = 0; k < canopy.panel_count(); ++k)
@@ -69,7 +70,9 @@ PointView view(const Canopy& canopy, Vec3 listener, double s) {
             const Vec3 d = listener - canopy.rest_position(k, i);
             v.point.r.push_back(norm(d));
             v.point.cos_theta.push_back(dot(d, canopy.normal(k, i)) / norm(d));
-            v.density.push_back(canopy.panel(k).network.mass(i) > 0.0 ? s : 0.0);
+            v.screen.areal_density.push_back(canopy.panel(k).network.mass(i) > 0.0 ? s : 0.0);
+            const double area = m.node_area[static_cast<std::size_t>(k * canopy.nodes_per_panel() + i)];
+            v.screen.tile_radius.push_back(tiles ? std::sqrt(area / constants::pi) : 0.0);
             nearest = std::min(nearest, norm(d));
         }
     v.point.delay = static_cast<int>(std::floor(nearest / (constants::speed_of_sound_air / rate)));
@@ -102,7 +105,19 @@ TEST_CASE("air push: the crossover's halves are in phase and sum to an all-pass,
     CHECK(push_crossover(*slow.air_modes()).hz == 0.0);
 }
 
-TEST_CASE("air push: a node's filter is the high half of a point force on a limp screen in compressible air") {
+TEST_CASE("air push: a tile's directivity is a uniform disc's, 2 J1(x) / x") {
+    // Values of J1 from Abramowitz & Stegun, table 9.1: J1(1) = 0.4400506, J1(2) = 0.5767248; the first
+    // zero of J1 at 3.8317060.
+    CHECK(tile_directivity(0.0) == 1.0);
+    CHECK(tile_directivity(1e-6) == test::relative(1.0).epsilon(1e-12));
+    CHECK(tile_directivity(1.0) == test::relative(2.0 * 0.4400506).epsilon(1e-6));
+    CHECK(tile_directivity(2.0) == test::relative(0.5767248).epsilon(1e-6));
+    CHECK(std::abs(tile_directivity(3.8317060)) < 1e-6);
+    // The small-x branch meets the Bessel one.
+    CHECK(tile_directivity(0.99e-4) == test::relative(2.0 * std::cyl_bessel_j(1.0, 0.99e-4) / 0.99e-4).epsilon(1e-12));
+}
+
+TEST_CASE("air push: a node's filter is the high half of its tile's force on a limp screen in compressible air") {
     const Canopy& canopy = air_canopy();
     const AirCanopyModes& m = *canopy.air_modes();
     const PushCrossover x = push_crossover(m);
@@ -111,20 +126,24 @@ TEST_CASE("air push: a node's filter is the high half of a point force on a limp
     const int node = canopy.locate(centroid.x, centroid.y).node;   // panel 0
     const Vec3 listener{1.0, 0.0, -0.3};
     const PointView v = view(canopy, listener, s);
-    const PushFilters f = design_push_filters(m, x, v.density, v.point, AirMedium{});
+    const PushFilters f = design_push_filters(m, x, v.screen, v.point, AirMedium{});
     REQUIRE(f.taps > 0);
     const auto e = static_cast<std::size_t>(node);
     const double r = v.point.r[e], cos_theta = v.point.cos_theta[e], lag = v.point.delay / rate;
-    INFO("r " << r << " m, cos(theta) " << cos_theta << ", D T = " << lag * 1e3 << " ms");
+    const double a = v.screen.tile_radius[e], sin_theta = std::sqrt(1.0 - cos_theta * cos_theta);
+    INFO("r " << r << " m, cos(theta) " << cos_theta << ", D T = " << lag * 1e3 << " ms, tile radius " << a << " m");
+    REQUIRE(a > 0.02);   // the centroid's tile: about a 50th of the panel's 0.088 m^2
+    REQUIRE(a < 0.03);
 
-    // The high half of the dipole of f / (1 + i beta |cos(theta)|), at the modes' bulk delay D (air_push.hpp),
-    // the force held over the step: within 1 % from the corner up.
+    // The high half of the dipole of f / (1 + i beta |cos(theta)|) from the node's tile, at the modes' bulk
+    // delay D (air_push.hpp), the force held over the step: within 1 % from the corner up.
     for (double hz : {x.hz, 1.5e3, 2.5e3, 3.0e3, 4.0e3, 6.0e3, 8.0e3, 12.0e3}) {
         const double w = 2.0 * constants::pi * hz;
         const double beta = w * s / (2.0 * rho * c);
         const cplx held = (std::polar(1.0, w / rate) - 1.0) / cplx(0.0, w / rate);
         const cplx expected = half_response(x.high, hz) * cos_theta / (4.0 * constants::pi) * cplx(1.0 / (r * r), w / (c * r)) *
-                              std::polar(1.0, -w * lag) / cplx(1.0, beta * std::abs(cos_theta)) * held;
+                              std::polar(1.0, -w * lag) / cplx(1.0, beta * std::abs(cos_theta)) * held *
+                              (2.0 * std::cyl_bessel_j(1.0, w / c * a * sin_theta) / (w / c * a * sin_theta));
         const cplx got = filter_response(f, e, hz);
         INFO(hz << " Hz: " << got << " against " << expected);
         CHECK(std::abs(got - expected) < 0.01 * std::abs(expected));
@@ -146,8 +165,8 @@ TEST_CASE("air push: a node's filter is the high half of a point force on a limp
         CHECK(std::abs(slope - own - shape - lag) < 2e-6);
     }
     // A node that cannot move (on a rib) has no filter.
-    for (std::size_t i = 0; i < v.density.size(); ++i)
-        if (v.density[i] == 0.0) {
+    for (std::size_t i = 0; i < v.screen.areal_density.size(); ++i)
+        if (v.screen.areal_density[i] == 0.0) {
             bool zero = true;
             for (int j = 0; j < f.taps; ++j) zero = zero && f.fir[i * static_cast<std::size_t>(f.taps) + static_cast<std::size_t>(j)] == 0.0;
             CHECK(zero);
@@ -155,12 +174,13 @@ TEST_CASE("air push: a node's filter is the high half of a point force on a limp
         }
 }
 
-TEST_CASE("air push: a heavy screen's push is the mass law's, the same in every direction") {
+TEST_CASE("air push: a heavy screen's push is the mass law's, the same in every direction for a point") {
     // Far above beta = 1 a point force on a limp plate radiates p = rho0 F / (2 pi r s) whatever the
     // direction (the plate's velocity F / (i omega s) at the trace wavenumber, Rayleigh's integral;
     // Junger & Feit, Sound, Structures, and Their Interaction, 1986, on point-excited plates). Checked at
     // 3 kHz, 3 m away, on a 5 kg/m^2 screen (beta = 110): within 5 % (the near field, 1 / kr = 0.018,
-    // and 1 / beta), at 25 and 70 degrees from the normal.
+    // and 1 / beta), at 25 and 70 degrees from the normal, for a point (tile radius 0); the node's tile
+    // takes its disc's directivity off it, the same 5 %.
     const Canopy& canopy = air_canopy();
     const AirCanopyModes& m = *canopy.air_modes();
     const PushCrossover x = push_crossover(m);
@@ -175,13 +195,19 @@ TEST_CASE("air push: a heavy screen's push is the mass law's, the same in every 
         side = side - dot(side, n) * n;
         side = side / norm(side);
         const Vec3 listener = y - (3.0 * std::cos(a)) * n + (3.0 * std::sin(a)) * side;
-        const PointView v = view(canopy, listener, s);
-        const PushFilters f = design_push_filters(m, x, v.density, v.point, AirMedium{});
-        const double r = v.point.r[e];
+        const PointView point = view(canopy, listener, s, false), tiled = view(canopy, listener, s);
+        const PushFilters f = design_push_filters(m, x, point.screen, point.point, AirMedium{});
+        const PushFilters f_tiled = design_push_filters(m, x, tiled.screen, tiled.point, AirMedium{});
+        const double r = point.point.r[e];
         const double held = std::abs((std::polar(1.0, 2.0 * constants::pi * hz / rate) - 1.0) / cplx(0.0, 2.0 * constants::pi * hz / rate));
         const double mass_law = constants::air_density / (2.0 * constants::pi * r * s) * std::abs(half_response(x.high, hz)) * held;
-        INFO(degrees << " degrees: |p| " << std::abs(filter_response(f, e, hz)) << " Pa/N against " << mass_law);
+        const double k_a_sin = 2.0 * constants::pi * hz / constants::speed_of_sound_air * tiled.screen.tile_radius[e] *
+                               std::sqrt(1.0 - tiled.point.cos_theta[e] * tiled.point.cos_theta[e]);
+        INFO(degrees << " degrees: |p| " << std::abs(filter_response(f, e, hz)) << " Pa/N against " << mass_law << "; tiled "
+                     << std::abs(filter_response(f_tiled, e, hz)) << ", k a sin(theta) " << k_a_sin);
         CHECK(std::abs(filter_response(f, e, hz)) == test::relative(mass_law).epsilon(0.05));
+        CHECK(std::abs(filter_response(f_tiled, e, hz)) == test::relative(mass_law * tile_directivity(k_a_sin)).epsilon(0.05));
+        if (degrees > 45.0) CHECK(tile_directivity(k_a_sin) < 0.9);   // the tile matters there: the check can tell
     }
 }
 
