@@ -2,6 +2,7 @@
 // `ameoto reference`: see reference_command.hpp.
 #include "clients/ameoto/reference_command.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <complex>
@@ -38,6 +39,27 @@ std::string signed_fixed(double x, int digits) {
     char buffer[64];
     std::snprintf(buffer, sizeof buffer, "%+.*f", digits, x);
     return buffer;
+}
+
+// One row of band levels against the reference's: each band's difference (dB), the worst |difference|,
+// the bands past 3 dB, and the text " 62 -1.8 79 +0.3 ..." (centre Hz, difference).
+struct BandRow {
+    std::vector<double> difference;
+    double worst = 0.0;
+    int misses = 0;
+    std::string text;
+};
+
+BandRow band_row(const std::vector<BandLevel>& levels, const std::vector<BandLevel>& reference) {
+    BandRow row;
+    for (std::size_t k = 0; k < levels.size() && k < reference.size(); ++k) {
+        const double d = levels[k].level_db - reference[k].level_db;
+        row.difference.push_back(d);
+        row.worst = std::max(row.worst, std::abs(d));
+        row.misses += std::abs(d) > 3.0 ? 1 : 0;
+        row.text.append(1, ' ').append(fixed(levels[k].centre_hz, 0)).append(1, ' ').append(signed_fixed(d, 1));
+    }
+    return row;
 }
 
 // Collects the figures: text lines as they come, and the JSON object's members.
@@ -310,8 +332,12 @@ void run_canopy_bands(Report& r, double dx) {
     const Point2 c = shape.panel_centroid(0);
     const Point2 points[3] = {c, {c.x * 1.35, c.y + 0.03}, {c.x * 0.55, c.y - 0.02}};
     const char* where[3] = {"0.3 m under the shaft", "1 m to the side", "3 m away"};
-    double worst = 0.0, compressible_worst = 0.0, push_worst = 0.0;
-    std::vector<double> worst_per_case, compressible_per_case, push_per_case;
+    // Per model: the worst band of all, each case's worst, the band-listener pairs past 3 dB and in all.
+    struct Tally {
+        double worst = 0.0;
+        std::vector<double> per_case;
+        int misses = 0, pairs = 0;
+    } alone, push, jump;
     std::vector<std::string> reference_levels;   // per case, per listener: the reference's band levels (JSON)
     std::vector<double> band_hz;
     const AirMassAt compressible = compressible_air_mass(shape, constants::air_density, constants::speed_of_sound_air, 50.0);
@@ -331,18 +357,14 @@ void run_canopy_bands(Report& r, double dx) {
         // record, its modes and its push, from the Laplace transform of its frequency-domain solution.
         const std::vector<std::vector<double>> compressible_p = canopy_time_response(shape, s.reference.panel, b.struck_node, s.listeners,
                                                                                     compressible, constants::speed_of_sound_air);
-        // One row: each band's level less the reference's; the worst |difference| goes to `worst` and `cases`.
-        auto row = [&](std::string label, const std::vector<BandLevel>& levels, const std::vector<BandLevel>& reference,
-                       double& worst_of_all, std::vector<double>& cases) {
-            double w = 0.0;
-            for (std::size_t k = 0; k < levels.size() && k < reference.size(); ++k) {
-                const double d = levels[k].level_db - reference[k].level_db;
-                w = std::max(w, std::abs(d));
-                label.append(1, ' ').append(fixed(levels[k].centre_hz, 0)).append(1, ' ').append(signed_fixed(d, 1));
-            }
-            r.line(label.append(" dB (worst ").append(fixed(w, 1)).append(")"));
-            worst_of_all = std::max(worst_of_all, w);
-            cases.push_back(w);
+        // One row, printed and counted.
+        auto row = [&](const std::string& label, const std::vector<BandLevel>& levels, const std::vector<BandLevel>& reference, Tally& t) {
+            const BandRow b = band_row(levels, reference);
+            r.line(label + b.text + " dB (worst " + fixed(b.worst, 1) + (b.misses ? ", " + std::to_string(b.misses) + " past 3 dB)" : ")"));
+            t.worst = std::max(t.worst, b.worst);
+            t.per_case.push_back(b.worst);
+            t.misses += b.misses;
+            t.pairs += static_cast<int>(b.difference.size());
         };
         std::string case_levels = "[";
         for (std::size_t l = 0; l < b.reference.size(); ++l) {
@@ -356,23 +378,27 @@ void run_canopy_bands(Report& r, double dx) {
         }
         reference_levels.push_back(case_levels + "]");
         for (std::size_t l = 0; l < b.fast.size(); ++l) {
-            row("  " + std::string(where[l]) + ":", b.fast[l], b.reference[l], worst, worst_per_case);
+            row("  " + std::string(where[l]) + ":", b.fast[l], b.reference[l], alone);
             // What the server plays: the modes and the compressible push (air_push.hpp).
-            row("    with the compressible push:", b.fast_push[l], b.reference[l], push_worst, push_per_case);
-            row("    the compressible jump:", third_octave_levels(compressible_p[l], 1.0 / 48000.0, s.low_hz, s.high_hz), b.reference[l],
-                compressible_worst, compressible_per_case);
+            row("    with the compressible push:", b.fast_push[l], b.reference[l], push);
+            row("    the compressible jump:", third_octave_levels(compressible_p[l], 1.0 / 48000.0, s.low_hz, s.high_hz), b.reference[l], jump);
         }
     }
-    const bool ok = push_worst <= 3.0;   // what the server plays: the modes and the compressible push
-    r.line("  worst band, the server's model (its modes and the compressible push) against reference: " + fixed(push_worst, 1) +
-           " dB (target 3 dB): " + r.judge(ok));
-    r.line("  worst band, its modes' taps alone (the model before the push) against reference: " + fixed(worst, 1) + " dB");
-    r.line("  worst band, the compressible jump against reference: " + fixed(compressible_worst, 1) +
-           " dB (not yet the server's model; docs/canopy-air.md)");
+    const bool ok = push.worst <= 3.0;   // what the server plays: the modes and the compressible push
+    auto of = [](const Tally& t) { return std::to_string(t.misses) + " of " + std::to_string(t.pairs) + " band-listener pairs past 3 dB"; };
+    r.line("  worst band, the server's model (its modes and the compressible push) against reference: " + fixed(push.worst, 1) +
+           " dB (target 3 dB): " + r.judge(ok) + "; " + of(push));
+    r.line("  worst band, its modes' taps alone (the model before the push) against reference: " + fixed(alone.worst, 1) + " dB; " + of(alone));
+    r.line("  worst band, the compressible jump against reference: " + fixed(jump.worst, 1) + " dB; " + of(jump) +
+           " (not yet the server's model; docs/canopy-air.md)");
     r.figure("dx_m", dx > 0.0 ? dx : 0.01);
-    r.raw("worst_db", array(worst_per_case));
-    r.raw("compressible_worst_db", array(compressible_per_case));
-    r.raw("push_worst_db", array(push_per_case));
+    r.raw("worst_db", array(alone.per_case));
+    r.raw("compressible_worst_db", array(jump.per_case));
+    r.raw("push_worst_db", array(push.per_case));
+    r.figure("misses", alone.misses);
+    r.figure("compressible_misses", jump.misses);
+    r.figure("push_misses", push.misses);
+    r.figure("pairs", push.pairs);
     // The reference's own levels (each band's energy, dB re 1 Pa^2 s, for the 1 N strike; [strike][listener][band]), as
     // tests/engine/models/air_canopy_bands_test.cpp caches them.
     r.raw("band_hz", array(band_hz));
@@ -446,39 +472,26 @@ void run_canopy_drop(Report& r, double dx) {
     r.line("canopy-drop: a 2 mm drop on node " + std::to_string(b.struck_node) + " of panel " + std::to_string(hit.panel) +
            " (impulse " + fixed(std::abs(impulse) * 1e6, 1) + " uN s, m V " + fixed(momentum * 1e6, 1) + " uN s), dx = " + fixed(s.reference.dx * 1e3, 1) + " mm, " + fixed(seconds, 1) +
            " s, the reference in " + fixed(b.reference_seconds, 1) + " s");
-    // One row: each band's level less the reference's, its worst |difference| and the bands past 3 dB.
-    auto row = [&](std::string label, const std::vector<BandLevel>& levels, std::vector<double>& difference, double& worst, int& misses) {
-        for (std::size_t k = 0; k < levels.size() && k < b.reference[0].size(); ++k) {
-            const double d = levels[k].level_db - b.reference[0][k].level_db;
-            difference.push_back(d);
-            worst = std::max(worst, std::abs(d));
-            misses += std::abs(d) > 3.0 ? 1 : 0;
-            label.append(1, ' ').append(fixed(levels[k].centre_hz, 0)).append(1, ' ').append(signed_fixed(d, 1));
-        }
-        r.line(label + " dB");
-    };
-    std::vector<double> difference, vacuum_difference;
-    double worst = 0.0, vacuum_worst = 0.0;
-    int misses = 0, vacuum_misses = 0;
-    row("  0.3 m under the shaft, the drop scene in air (its modes and push) against the reference:", heard, difference, worst, misses);
+    const BandRow in_air = band_row(heard, b.reference[0]);
+    r.line("  0.3 m under the shaft, the drop scene in air (its modes and push) against the reference:" + in_air.text + " dB");
     // For comparison, not judged: the seed's canopy (`--air off`: in vacuum, heard through the baffled
     // Rayleigh sum) struck by the same drop, against the same reference.
     const DropHeard seed = play_drop(false, diameter, rate, seconds);
-    row("    the same drop in vacuum (--air off):", third_octave_levels(seed.pressure, 1.0 / rate, s.low_hz, s.high_hz), vacuum_difference,
-        vacuum_worst, vacuum_misses);
-    const bool ok = worst <= 3.0;
-    r.line("  worst band " + fixed(worst, 1) + " dB, " + std::to_string(misses) + " of " + std::to_string(difference.size()) +
-           " bands past 3 dB (target 3 dB): " + r.judge(ok) + "; in vacuum " + fixed(vacuum_worst, 1) + " dB, " +
-           std::to_string(vacuum_misses) + " bands past 3 dB");
+    const BandRow in_vacuum = band_row(third_octave_levels(seed.pressure, 1.0 / rate, s.low_hz, s.high_hz), b.reference[0]);
+    r.line("    the same drop in vacuum (--air off):" + in_vacuum.text + " dB");
+    const bool ok = in_air.worst <= 3.0;
+    r.line("  worst band " + fixed(in_air.worst, 1) + " dB, " + std::to_string(in_air.misses) + " of " + std::to_string(in_air.difference.size()) +
+           " bands past 3 dB (target 3 dB): " + r.judge(ok) + "; in vacuum " + fixed(in_vacuum.worst, 1) + " dB, " +
+           std::to_string(in_vacuum.misses) + " bands past 3 dB");
     r.figure("dx_m", s.reference.dx);
     r.figure("impulse_n_s", std::abs(impulse));
     r.figure("momentum_n_s", momentum);
-    r.figure("worst_db", worst);
-    r.figure("misses", misses);
-    r.raw("difference_db", array(difference));
-    r.figure("vacuum_worst_db", vacuum_worst);
-    r.figure("vacuum_misses", vacuum_misses);
-    r.raw("vacuum_difference_db", array(vacuum_difference));
+    r.figure("worst_db", in_air.worst);
+    r.figure("misses", in_air.misses);
+    r.raw("difference_db", array(in_air.difference));
+    r.figure("vacuum_worst_db", in_vacuum.worst);
+    r.figure("vacuum_misses", in_vacuum.misses);
+    r.raw("vacuum_difference_db", array(in_vacuum.difference));
     r.raw("ok", ok ? "true" : "false");
     r.close("canopy-drop");
 }
