@@ -122,7 +122,12 @@ double LodGovernor::prior_for(double diameter_m) const {
 }
 
 bool LodGovernor::lattice_admissible(int full_active, double diameter_m) const {
-    if (!price_.known) return lattice_affordable(diameter_m);   // offline (no prior): reproducible, no spacing
+    if (!price_.known) {
+        // Live before the first measured callback: none (header, "The prior"). Offline (no prior): the
+        // rules alone, reproducible, no spacing.
+        if (price_.prior > 0.0) return false;
+        return lattice_affordable(diameter_m);
+    }
     if (since_full_s_ < settings_.full_spacing_s) return false;
     if (measured_full_s_ < learning_s && full_active > 0) return false;
     return lattice_affordable(diameter_m);

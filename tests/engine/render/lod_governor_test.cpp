@@ -169,7 +169,11 @@ TEST_CASE("lod: the prior per size admits the drops whose breakup fits and keeps
     CHECK_FALSE(g.lattice_affordable(3.89e-3));
     CHECK(g.lattice_affordable(0.1e-3));
     CHECK_FALSE(g.lattice_affordable(8e-3));
-    // Offline-style choices before a load: a loud 5 mm drop is a template, a loud 1.5 mm one a lattice drop.
+    // Before the first measured callback (live: the stream's cold start) no lattice drop, even one whose
+    // prior fits; after it, a loud 5 mm drop is a template and a loud 1.5 mm one a lattice drop.
+    CHECK(g.choose(5e-3, 9.09, 0.4, 0) == LodTier::template_);
+    CHECK(g.choose(1.5e-3, 5.5, 0.05, 0) == LodTier::template_);
+    g.observe_load(0.05, LatticeActivity{0, false}, block);
     CHECK(g.choose(5e-3, 9.09, 0.4, 0) == LodTier::template_);
     CHECK(g.choose(1.5e-3, 5.5, 0.05, 0) == LodTier::full);
     // At a measured 20 % load the 3 mm drop's breakup (0.2 + 0.37) no longer fits under the 50 % limit.
