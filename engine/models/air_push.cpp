@@ -16,10 +16,10 @@ namespace {
 
 using cplx = std::complex<double>;
 
-constexpr double above_top_mode = 1.4;     // the corner over the highest mode
+constexpr double above_top_mode = 1.2;     // the corner over the highest mode
 constexpr double highest_corner = 0.3;     // of the rate
 constexpr double lead_s = 0.5e-3;          // each filter's start before the modes' bulk delay D
-constexpr double length_s = 4.0e-3;        // each filter's length after D
+constexpr double length_s = 4.7e-3;        // each filter's length after D: the high half rings about 5.4 / corner
 constexpr double period_s = 0.02;          // the design's frequency grid: 1 / period apart
 constexpr double roll_from = 0.35, roll_to = 0.45;   // of the rate: the filters' own roll-off
 

@@ -2,8 +2,8 @@
 #pragma once
 // A contact force's push above the canopy's modes, heard through compressible air. A crossover above
 // the highest mode splits the sound: below it the modes and their taps (dipole_radiation.hpp), above it
-// each force the canopy takes, played through its node's short filter: a point force on a limp screen
-// in compressible air.
+// each force the canopy takes, played through its node's short filter: a force on a limp screen in
+// compressible air, leaving from the node's tile.
 //
 // Interface (build phase: allocates; DipoleRadiation builds them when asked):
 //   PushCrossover x = push_crossover(modes);          // x.hz == 0: no room above the modes at this rate
@@ -29,9 +29,14 @@
 // dipole_radiation.hpp), it came within 3 dB of the 10 mm reference in 56 of 63 band-listener pairs
 // from 1 to 4 kHz (docs/canopy-air.md).
 // The crossover: Linkwitz-Riley of order 8 (two fourth-order Butterworths in series, bilinear with the
-// corner prewarped), at 1.4 x the highest mode: its halves are in phase and sum to an all-pass, so the
-// modes below and the push above join without a notch, and the highest mode loses 0.57 dB to it.
-// Linkwitz, "Active crossover networks for noncoincident drivers", JAES 24 (1976).
+// corner prewarped), at 1.2 x the highest mode: its halves are in phase and sum to an all-pass, so the
+// modes below and the push above join without a notch, and the highest mode loses 1.8 dB to it.
+// Linkwitz, "Active crossover networks for noncoincident drivers", JAES 24 (1976). Why 1.2: above the
+// highest mode the modes' taps carry the push at gains tuned to their poles, so the less of the band
+// above the modes they carry, the better; a corner nearer the modes costs their highest more. Against
+// the 5, 7.5 and 10 mm references (171 band-listener pairs each) 1.1 / 1.2 / 1.3 / 1.4 x the highest
+// mode miss 3 dB in 21 / 22 / 24 / 25 pairs in all, with the highest mode 3.3 / 1.8 / 1.0 / 0.57 dB down
+// (docs/canopy-air.md).
 // Each node's push leaves from its tile, not a point: the lattice's node is the fabric of its cell
 // (about 5 cm across on the default canopy), which moves with it in the added mass (air_loading.hpp)
 // and in the reference alike, so its pressure jump spreads over the cell. Heard as a disc of the
@@ -45,7 +50,7 @@
 //   H(omega) = cos(theta) / (4 pi) (1 / r^2 + i omega / (c r)) e^{-i omega D T} / (1 + i beta |cos(theta)|)
 //              x 2 J1(k a sin(theta)) / (k a sin(theta)) x (e^{i omega T} - 1) / (i omega T)
 // (the force held over the step, heard at the step's end), rolled off over 0.35-0.45 of the rate so
-// that it rings for a few samples only before D; from 0.5 ms before D, 4.5 ms long (216 taps at 48 kHz),
+// that it rings for a few samples only before D; from 0.5 ms before D, 5.2 ms long (250 taps at 48 kHz),
 // both ends tapered: 90 dB down below 500 Hz.
 // The delay is the modes' bulk delay D (the nearest node's), not the struck node's own r / c: the
 // modes' taps hear a contact's push at D (each mode's taps are exact at its pole only; 0.4 ms early for
@@ -83,7 +88,7 @@ struct PushFilters {
     std::vector<double> fir;    // [node * taps + j], Pa/N
 };
 
-// At 1.4 x the highest kept mode; none (hz 0) where that is above 0.3 of the rate or no mode is kept.
+// At 1.2 x the highest kept mode; none (hz 0) where that is above 0.3 of the rate or no mode is kept.
 PushCrossover push_crossover(const AirCanopyModes& modes);
 
 PushFilters design_push_filters(const AirCanopyModes& modes, const PushCrossover& crossover, const PushScreen& screen, const PushPoint& point,

@@ -46,8 +46,8 @@
 // hear a contact's push through the incompressible jump. With the push, a crossover above the highest
 // mode (air_push.hpp) hears the modes through its low half, and each force the canopy took in the step
 // (summed per node: AirCanopyState::forced_*) through its node's filter: the high half of a point force
-// on a limp screen in compressible air. Cost: per forced node and channel, the filter's length (4.5 ms:
-// 216 at 48 kHz) multiply-adds a sample; per channel, four biquad sections. With panel gains the
+// on a limp screen in compressible air. Cost: per forced node and channel, the filter's length (5.2 ms:
+// 250 at 48 kHz) multiply-adds a sample; per channel, four biquad sections. With panel gains the
 // filter is the point's at unit gain times the node's panel's gain (a turn changes it at once).
 // Approximated: without the push, the force is the incompressible near field's; the canopy shades
 // nothing and nothing reflects; a curved canopy's pressure jump is its plan's (air_loading.hpp) along

@@ -27,14 +27,17 @@ struct KnownMiss {
     int strike, listener;
     double hz, measured_db;
 };
-// Node 12 (towards the hem) under the shaft at 1.26 kHz: where the crossover's halves overlap, the modes'
-// taps carry the push at gains tuned to the modes' poles. Node 43 (towards the shaft) to the side at
-// 630-1000 Hz, node 12 at 3 m at 198 Hz and node 24 under the shaft at 157 Hz: the modes, whose air is
-// the incompressible mass (the compressible jump, solved offline, is within 3 dB in all of them).
-// (Node 12 to the side at 2.52-4 kHz, +3.0 to +4.2 dB while the push left from a point, came within
-// +2.1 dB when it left from the node's tile: air_push.hpp.)
+// Node 43 (towards the shaft) to the side at 630 and 1000 Hz, node 12 at 3 m at 198 Hz and node 24 under
+// the shaft at 157 Hz: the modes, whose air is the incompressible mass (the compressible jump, solved
+// offline, is within 3 dB in all of them). Gone: node 12 to the side at 2.52-4 kHz (+3.0 to +4.2 dB while
+// the push left from a point; within +2.1 from the node's tile), node 12 under the shaft at 1.26 kHz
+// (-4.4 with the crossover at 1.4 x the highest mode, where the modes' taps carried more of the band at
+// gains tuned to their poles; -2.9 at 1.2 x) and node 43 to the side at 794 Hz (+3.1, now +2.9).
 constexpr KnownMiss known_misses[] = {
-    {0, 0, 157.49, -3.1}, {1, 0, 1259.92, -4.4}, {1, 2, 198.425, +3.1}, {2, 1, 629.961, -4.8}, {2, 1, 793.701, +3.1}, {2, 1, 1000.0, +4.6},
+    {0, 0, 157.49, -3.1},
+    {1, 2, 198.425, +3.1},
+    {2, 1, 629.961, -4.8},
+    {2, 1, 1000.0, +4.3},
 };
 
 const KnownMiss* known(int strike, int listener, double hz) {
@@ -97,7 +100,7 @@ TEST_CASE("air canopy: band levels 63 Hz-4 kHz against the 5 mm reference, three
                    << " with the modes' taps alone");
     CHECK(pairs == strikes * 3 * 19);
     if (strikes < 3) return;
-    CHECK(misses <= 6);
+    CHECK(misses <= 4);
     // The push is what brings the bands above the modes in: without it 17 pairs miss.
     CHECK(modes_alone_misses >= 15);
 }

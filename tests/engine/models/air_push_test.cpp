@@ -87,7 +87,7 @@ TEST_CASE("air push: the crossover's halves are in phase and sum to an all-pass,
     const AirCanopyModes& m = *air_canopy().air_modes();
     const PushCrossover x = push_crossover(m);
     const double top = m.omega.maxCoeff() / (2.0 * constants::pi);
-    CHECK(x.hz == test::relative(1.4 * top).epsilon(1e-12));
+    CHECK(x.hz == test::relative(1.2 * top).epsilon(1e-12));
     double worst_sum = 0.0, worst_phase = 0.0;
     for (double hz = 10.0; hz < 0.5 * rate; hz *= 1.05) {
         const cplx lp = half_response(x.low, hz), hp = half_response(x.high, hz);
@@ -96,12 +96,14 @@ TEST_CASE("air push: the crossover's halves are in phase and sum to an all-pass,
     }
     CHECK(worst_sum < 1e-9);
     CHECK(worst_phase < 1e-9);
-    CHECK(20.0 * std::log10(std::abs(half_response(x.low, top))) > -0.8);   // the highest mode keeps all but 0.7 dB
+    // The highest mode loses 20 log10(1 + (1 / 1.2)^8) = 1.82 dB to the low half.
+    CHECK(20.0 * std::log10(std::abs(half_response(x.low, top))) == doctest::Approx(-1.82).epsilon(0.01));
     CHECK(20.0 * std::log10(std::abs(half_response(x.low, 2.0 * x.hz))) < -45.0);
     CHECK(20.0 * std::log10(std::abs(half_response(x.high, 0.5 * x.hz))) < -45.0);
     // No room above the modes at a low rate: no crossover (the modes alone).
-    Canopy slow(CanopyGeometry{}, MembraneMaterial::nylon_canopy(), 1.0 / 4000.0);
-    slow.set_air(build_air_canopy_modes(slow, 1.0 / 4000.0));
+    // (At 3 kHz the corner, 1.2 x the highest mode, is over 0.3 of the rate.)
+    Canopy slow(CanopyGeometry{}, MembraneMaterial::nylon_canopy(), 1.0 / 3000.0);
+    slow.set_air(build_air_canopy_modes(slow, 1.0 / 3000.0));
     CHECK(push_crossover(*slow.air_modes()).hz == 0.0);
 }
 
@@ -162,6 +164,7 @@ TEST_CASE("air push: a node's filter is the high half of its tile's force on a l
                    (std::polar(1.0, w / rate) - 1.0) / cplx(0.0, w / rate);
         };
         const double shape = -std::arg(rest(hz + dh) / rest(hz - dh)) / (2.0 * constants::pi * 2.0 * dh);
+        INFO(hz << " Hz: delay error " << (slope - own - shape - lag) * 1e6 << " us");
         CHECK(std::abs(slope - own - shape - lag) < 2e-6);
     }
     // A node that cannot move (on a rib) has no filter.
