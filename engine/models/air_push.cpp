@@ -48,10 +48,21 @@ PushCrossover push_crossover(const AirCanopyModes& m) {
     return x;
 }
 
+// J1 by Abramowitz & Stegun's polynomial approximations (9.4.4 for |x| <= 3, error under 1.3e-8 in
+// J1(x) / x; 9.4.6 above, under 4e-8 in the modulus and 9e-8 in the phase): a filter design calls it for
+// every node and bin (200 000 times a listening point), where std::cyl_bessel_j took 45 ms.
 double tile_directivity(double k_a_sin_theta) {
-    const double x = k_a_sin_theta;
-    if (x < 1e-4) return 1.0 - x * x / 8.0;
-    return 2.0 * std::cyl_bessel_j(1.0, x) / x;
+    const double x = std::abs(k_a_sin_theta);
+    if (x <= 3.0) {
+        const double y = (x / 3.0) * (x / 3.0);
+        const double j1_over_x =
+            0.5 + y * (-0.56249985 + y * (0.21093573 + y * (-0.03954289 + y * (0.00443319 + y * (-0.00031761 + y * 0.00001109)))));
+        return 2.0 * j1_over_x;
+    }
+    const double u = 3.0 / x;
+    const double f1 = 0.79788456 + u * (0.00000156 + u * (0.01659667 + u * (0.00017105 + u * (-0.00249511 + u * (0.00113653 + u * -0.00020033)))));
+    const double theta1 = x - 2.35619449 + u * (0.12499612 + u * (0.00005650 + u * (-0.00637879 + u * (0.00074348 + u * (0.00079824 + u * -0.00029166)))));
+    return 2.0 * f1 * std::cos(theta1) / (x * std::sqrt(x));
 }
 
 PushFilters design_push_filters(const AirCanopyModes& m, const PushCrossover& x, const PushScreen& screen, const PushPoint& point,
