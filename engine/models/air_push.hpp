@@ -43,8 +43,8 @@
 // node's area (radius a = sqrt(A / pi)) with a uniform jump, its far field carries the disc's
 // directivity 2 J1(k a sin(theta)) / (k a sin(theta)) (Kinsler et al., Fundamentals of Acoustics,
 // 4th ed., 2000, s. 7.4): -2.8 dB at 4 kHz 63 degrees off the normal, under 0.2 dB below 1 kHz, so the
-// modes' taps keep their points. Against the 5 mm reference it took the side's 2.5-4 kHz bands from
-// up to +4.2 dB to within +2.1 (docs/canopy-air.md). A continuous fabric struck by a drop would have
+// modes' taps keep their points. Against the 5 mm reference the side's 2.5-4 kHz bands are within
+// +2.1 dB from the tile, up to +4.2 from a point (docs/canopy-air.md). A continuous fabric struck by a drop would have
 // no tile (tile_radius 0: a point force).
 // Each filter is the high half times
 //   H(omega) = cos(theta) / (4 pi) (1 / r^2 + i omega / (c r)) e^{-i omega D T} / (1 + i beta |cos(theta)|)
