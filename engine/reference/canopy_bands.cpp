@@ -78,12 +78,16 @@ CanopyBandsResult compare_canopy_bands(const CanopyBandsSetup& setup) {
         const std::vector<double> p = box_index[l] >= 0 ? r.pressure[static_cast<std::size_t>(box_index[l])]
                                                         : double_layer_pressure(on_air, positions, normals, r.sample_interval_s,
                                                                                 setup.listeners[l], constants::speed_of_sound_air, samples);
-        out.reference.push_back(third_octave_levels(p, r.sample_interval_s, setup.low_hz, setup.high_hz));
+        out.reference.push_back(third_octave_levels(p, r.sample_interval_s, setup.low_hz, setup.high_hz, setup.bands));
+        out.reference_pressure.push_back(p);
     }
+    out.reference_interval_s = r.sample_interval_s;
 
     FastCanopyBands fast = fast_canopy_bands(setup, r.struck_node);
     out.fast = std::move(fast.fast);
     out.fast_push = std::move(fast.fast_push);
+    out.fast_pressure = std::move(fast.fast_pressure);
+    out.fast_push_pressure = std::move(fast.fast_push_pressure);
     return out;
 }
 
@@ -106,7 +110,7 @@ FastCanopyBands fast_canopy_bands(const CanopyBandsSetup& setup, const Canopy& c
     layout.points = setup.listeners;
     for (std::size_t l = 0; l < setup.listeners.size(); ++l) layout.channel_point.push_back(static_cast<int>(l));
     const auto steps = static_cast<long>(s.duration_s * setup.fast_rate_hz);
-    auto play = [&](const DipoleOptions& options) {
+    auto play = [&](const DipoleOptions& options, std::vector<std::vector<double>>& heard) {
         Canopy struck(canopy);   // a copy never stepped: each run starts from rest
         DipoleRadiation dipole(struck, layout, dt, AirMedium{}, options);
         std::vector<std::vector<double>> fast(setup.listeners.size(), std::vector<double>(static_cast<std::size_t>(steps)));
@@ -119,12 +123,13 @@ FastCanopyBands fast_canopy_bands(const CanopyBandsSetup& setup, const Canopy& c
             for (std::size_t l = 0; l < p.size(); ++l) fast[l][static_cast<std::size_t>(n)] = p[l];
         }
         std::vector<std::vector<BandLevel>> levels;
-        for (const auto& x : fast) levels.push_back(third_octave_levels(x, dt, setup.low_hz, setup.high_hz));
+        for (const auto& x : fast) levels.push_back(third_octave_levels(x, dt, setup.low_hz, setup.high_hz, setup.bands));
+        heard = std::move(fast);
         return levels;
     };
     FastCanopyBands out;
-    out.fast = play(DipoleOptions{});
-    out.fast_push = play(DipoleOptions{.compressible_push = true});
+    out.fast = play(DipoleOptions{}, out.fast_pressure);
+    out.fast_push = play(DipoleOptions{.compressible_push = true}, out.fast_push_pressure);
     return out;
 }
 

@@ -27,12 +27,17 @@ struct CanopyBandsSetup {
     CanopyInAirSetup reference;       // strike, grid, duration; its listeners are replaced by `listeners`
     std::vector<Vec3> listeners{{0.0, 0.0, -0.3}, {1.0, 0.0, -0.3}, {0.0, 0.0, -3.0}};
     double low_hz = 80.0, high_hz = 630.0;
+    BandFilter bands = BandFilter::ideal;   // how the levels are read (screen_far_field.hpp)
     double fast_rate_hz = 48000.0;
 };
 
 struct CanopyBandsResult {
     std::vector<std::vector<BandLevel>> fast, reference;   // [listener][band]
     std::vector<std::vector<BandLevel>> fast_push;         // the fast model with the compressible push (air_push.hpp)
+    // The signals the levels were read from (Pa; for other band filters, screen_far_field.hpp): the
+    // reference's per listener every reference_interval_s, the fast model's every 1 / fast_rate_hz.
+    std::vector<std::vector<double>> reference_pressure, fast_pressure, fast_push_pressure;
+    double reference_interval_s = 0.0;
     std::vector<bool> inside_box;                          // per listener: the box's pressure (else the double layer)
     int struck_node = -1;
     double reference_seconds = 0.0;                        // the reference's run time (wall clock)
@@ -48,7 +53,8 @@ CanopyBandsResult compare_canopy_bands(const CanopyBandsSetup& setup);
 // heard at setup.listeners by the canopy's air-loaded modes without (fast) and with (fast_push) the
 // compressible push, as compare_canopy_bands plays it. For comparisons against cached reference levels.
 struct FastCanopyBands {
-    std::vector<std::vector<BandLevel>> fast, fast_push;   // [listener][band]
+    std::vector<std::vector<BandLevel>> fast, fast_push;               // [listener][band]
+    std::vector<std::vector<double>> fast_pressure, fast_push_pressure;  // [listener][sample], Pa
 };
 FastCanopyBands fast_canopy_bands(const CanopyBandsSetup& setup, int node);
 // The same with the canopy in air already built and never stepped (setup.reference's geometry and

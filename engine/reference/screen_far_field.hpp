@@ -7,6 +7,7 @@
 //   std::vector<double> p = double_layer_pressure(forces, positions, normals, dt, x, c, samples);
 //                             // Pa at x, sample n at time (n + 1) dt, from each node's force on the air
 //   std::vector<BandLevel> b = third_octave_levels(p, dt, 63.0, 4000.0);   // dB re 1 Pa^2 s per band
+//   third_octave_levels(p, dt, 63.0, 4000.0, BandFilter::iec61260)        // through class-1 band filters
 //
 // The pressure of a thin screen anywhere in free air is its double layer (Kirchhoff-Helmholtz over the
 // two faces: Pierce, Acoustics, 1989, section 4.3): node i's pressure jump times its area is the force
@@ -19,9 +20,17 @@
 // tests/engine/models/air_canopy_test.cpp compares it with the box's own pressure at 0.3 m). Retarded
 // values by linear interpolation, F' by central differences; before the first sample F = 0.
 // Band levels: third-octave bands of nominal centre 1000 * 2^(k/3) Hz and edges centre * 2^(+-1/6)
-// (IEC 61260), each band's energy 2 integral |X(f)|^2 df over its edges, X the signal's Fourier transform
-// evaluated every 1 / (4 N dt) Hz (the rectangular window of the whole record: both models are cut at
-// the same time).
+// (IEC 61260-1's base-2 bands), X the signal's Fourier transform (the rectangular window of the whole
+// record: both models are cut at the same time), each band's energy one of
+//   ideal:    2 integral |X(f)|^2 df between its edges, X evaluated every 1 / (4 N dt) Hz (a brick wall:
+//             a resonance on an edge falls wholly on one side of it);
+//   iec61260: 2 integral |X(f)|^2 |H(f)|^2 df, H the band's filter as a third-octave analyser builds it
+//             (IEC 61260-1:2014, class 1): a 3rd-order Butterworth band-pass with its -3 dB points on the
+//             band's edges, |H|^2 = 1 / (1 + (Q (f/fm - fm/f))^6), Q = 1 / (2^(1/6) - 2^(-1/6)) (the
+//             design ANSI S1.11-2004 describes and analysers such as Couvreur's oct3dsgn realise; it
+//             meets class 1's mask). A resonance on an edge is half in each band, as an instrument
+//             reads it. X from one zero-padded FFT (bins at most 1 / (4 N dt) apart), the filter
+//             summed from fm / 4 to 4 fm (past 70 dB down).
 
 #include <vector>
 
@@ -36,6 +45,10 @@ struct BandLevel {
     double centre_hz = 0.0;
     double level_db = 0.0;   // 10 log10(energy / 1 Pa^2 s)
 };
-std::vector<BandLevel> third_octave_levels(const std::vector<double>& signal, double dt, double lo_hz, double hi_hz);
+enum class BandFilter { ideal, iec61260 };
+std::vector<BandLevel> third_octave_levels(const std::vector<double>& signal, double dt, double lo_hz, double hi_hz,
+                                           BandFilter filter = BandFilter::ideal);
+// |H(f)|^2 of the iec61260 band of centre `centre_hz` at `f_hz` (1 at the centre, 1/2 on the edges).
+double third_octave_filter_power(double centre_hz, double f_hz);
 
 }  // namespace ameoto::reference
