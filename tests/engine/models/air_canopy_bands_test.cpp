@@ -2,7 +2,8 @@
 // Issue 19, part 2, over its whole range: the server's canopy in air (its air-loaded modes heard as
 // dipoles, and the compressible push above them) against the reference's band levels at dx 5 mm, the
 // finest run, cached here because it takes 23 minutes. air_canopy_test.cpp runs the reference itself on
-// its cheap grid (80-630 Hz), which ties this cache to the reference as it is.
+// its cheap grid (80-630 Hz), which ties this cache to the reference as it is. Each band is read as a
+// brick wall between its edges and through IEC 61260-1 class-1 band filters (screen_far_field.hpp).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -14,6 +15,7 @@
 #include "engine/models/air_canopy.hpp"
 #include "engine/models/canopy.hpp"
 #include "engine/reference/canopy_bands.hpp"
+#include "engine/reference/screen_far_field.hpp"
 #include "tests/engine/models/air_canopy_bands_reference.hpp"
 #include "tests/support/timing_scale.hpp"
 
@@ -41,8 +43,22 @@ constexpr KnownMiss known_misses[] = {
     {2, 1, 1000.0, +4.3},
 };
 
-const KnownMiss* known(int strike, int listener, double hz) {
-    for (const KnownMiss& m : known_misses)
+// Read through IEC 61260-1 class-1 band filters (screen_far_field.hpp), where a resonance on a band's edge
+// counts half in each band: node 24's 157 Hz, node 43's 630 and 1000 Hz to the side as above; node 12 under
+// the shaft at 1000 Hz (-2.9 as a brick wall); and node 43 at 3 m at 99 Hz, the skirt of the lowest mode
+// (84.6 Hz; 80.9 Hz in compressible air, docs/canopy-air.md), 2.8-3.0 dB high at all six under-shaft and 3 m
+// pairs. Node 12 at 3 m at 198 Hz is within 3 dB this way (+2.2).
+constexpr KnownMiss known_filtered_misses[] = {
+    {0, 0, 157.49, -3.1},
+    {1, 0, 1000.0, -3.3},
+    {2, 1, 629.961, -4.1},
+    {2, 1, 1000.0, +3.9},
+    {2, 2, 99.2126, +3.0},
+};
+
+template <std::size_t N>
+const KnownMiss* known_in(const KnownMiss (&list)[N], int strike, int listener, double hz) {
+    for (const KnownMiss& m : list)
         if (m.strike == strike && m.listener == listener && std::abs(m.hz / hz - 1.0) < 1e-3) return &m;
     return nullptr;
 }
@@ -55,8 +71,8 @@ TEST_CASE("air canopy: band levels 63 Hz-4 kHz against the 5 mm reference, three
     const Point2 c = shape.panel_centroid(0);
     const Point2 points[3] = {c, {c.x * 1.35, c.y + 0.03}, {c.x * 0.55, c.y - 0.02}};
     const int expected_nodes[3] = {24, 12, 43};   // the centroid, towards the hem, towards the shaft
-    int misses = 0, modes_alone_misses = 0, pairs = 0;
-    double worst = 0.0;
+    int misses = 0, modes_alone_misses = 0, pairs = 0, filtered_misses = 0;
+    double worst = 0.0, filtered_worst = 0.0;
     // Under the sanitizers the centroid only: the other two strikes run the same code for another node.
     const int strikes = test::sanitized_build() ? 1 : 3;
     reference::CanopyBandsSetup s;
@@ -88,20 +104,37 @@ TEST_CASE("air canopy: band levels 63 Hz-4 kHz against the 5 mm reference, three
                 if (std::abs(d) <= 3.0) continue;
                 ++misses;
                 // Every pair past 3 dB is one of the known ones, and no further off than measured.
-                const KnownMiss* m = known(k, l, heard[b].centre_hz);
+                const KnownMiss* m = known_in(known_misses, k, l, heard[b].centre_hz);
                 INFO("node " << node << ", listener " << l << ", " << heard[b].centre_hz << " Hz: " << d << " dB");
                 REQUIRE(m != nullptr);
                 CHECK(d * m->measured_db > 0.0);
                 CHECK(std::abs(d) < std::abs(m->measured_db) + 0.3);
             }
             MESSAGE("node " << node << " listener " << l << ":" << row);
+            // The same record read through the band filters, against the reference's read the same way.
+            const std::vector<reference::BandLevel> filtered = reference::third_octave_levels(
+                f.fast_push_pressure[static_cast<std::size_t>(l)], 1.0 / s.fast_rate_hz, s.low_hz, s.high_hz, reference::BandFilter::iec61260);
+            REQUIRE(filtered.size() == test::canopy_bands_5mm_bands);
+            for (std::size_t b = 0; b < filtered.size(); ++b) {
+                const double d = filtered[b].level_db - test::canopy_bands_5mm_filtered_db[k][l][b];
+                filtered_worst = std::max(filtered_worst, std::abs(d));
+                if (std::abs(d) <= 3.0) continue;
+                ++filtered_misses;
+                const KnownMiss* m = known_in(known_filtered_misses, k, l, filtered[b].centre_hz);
+                INFO("through the band filters: node " << node << ", listener " << l << ", " << filtered[b].centre_hz << " Hz: " << d << " dB");
+                REQUIRE(m != nullptr);
+                CHECK(d * m->measured_db > 0.0);
+                CHECK(std::abs(d) < std::abs(m->measured_db) + 0.3);
+            }
         }
     }
+    MESSAGE(filtered_misses << " pairs past 3 dB through the band filters (worst " << filtered_worst << " dB)");
     MESSAGE(misses << " of " << pairs << " band-listener pairs past 3 dB with the push (worst " << worst << " dB), " << modes_alone_misses
                    << " with the modes' taps alone");
     CHECK(pairs == strikes * 3 * 19);
     if (strikes < 3) return;
     CHECK(misses <= 4);
+    CHECK(filtered_misses <= 5);
     // The push is what brings the bands above the modes in: without it 17 pairs miss.
     CHECK(modes_alone_misses >= 15);
 }
