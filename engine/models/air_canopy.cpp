@@ -71,6 +71,9 @@ std::shared_ptr<const AirCanopyModes> build_air_canopy_modes(const Canopy& canop
             m->largest_shape[static_cast<std::size_t>(j)] =
                 std::max(m->largest_shape[static_cast<std::size_t>(j)], std::abs(m->shape[static_cast<std::size_t>(i) * kept + j]));
     m->node_area.assign(added.area.data(), added.area.data() + added.area.size());
+    // (M + M_a)^-1 = Phi Phi' over the kept modes (Phi' (M + M_a) Phi = I), so M_a (M + M_a)^-1 = (M_a Phi) Phi'.
+    const Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> phi(m->shape.data(), m->nodes, kept);
+    m->instantaneous_push = m->air_force * phi.transpose();
     return m;
 }
 
@@ -79,6 +82,7 @@ void AirCanopyState::init(const AirCanopyModes& m) {
     q_.assign(n, 0.0);
     qd_.assign(n, 0.0);
     p_.assign(n, 0.0);
+    kick_.assign(n, 0.0);
     a_.assign(n, 0.0);
     omega2_.resize(n);
     const auto nodes = static_cast<std::size_t>(m.nodes);
@@ -107,7 +111,7 @@ void AirCanopyState::step(const AirCanopyModes& m) {
         const double* row = m.shape.data() + i * static_cast<std::size_t>(n);
         for (int k = 0; k < n; ++k) p[k] += f * row[k];
     }
-    kernels_->advance(static_cast<std::size_t>(m.modes), q_.data(), qd_.data(), p_.data(), a_.data(), m.t11.data(), m.t12.data(),
+    kernels_->advance(static_cast<std::size_t>(m.modes), q_.data(), qd_.data(), p_.data(), kick_.data(), a_.data(), m.t11.data(), m.t12.data(),
                           m.t21.data(), m.t22.data(), m.time_step_s, 1.0 / m.time_step_s);
     std::swap(pending_, taken_);   // the vectors' buffers trade places: no allocation
     pending_.clear();
@@ -121,7 +125,7 @@ bool AirCanopyState::finite() const {
 }
 
 void AirCanopyState::reset() {
-    for (auto* v : {&q_, &qd_, &p_, &a_})
+    for (auto* v : {&q_, &qd_, &p_, &kick_, &a_})
         for (double& x : *v) x = 0.0;
     pending_.clear();
     taken_.clear();

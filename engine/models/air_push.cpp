@@ -72,6 +72,8 @@ PushFilters design_push_filters(const AirCanopyModes& m, const PushCrossover& x,
     const std::vector<double>& areal_density = screen.areal_density;
     if (areal_density.size() != nodes || screen.tile_radius.size() != nodes || point.r.size() != nodes || point.cos_theta.size() != nodes)
         throw std::invalid_argument("push filters: one density, tile, distance and angle per node");
+    if (m.instantaneous_push.rows() != m.nodes || m.instantaneous_push.cols() != m.nodes)
+        throw std::invalid_argument("push filters: the modes carry no instantaneous push");
     PushFilters out;
     if (!(x.hz > 0.0)) return out;
     const double t = m.time_step_s, rate = 1.0 / t, c = air.speed_of_sound, rho = air.density;
@@ -81,17 +83,36 @@ PushFilters design_push_filters(const AirCanopyModes& m, const PushCrossover& x,
     const int lead = static_cast<int>(std::lround(lead_s * rate));
     out.taps = static_cast<int>(std::lround((lead_s + length_s) * rate));
 
-    // What every node shares at each bin: the high half, the roll-off, the force held over the step, the
-    // modes' bulk delay D (air_push.hpp), 1 / (4 pi).
-    std::vector<cplx> common(static_cast<std::size_t>(half + 1));
+    // What every node shares at each bin: the roll-off, the force held over the step, 1 / (4 pi); and the
+    // two halves.
+    std::vector<cplx> common(static_cast<std::size_t>(half + 1)), low(common.size()), high(common.size());
     for (int b = 1; b <= half; ++b) {
         const double w = 2.0 * constants::pi * b * rate / n;
         const cplx z = std::polar(1.0, w * t);
-        cplx h = fall(b * rate / n, roll_from * rate, roll_to * rate) / (4.0 * constants::pi);
-        for (const Biquad& s : x.high) h *= s.response(z);
         const cplx held = (z - 1.0) / cplx(0.0, w * t);
-        common[static_cast<std::size_t>(b)] = h * held * std::polar(1.0, -w * point.delay * t);
+        common[static_cast<std::size_t>(b)] = fall(b * rate / n, roll_from * rate, roll_to * rate) / (4.0 * constants::pi) * held;
+        cplx l = 1.0, h = 1.0;
+        for (int i = 0; i < 4; ++i) {
+            l *= x.low[i].response(z);
+            h *= x.high[i].response(z);
+        }
+        low[static_cast<std::size_t>(b)] = l;
+        high[static_cast<std::size_t>(b)] = h;
     }
+    // The low half's part: node e's column of M_a (M + M_a)^-1 heard as point forces, each from its own
+    // node at its own delay: S[e, b] = sum_i P[i, e] cos(theta_i) (1 / r_i^2 + i w / (c r_i)) e^{-i w r_i / c},
+    // as two real products (P' G), bin 0 (DC) included.
+    Eigen::MatrixXd g_re(m.nodes, half + 1), g_im(m.nodes, half + 1);
+    for (std::size_t i = 0; i < nodes; ++i) {
+        const double r = point.r[i], cos_theta = point.cos_theta[i];
+        for (int b = 0; b <= half; ++b) {
+            const double w = 2.0 * constants::pi * b * rate / n;
+            const cplx v = cos_theta * cplx(1.0 / (r * r), w / (c * r)) * std::polar(1.0, -w * r / c);
+            g_re(static_cast<Eigen::Index>(i), b) = v.real();
+            g_im(static_cast<Eigen::Index>(i), b) = v.imag();
+        }
+    }
+    const Eigen::MatrixXd s_re = m.instantaneous_push.transpose() * g_re, s_im = m.instantaneous_push.transpose() * g_im;
 
     out.offset.assign(nodes, 0);
     out.fir.assign(nodes * static_cast<std::size_t>(out.taps), 0.0);
@@ -101,18 +122,29 @@ PushFilters design_push_filters(const AirCanopyModes& m, const PushCrossover& x,
         const double a_sin_theta = screen.tile_radius[e] * std::sqrt(std::max(0.0, 1.0 - cos_theta * cos_theta));
         bool moves = false;
         for (std::size_t k = 0; k < modes && !moves; ++k) moves = m.shape[e * modes + k] != 0.0;
-        out.offset[e] = std::max(0, point.delay - lead);
+        // From lead samples before the node's own delay r / c: the spectrum is taken relative to it.
+        const int offset = std::max(0, static_cast<int>(std::floor(r / (c * t))) - lead);
+        out.offset[e] = offset;
         if (!moves || !(s > 0.0)) continue;
-        for (int b = 1; b <= half; ++b) {
+        const auto col = static_cast<Eigen::Index>(e);
+        for (int b = 0; b <= half; ++b) {
             const double w = 2.0 * constants::pi * b * rate / n;
+            const cplx shift = std::polar(1.0, w * offset * t);
+            const cplx column(s_re(col, b), s_im(col, b));
+            if (b == 0) {   // the high half is 0 at DC, the low half 1, the held force 1
+                spectrum[0] = column / (4.0 * constants::pi);
+                continue;
+            }
             const double beta = w * s / (2.0 * rho * c);
-            spectrum[static_cast<std::size_t>(b)] = common[static_cast<std::size_t>(b)] * cos_theta * cplx(1.0 / (r * r), w / (c * r)) /
-                                                    cplx(1.0, beta * std::abs(cos_theta)) * tile_directivity(w / c * a_sin_theta);
+            const cplx push = cos_theta * cplx(1.0 / (r * r), w / (c * r)) * std::polar(1.0, -w * r / c) / cplx(1.0, beta * std::abs(cos_theta)) *
+                              tile_directivity(w / c * a_sin_theta);
+            const auto k = static_cast<std::size_t>(b);
+            spectrum[k] = common[k] * shift * (low[k] * column + high[k] * push);
         }
         // The response over one period: the inverse transform of the real signal's spectrum (each bin and
-        // its mirror; the high half is 0 at DC, the roll-off at Nyquist), as the conjugate of the forward
-        // transform of the conjugate.
-        period[0] = 0.0;
+        // its mirror; the roll-off is 0 at Nyquist), as the conjugate of the forward transform of the
+        // conjugate.
+        period[0] = spectrum[0].real();
         period[static_cast<std::size_t>(half)] = spectrum[static_cast<std::size_t>(half)].real();
         for (int b = 1; b < half; ++b) {
             period[static_cast<std::size_t>(b)] = std::conj(spectrum[static_cast<std::size_t>(b)]);
@@ -122,8 +154,8 @@ PushFilters design_push_filters(const AirCanopyModes& m, const PushCrossover& x,
         double* fir = out.fir.data() + e * static_cast<std::size_t>(out.taps);
         const int edge = std::max(1, out.taps / 16);   // the tail's taper
         for (int tap = 0; tap < out.taps; ++tap) {
-            const double sum = period[static_cast<std::size_t>((out.offset[e] + tap) % n)].real();   // samples from the step
-            // Both ends tapered: the start over half the lead (what rings ahead of D is cut there), the
+            const double sum = period[static_cast<std::size_t>(tap)].real();   // samples from the offset
+            // Both ends tapered: the start over half the lead (what rings ahead of r / c is cut there), the
             // tail over its last sixteenth.
             double taper = 1.0;
             if (tap < lead / 2) taper = 0.5 * (1.0 - std::cos(constants::pi * (tap + 0.5) / (lead / 2)));

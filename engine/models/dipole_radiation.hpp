@@ -10,7 +10,8 @@
 //   d.process(canopy, pressures_pa);            // after canopy.step(): one pressure per channel, Pa;
 //                                               // never allocates
 //   d.delay_samples(channel)                    // D: the bulk delay (the nearest node's, whole samples)
-//   d.coefficients(channel, mode)               // {A, B}: the mode's two taps (below)
+//   d.coefficients(channel, mode)               // {A, B}: the mode's first two taps (below)
+//   d.third_coefficient(channel, mode)          // C: the third, with the push (else 0)
 //   d.push_filters(point)                       // with options.compressible_push: the point's filters
 //
 // Source. A thin screen in free air is a double layer: the pressure at x is
@@ -42,17 +43,26 @@
 // approximation for the spectrum far from the mode (the broadband part of an impact).
 // Cost per sample: 2 x modes x channels multiply-adds (the default canopy: 400 modes; mono 800).
 // Distance floor: r_i >= a_eq / 2, a_eq = sqrt(A_i / pi), as the Rayleigh path (radiation.hpp).
-// The compressible push (DipoleOptions::compressible_push): above the highest mode, the modes' taps
-// hear a contact's push through the incompressible jump. With the push, a crossover above the highest
-// mode (air_push.hpp) hears the modes through its low half, and each force the canopy took in the step
-// (summed per node: AirCanopyState::forced_*) through its node's filter: the high half of a point force
-// on a limp screen in compressible air. Cost: per forced node and channel, the filter's length (5.2 ms:
-// 250 at 48 kHz) multiply-adds a sample; per channel, four biquad sections. With panel gains the
-// filter is the point's at unit gain times the node's panel's gain (a turn changes it at once).
+// The compressible push (DipoleOptions::compressible_push; air_push.hpp): the taps hear each mode's
+// acceleration less its kick, x_k = abar_k - phi_k' f (AirCanopyState::kicks), and each force the canopy
+// took in the step (summed per node: AirCanopyState::forced_*) is heard through its node's filter: its
+// share of the instantaneous push M_a (M + M_a)^-1 f through the double layer below a crossover above the
+// highest mode, the force on a limp screen in compressible air above it. The modes' sound goes through
+// the crossover's low half. x has no instantaneous part, but at DC it is -phi_k' f where the true q'' is
+// 0, and the filters carry the DC the kicks put on the air: so each mode has three taps,
+//   p(t_n + D T) = sum_k A_k x_k[n] + B_k x_k[n-1] + C_k x_k[n-2],
+//   A + B z1 + C z1^2 = H_k lambda T / (1 - e^{-lambda T}) (z1 = e^{-lambda T}),  A + B + C = H_k(0),
+// exact at the pole (the free ring, as above) and at DC (where the kicks' and the filters' near fields
+// cancel; with two taps the 63 Hz band was 6-8 dB off). Cost: 3 x modes x channels multiply-adds a
+// sample for the taps, one pass (air_canopy_kernels.hpp), modes subtractions for x; per forced node and
+// channel, the filter's length (250 at 48 kHz) multiply-adds; per channel, four biquad sections. With
+// panel gains the filter is the point's at unit gain times the node's panel's gain (a turn changes it at
+// once).
 // Approximated: without the push, the force is the incompressible near field's; the canopy shades
 // nothing and nothing reflects; a curved canopy's pressure jump is its plan's (air_loading.hpp) along
 // each node's own normal.
 
+#include <complex>
 #include <utility>
 #include <vector>
 
@@ -63,6 +73,15 @@
 namespace ameoto {
 
 struct AirKernels;
+
+// One mode's taps on a channel: p = A x[n] + B x[n-1] + C x[n-2] (C = 0 with two).
+struct DipoleTaps {
+    double a = 0.0, b = 0.0, c = 0.0;
+};
+// Two taps, exact at the pole: A + B z1 = total, z1 = e^{-lambda T}.
+DipoleTaps dipole_taps_two(std::complex<double> total, std::complex<double> z1);
+// Three taps, exact at the pole (z1 = e^{sT} e^{-i wd T}: s_t = sT, w_t = wd T) and at DC (A + B + C = dc).
+DipoleTaps dipole_taps_three(std::complex<double> total, double s_t, double w_t, double dc);
 
 struct DipoleOptions {
     bool compressible_push = false;   // the push above the modes through compressible air (air_push.hpp)
@@ -95,19 +114,28 @@ public:
         const std::size_t at = static_cast<std::size_t>(channel) * static_cast<std::size_t>(modes_) + static_cast<std::size_t>(mode);
         return {a_[at], b_[at]};
     }
+    // C, on x[n - 2]: with the push (three taps a mode), else 0.
+    double third_coefficient(int channel, int mode) const {
+        const std::size_t at = static_cast<std::size_t>(channel) * static_cast<std::size_t>(modes_) + static_cast<std::size_t>(mode);
+        return three_ ? c_[at] : 0.0;
+    }
+    bool three_taps() const { return three_; }
 
 private:
     const AirKernels* kernels_ = nullptr;   // air_canopy_kernels.hpp, chosen when built
     int channels_ = 0, modes_ = 0;
-    std::vector<double> a_, b_;      // [channel * modes + mode]
-    std::vector<double> previous_;   // each mode's abar[n - 1]
+    std::vector<double> a_, b_, c_;  // [channel * modes + mode]; c_ with the push only
+    std::vector<double> previous_;   // each mode's abar[n - 1] (two taps)
+    bool three_ = false;             // three taps on x = abar - kick (the push)
+    std::vector<double> history_;    // three taps: x[n], x[n-1], x[n-2] in rows of modes, newest_ the latest
+    int newest_ = 0;
     std::vector<int> delay_;         // per channel
     std::vector<double> ring_;       // [channel * length_ + slot]
     int length_ = 1, mask_ = 0, now_ = 0;
     // set_panel_gains: each panel's taps at unit gain [panel * modes + mode], the layout's own taps, the
     // glide's targets and steps [channel * modes + mode].
     int panels_ = 0, glide_left_ = 0;
-    std::vector<double> panel_a_, panel_b_, rest_a_, rest_b_, target_a_, target_b_, step_a_, step_b_;
+    std::vector<double> panel_a_, panel_b_, panel_c_, rest_a_, rest_b_, rest_c_, target_a_, target_b_, target_c_, step_a_, step_b_, step_c_;
     void start_glide(int glide_frames);
     // The compressible push: each point's filters, each channel's point, and each channel's gain per
     // panel ([channel * panels + panel]; the layout's, or a turn's).

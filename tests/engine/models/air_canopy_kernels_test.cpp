@@ -26,21 +26,25 @@ bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; 
 
 }  // namespace
 
-TEST_CASE("lane sums: dot, dot2 and abs_dot are the sums of their terms, for every length's tail") {
+TEST_CASE("lane sums: dot, dot2, dot3 and abs_dot are the sums of their terms, for every length's tail") {
     Random r(7);
     for (std::size_t n : {0u, 1u, 7u, 8u, 9u, 15u, 16u, 17u, 399u, 400u, 403u}) {
-        const auto a = noise(r, n, 1.0), x = noise(r, n, 3.0), b = noise(r, n, 0.5), y = noise(r, n, 2.0);
-        long double dot = 0.0L, dot2 = 0.0L, abs_dot = 0.0L, size = 0.0L;
+        const auto a = noise(r, n, 1.0), x = noise(r, n, 3.0), b = noise(r, n, 0.5), y = noise(r, n, 2.0), c = noise(r, n, 4.0),
+                   z = noise(r, n, 0.25);
+        long double dot = 0.0L, dot2 = 0.0L, dot3 = 0.0L, abs_dot = 0.0L, size = 0.0L;
         for (std::size_t k = 0; k < n; ++k) {
             dot += static_cast<long double>(a[k]) * x[k];
             dot2 += static_cast<long double>(a[k]) * x[k] + static_cast<long double>(b[k]) * y[k];
+            dot3 += static_cast<long double>(a[k]) * x[k] + static_cast<long double>(b[k]) * y[k] + static_cast<long double>(c[k]) * z[k];
             abs_dot += static_cast<long double>(a[k]) * std::fabs(x[k]);
-            size += std::fabs(a[k] * x[k]) + std::fabs(b[k] * y[k]);
+            size += std::fabs(a[k] * x[k]) + std::fabs(b[k] * y[k]) + std::fabs(c[k] * z[k]);
         }
         // Rounding only: n additions of terms whose magnitudes sum to `size`.
         const double tolerance = 1e-15 * static_cast<double>(n + 1) * static_cast<double>(size + 1.0L);
         CHECK(std::fabs(lane_sums::dot(a.data(), x.data(), n) - static_cast<double>(dot)) <= tolerance);
         CHECK(std::fabs(lane_sums::dot2(a.data(), x.data(), b.data(), y.data(), n) - static_cast<double>(dot2)) <= tolerance);
+        CHECK(std::fabs(lane_sums::dot3(a.data(), x.data(), b.data(), y.data(), c.data(), z.data(), n) - static_cast<double>(dot3)) <=
+              tolerance);
         CHECK(std::fabs(lane_sums::abs_dot(a.data(), x.data(), n) - static_cast<double>(abs_dot)) <= tolerance);
     }
     // The order is the header's: term k into running sum k mod 8, folded pairwise, then the tail.
@@ -49,7 +53,7 @@ TEST_CASE("lane sums: dot, dot2 and abs_dot are the sums of their terms, for eve
     CHECK(lane_sums::dot(one.data(), big.data(), 9) == 7.0);
 }
 
-TEST_CASE("air canopy kernels: the AVX2 step and taps give the baseline's bits") {
+TEST_CASE("air canopy kernels: the AVX2 step and taps (two and three a mode) give the baseline's bits") {
     const AirKernels& base = air_kernels_baseline();
     const AirKernels& used = air_kernels();
     CHECK(used.avx2 == cpu_has_avx2());
@@ -59,12 +63,19 @@ TEST_CASE("air canopy kernels: the AVX2 step and taps give the baseline's bits")
         const auto t11 = noise(r, n, 1.0), t12 = noise(r, n, 2e-5), t21 = noise(r, n, 3e4), t22 = noise(r, n, 1.0);
         auto q1 = noise(r, n, 1e-6), qd1 = noise(r, n, 1e-3), p1 = noise(r, n, 10.0), a1 = noise(r, n, 1.0);
         auto q2 = q1, qd2 = qd1, p2 = p1, a2 = a1;
+        std::vector<double> kick1(n, -1.0), kick2(n, -2.0), given(n, 0.0);
         const double t = 1.0 / 48000.0;
         for (int step = 0; step < 50; ++step) {
             if (step % 7 == 3)   // a force now and then (the step clears it)
                 for (std::size_t k = 0; k < n; ++k) p1[k] = p2[k] = r.uniform(-5.0, 5.0);
-            base.advance(n, q1.data(), qd1.data(), p1.data(), a1.data(), t11.data(), t12.data(), t21.data(), t22.data(), t, 1.0 / t);
-            used.advance(n, q2.data(), qd2.data(), p2.data(), a2.data(), t11.data(), t12.data(), t21.data(), t22.data(), t, 1.0 / t);
+            given = p1;
+            base.advance(n, q1.data(), qd1.data(), p1.data(), kick1.data(), a1.data(), t11.data(), t12.data(), t21.data(), t22.data(), t,
+                         1.0 / t);
+            used.advance(n, q2.data(), qd2.data(), p2.data(), kick2.data(), a2.data(), t11.data(), t12.data(), t21.data(), t22.data(), t,
+                         1.0 / t);
+            bool kicks = true;   // the kick is the step's p, then p is cleared
+            for (std::size_t k = 0; k < n; ++k) kicks = kicks && kick1[k] == given[k] && kick2[k] == given[k] && p1[k] == 0.0;
+            CHECK(kicks);
         }
         bool same = true;
         for (std::size_t k = 0; k < n; ++k)
@@ -73,6 +84,10 @@ TEST_CASE("air canopy kernels: the AVX2 step and taps give the baseline's bits")
         const auto a = noise(r, n, 1.0), x = noise(r, n, 3.0), b = noise(r, n, 0.5), y = noise(r, n, 2.0);
         CHECK(same_bits(base.taps(a.data(), x.data(), b.data(), y.data(), n), used.taps(a.data(), x.data(), b.data(), y.data(), n)));
         CHECK(same_bits(base.taps(a.data(), x.data(), b.data(), y.data(), n), lane_sums::dot2(a.data(), x.data(), b.data(), y.data(), n)));
+        const auto c = noise(r, n, 4.0), z = noise(r, n, 0.25);
+        const double three = base.taps3(a.data(), x.data(), b.data(), y.data(), c.data(), z.data(), n);
+        CHECK(same_bits(three, used.taps3(a.data(), x.data(), b.data(), y.data(), c.data(), z.data(), n)));
+        CHECK(same_bits(three, lane_sums::dot3(a.data(), x.data(), b.data(), y.data(), c.data(), z.data(), n)));
     }
 }
 
