@@ -7,7 +7,6 @@
 // Interface (any thread; no allocation):
 //   double s = lane_sums::dot(a, b, n);              // sum a[k] b[k]
 //   double s = lane_sums::dot2(a, x, b, y, n);       // sum a[k] x[k] + b[k] y[k]
-//   double s = lane_sums::dot3(a, x, b, y, c, z, n); // sum (a[k] x[k] + b[k] y[k]) + c[k] z[k]
 //   double s = lane_sums::abs_dot(w, x, n);          // sum w[k] |x[k]|
 //
 // Why: one running sum is one chain of dependent additions (about 4 cycles each), so 400 modes cost
@@ -70,44 +69,12 @@ double lanes(const double* w, const double* x, const double* b, const double* y,
     return s;
 }
 
-// Three products a term, in the same eight running sums: (a x + b y) + c z.
-inline double lanes3(const double* a, const double* x, const double* b, const double* y, const double* c, const double* z,
-                     std::size_t n) {
-    v4d lo{}, hi{};
-    std::size_t k = 0;
-    for (; k + 8 <= n; k += 8) {
-        v4d a0, a1, x0, x1, b0, b1, y0, y1, c0, c1, z0, z1;
-        std::memcpy(&a0, a + k, sizeof a0);
-        std::memcpy(&a1, a + k + 4, sizeof a1);
-        std::memcpy(&x0, x + k, sizeof x0);
-        std::memcpy(&x1, x + k + 4, sizeof x1);
-        std::memcpy(&b0, b + k, sizeof b0);
-        std::memcpy(&b1, b + k + 4, sizeof b1);
-        std::memcpy(&y0, y + k, sizeof y0);
-        std::memcpy(&y1, y + k + 4, sizeof y1);
-        std::memcpy(&c0, c + k, sizeof c0);
-        std::memcpy(&c1, c + k + 4, sizeof c1);
-        std::memcpy(&z0, z + k, sizeof z0);
-        std::memcpy(&z1, z + k + 4, sizeof z1);
-        lo += (a0 * x0 + b0 * y0) + c0 * z0;
-        hi += (a1 * x1 + b1 * y1) + c1 * z1;
-    }
-    const v4d s4 = lo + hi;
-    double s = (s4[0] + s4[2]) + (s4[1] + s4[3]);
-    for (; k < n; ++k) s += (a[k] * x[k] + b[k] * y[k]) + c[k] * z[k];
-    return s;
-}
-
 }  // namespace detail
 
 inline double dot(const double* a, const double* b, std::size_t n) { return detail::lanes<false, false>(a, b, nullptr, nullptr, n); }
 
 inline double dot2(const double* a, const double* x, const double* b, const double* y, std::size_t n) {
     return detail::lanes<false, true>(a, x, b, y, n);
-}
-
-inline double dot3(const double* a, const double* x, const double* b, const double* y, const double* c, const double* z, std::size_t n) {
-    return detail::lanes3(a, x, b, y, c, z, n);
 }
 
 inline double abs_dot(const double* w, const double* x, std::size_t n) { return detail::lanes<true, false>(w, x, nullptr, nullptr, n); }

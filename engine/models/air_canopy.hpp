@@ -19,6 +19,7 @@
 //   s.accelerations()                                    // each mode's mean q'' over the last step
 //   s.kicks()                                            // each mode's phi_k' f over the last step (the
 //                                                        // part of q'' the force gave at once)
+//   s.modal_q(), s.modal_qd()                            // each mode's q, q' after the last step
 //   s.displacement_bound(m), s.velocity_bound(m)         // >= |u|, >= |du/dt| at every node, O(modes)
 //   s.forced_nodes(), s.forced_node(j), s.forced_newtons(j)   // the forces the last step took, summed per
 //                                                        // node (the compressible push: air_push.hpp)
@@ -111,6 +112,8 @@ public:
     double velocity(const AirCanopyModes& m, int node) const { return cached(m, node, qd_, v_, v_stamp_); }
     const double* accelerations() const { return a_.data(); }   // per mode, m/s^2 per unit of q
     const double* kicks() const { return kick_.data(); }         // per mode, the last step's phi_k' f
+    const double* modal_q() const { return q_.data(); }          // per mode, q after the last step
+    const double* modal_qd() const { return qd_.data(); }        // per mode, q' after the last step
     // sum_k max_i |phi_ik| |q_k| >= |u_i| at every node: the collision broad phase's bound, O(modes)
     // where the exact extremes would cost O(nodes x modes).
     double displacement_bound(const AirCanopyModes& m) const { return bound(m, q_, bounds_[0], bound_stamp_[0]); }

@@ -38,10 +38,6 @@ double taps_baseline(const double* a, const double* x, const double* b, const do
     return lane_sums::dot2(a, x, b, y, n);
 }
 
-double taps3_baseline(const double* a, const double* x, const double* b, const double* y, const double* c, const double* z, std::size_t n) {
-    return lane_sums::dot3(a, x, b, y, c, z, n);
-}
-
 }  // namespace
 
 // (clang, the fuzz build's compiler, ignores the pragma: there the "AVX2" pair is baseline code too, which
@@ -57,7 +53,7 @@ void advance_avx2(std::size_t modes, double* q, double* qd, double* p, double* k
     advance_loop(modes, q, qd, p, kick, a, a11, a12, a21, a22, t, inverse_t);
 }
 
-// lane_sums::dot2 and dot3 written again here (its inline body compiled in this region would be another
+// lane_sums::dot2 written again here (its inline body compiled in this region would be another
 // definition of one inline function: the linker could hand the AVX2 one to baseline callers).
 using v4d = double __attribute__((vector_size(32)));
 
@@ -83,43 +79,17 @@ double taps_avx2(const double* a, const double* x, const double* b, const double
     return s;
 }
 
-double taps3_avx2(const double* a, const double* x, const double* b, const double* y, const double* c, const double* z, std::size_t n) {
-    v4d lo{}, hi{};
-    std::size_t k = 0;
-    for (; k + 8 <= n; k += 8) {
-        v4d a0, a1, x0, x1, b0, b1, y0, y1, c0, c1, z0, z1;
-        std::memcpy(&a0, a + k, sizeof a0);
-        std::memcpy(&a1, a + k + 4, sizeof a1);
-        std::memcpy(&x0, x + k, sizeof x0);
-        std::memcpy(&x1, x + k + 4, sizeof x1);
-        std::memcpy(&b0, b + k, sizeof b0);
-        std::memcpy(&b1, b + k + 4, sizeof b1);
-        std::memcpy(&y0, y + k, sizeof y0);
-        std::memcpy(&y1, y + k + 4, sizeof y1);
-        std::memcpy(&c0, c + k, sizeof c0);
-        std::memcpy(&c1, c + k + 4, sizeof c1);
-        std::memcpy(&z0, z + k, sizeof z0);
-        std::memcpy(&z1, z + k + 4, sizeof z1);
-        lo += (a0 * x0 + b0 * y0) + c0 * z0;
-        hi += (a1 * x1 + b1 * y1) + c1 * z1;
-    }
-    const v4d s4 = lo + hi;
-    double s = (s4[0] + s4[2]) + (s4[1] + s4[3]);
-    for (; k < n; ++k) s += (a[k] * x[k] + b[k] * y[k]) + c[k] * z[k];
-    return s;
-}
-
 }  // namespace
 
 #pragma GCC pop_options
 
 const AirKernels& air_kernels_baseline() {
-    static const AirKernels k{advance_baseline, taps_baseline, taps3_baseline, false};
+    static const AirKernels k{advance_baseline, taps_baseline, false};
     return k;
 }
 
 const AirKernels& air_kernels() {
-    static const AirKernels k = cpu_has_avx2() ? AirKernels{advance_avx2, taps_avx2, taps3_avx2, true} : air_kernels_baseline();
+    static const AirKernels k = cpu_has_avx2() ? AirKernels{advance_avx2, taps_avx2, true} : air_kernels_baseline();
     return k;
 }
 

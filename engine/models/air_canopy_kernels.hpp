@@ -1,14 +1,13 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
 // The in-air canopy's per-sample loops over its modes, each in a baseline and an AVX2 version that give
-// the same bits: the modes' step (air_canopy.cpp) and each channel's dipole taps, two a mode or, with the
-// compressible push, three (dipole_radiation.cpp). Between them they are most of a scene's work in air.
+// the same bits: the modes' step (air_canopy.cpp) and each channel's dipole taps (dipole_radiation.cpp).
+// Between them they are most of a scene's work in air.
 //
 // Interface (audio thread; no allocation):
 //   const AirKernels& k = air_kernels();         // AVX2 where the CPU has it (cpu_features.hpp), else baseline
 //   k.advance(modes, q, qd, p, kick, a, t11, t12, t21, t22, T, 1 / T);   // one step of every mode (below)
 //   k.taps(a, x, b, y, n)                        // sum a[k] x[k] + b[k] y[k] (lane_sums.hpp's order)
-//   k.taps3(a, x, b, y, c, z, n)                 // sum (a[k] x[k] + b[k] y[k]) + c[k] z[k] (lane_sums::dot3)
 //   air_kernels_baseline()                       // the baseline pair (the tests compare the two)
 //
 // Bit identity: the same IEEE operations in the same order in both (the step is element by element; the
@@ -27,7 +26,6 @@ struct AirKernels {
     void (*advance)(std::size_t modes, double* q, double* qd, double* p, double* kick, double* a, const double* t11, const double* t12,
                     const double* t21, const double* t22, double t, double inverse_t);
     double (*taps)(const double* a, const double* x, const double* b, const double* y, std::size_t n);
-    double (*taps3)(const double* a, const double* x, const double* b, const double* y, const double* c, const double* z, std::size_t n);
     bool avx2 = false;
 };
 

@@ -38,6 +38,30 @@ DipoleTaps dipole_taps_three(std::complex<double> total, double s_t, double w_t,
     return {dc - b - c, b, c};
 }
 
+StateTaps dipole_state_taps(const DipoleTaps& x, double t11, double t12, double t21, double t22, double t) {
+    // With s[n] = (q[n], q'[n]) after step n and Phi the transition: s[n] = Phi (s[n-1] + (0, T p[n])), so
+    // s[n-1] = Phi^-1 s[n] - (0, T p[n]); and x[n] = (q'[n] - q'[n-1]) / T - p[n] = L s[n] with
+    // L = (e2' - e2' Phi^-1) / T (p[n] cancels). Then x[n-1] = L Phi^-1 s[n] - T L_2 p[n] and
+    // x[n-2] = L Phi^-2 s[n] - T (L Phi^-1)_2 p[n] - T L_2 p[n-1]: the three taps are
+    //   (A L + B L Phi^-1 + C L Phi^-2) s[n] - T (B L_2 + C (L Phi^-1)_2) p[n] - T C L_2 p[n-1].
+    const double det = t11 * t22 - t12 * t21;   // e^{-2 s T}
+    const double i11 = t22 / det, i12 = -t12 / det, i21 = -t21 / det, i22 = t11 / det;   // Phi^-1
+    auto times_inverse = [&](const double (&row)[2], double (&out)[2]) {
+        out[0] = row[0] * i11 + row[1] * i21;
+        out[1] = row[0] * i12 + row[1] * i22;
+    };
+    const double l0[2] = {-i21 / t, (1.0 - i22) / t};
+    double l1[2], l2[2];
+    times_inverse(l0, l1);
+    times_inverse(l1, l2);
+    StateTaps out;
+    out.q = x.a * l0[0] + x.b * l1[0] + x.c * l2[0];
+    out.qd = x.a * l0[1] + x.b * l1[1] + x.c * l2[1];
+    out.kick = -t * (x.b * l0[1] + x.c * l1[1]);
+    out.kick_before = -t * x.c * l0[1];
+    return out;
+}
+
 DipoleRadiation::DipoleRadiation(const Canopy& canopy, const ListenerLayout& layout, double time_step_s, const AirMedium& air,
                                  const DipoleOptions& options) {
     const AirCanopyModes* m = canopy.air_modes();
@@ -52,13 +76,18 @@ DipoleRadiation::DipoleRadiation(const Canopy& canopy, const ListenerLayout& lay
     const int panels = canopy.panel_count(), nodes = canopy.nodes_per_panel();
     modes_ = m->modes;
     const double c = air.speed_of_sound, t = time_step_s;
-    a_.assign(static_cast<std::size_t>(channels_) * static_cast<std::size_t>(modes_), 0.0);
-    b_.assign(a_.size(), 0.0);
+    // With the push, the crossover first: where there is room for it above the modes, the taps hear each
+    // mode's acceleration less its kick, as a dot with its state (header).
+    if (options.compressible_push) crossover_ = push_crossover(*m);
+    state_taps_ = crossover_.hz > 0.0;
+    tap_sets_ = state_taps_ ? 4 : 2;
+    const std::size_t size = static_cast<std::size_t>(channels_) * static_cast<std::size_t>(modes_);
+    for (int j = 0; j < tap_sets_; ++j) taps_[j].assign(size, 0.0);
     delay_.assign(static_cast<std::size_t>(channels_), 0);
     const std::complex<double> i1(0.0, 1.0);
     std::vector<double> r(static_cast<std::size_t>(panels * nodes)), cos_theta(r.size()), gain(r.size());
-    // One point's taps: r, cos(theta) per element, its delay D, and each mode's {A, B} (and C, with the
-    // push) for the element weights w (a panel gain per element; 0 skips the element).
+    // One point's taps: r, cos(theta) per element, its delay D, and each mode's taps for the element
+    // weights w (a panel gain per element; 0 skips the element).
     auto distances = [&](const Vec3& x, int& delay) {
         double nearest = 1e300;
         for (int k = 0; k < panels; ++k)
@@ -74,12 +103,8 @@ DipoleRadiation::DipoleRadiation(const Canopy& canopy, const ListenerLayout& lay
             }
         delay = static_cast<int>(std::floor(nearest / (c * t)));
     };
-    // With the push, the crossover first: the taps hear each mode's acceleration less its kick, three a
-    // mode (header), where there is room for it above the modes.
-    if (options.compressible_push) crossover_ = push_crossover(*m);
-    three_ = crossover_.hz > 0.0;
-    if (three_) c_.assign(a_.size(), 0.0);
-    auto taps = [&](int delay, double* a, double* b, double* third) {
+    // Writes mode q's taps of set j at out[j][at + q].
+    auto taps = [&](int delay, std::vector<double>* out, std::size_t at) {
         for (int q = 0; q < modes_; ++q) {
             const double w = m->omega[q], s = m->rate[q];
             const std::complex<double> lambda = -s + i1 * std::sqrt(std::complex<double>(w * w - s * s));
@@ -89,19 +114,27 @@ DipoleRadiation::DipoleRadiation(const Canopy& canopy, const ListenerLayout& lay
                 const double force = m->air_force(static_cast<Eigen::Index>(e), q);
                 if (force == 0.0 || gain[e] == 0.0) continue;
                 const double shift = r[e] / c - delay * t;
-                const double near = gain[e] * cos_theta[e] * force / (4.0 * constants::pi);
-                h += near * std::exp(-lambda * shift) * (1.0 / (r[e] * r[e]) + lambda / (c * r[e]));
-                h0 += near / (r[e] * r[e]);
+                const double weight = gain[e] * cos_theta[e] * force / (4.0 * constants::pi);
+                h += weight * std::exp(-lambda * shift) * (1.0 / (r[e] * r[e]) + lambda / (c * r[e]));
+                h0 += weight / (r[e] * r[e]);
             }
             // From the mean acceleration over the step to q'' at its end (header).
             const std::complex<double> z1 = std::exp(-lambda * t);
             const std::complex<double> lt = lambda * t;
             const std::complex<double> mean_to_end = std::abs(lt) < 1e-9 ? std::complex<double>(1.0) : lt / (1.0 - z1);
-            const DipoleTaps d = three_ ? dipole_taps_three(h * mean_to_end, s * t, std::imag(lambda) * t, h0)
-                                        : dipole_taps_two(h * mean_to_end, z1);
-            a[q] = d.a;
-            b[q] = d.b;
-            if (third != nullptr) third[q] = d.c;
+            const auto k = at + static_cast<std::size_t>(q);
+            if (!state_taps_) {
+                const DipoleTaps d = dipole_taps_two(h * mean_to_end, z1);
+                out[0][k] = d.a;
+                out[1][k] = d.b;
+                continue;
+            }
+            const StateTaps d = dipole_state_taps(dipole_taps_three(h * mean_to_end, s * t, std::imag(lambda) * t, h0), m->t11[q], m->t12[q],
+                                                  m->t21[q], m->t22[q], t);
+            out[0][k] = d.q;
+            out[1][k] = d.qd;
+            out[2][k] = d.kick;
+            out[3][k] = d.kick_before;
         }
     };
     for (int ch = 0; ch < channels_; ++ch) {
@@ -116,35 +149,27 @@ DipoleRadiation::DipoleRadiation(const Canopy& canopy, const ListenerLayout& lay
         int delay = 0;
         distances(x, delay);
         delay_[static_cast<std::size_t>(ch)] = delay;
-        const std::size_t at = static_cast<std::size_t>(ch) * static_cast<std::size_t>(modes_);
-        taps(delay, a_.data() + at, b_.data() + at, c_.empty() ? nullptr : c_.data() + at);
+        taps(delay, taps_, static_cast<std::size_t>(ch) * static_cast<std::size_t>(modes_));
     }
     // One point heard through panel gains (the panned formats): each panel's own taps at unit gain, so a
     // head's turn re-mixes them (set_panel_gains) as the Rayleigh path re-mixes its panel sums. The
     // taps are linear in the weights: the channels' own are these mixed by their gains (to rounding).
     const bool one_point = std::all_of(layout.channel_point.begin(), layout.channel_point.end(), [](int p) { return p == 0; });
     if (!layout.panel_gain.empty() && one_point && channels_ > 1) {
-        panel_a_.assign(static_cast<std::size_t>(panels) * static_cast<std::size_t>(modes_), 0.0);
-        panel_b_.assign(panel_a_.size(), 0.0);
-        if (!c_.empty()) panel_c_.assign(panel_a_.size(), 0.0);
+        for (int j = 0; j < tap_sets_; ++j) panel_[j].assign(static_cast<std::size_t>(panels) * static_cast<std::size_t>(modes_), 0.0);
         int delay = 0;
         distances(layout.points[0], delay);
         for (int k = 0; k < panels; ++k) {
             std::fill(gain.begin(), gain.end(), 0.0);
             for (int i = 0; i < nodes; ++i) gain[static_cast<std::size_t>(k * nodes + i)] = 1.0;
-            const std::size_t at = static_cast<std::size_t>(k) * static_cast<std::size_t>(modes_);
-            taps(delay, panel_a_.data() + at, panel_b_.data() + at, panel_c_.empty() ? nullptr : panel_c_.data() + at);
+            taps(delay, panel_, static_cast<std::size_t>(k) * static_cast<std::size_t>(modes_));
         }
         panels_ = panels;
-        rest_a_ = a_;
-        rest_b_ = b_;
-        rest_c_ = c_;
-        target_a_ = a_;
-        target_b_ = b_;
-        target_c_ = c_;
-        step_a_.assign(a_.size(), 0.0);
-        step_b_.assign(b_.size(), 0.0);
-        step_c_.assign(c_.size(), 0.0);
+        for (int j = 0; j < tap_sets_; ++j) {
+            rest_[j] = taps_[j];
+            target_[j] = taps_[j];
+            step_[j].assign(taps_[j].size(), 0.0);
+        }
     }
     int longest = 0;
     for (int d : delay_) longest = std::max(longest, d + 1);
@@ -180,8 +205,7 @@ DipoleRadiation::DipoleRadiation(const Canopy& canopy, const ListenerLayout& lay
         push_rest_gain_ = push_gain_;
         low_.assign(static_cast<std::size_t>(channels_), LowPassState{});
     }
-    previous_.assign(static_cast<std::size_t>(modes_), 0.0);
-    if (three_) history_.assign(3 * static_cast<std::size_t>(modes_), 0.0);
+    previous_.assign(static_cast<std::size_t>(modes_), 0.0);   // abar[n - 1], or the kick before
     kernels_ = &air_kernels();   // here, in the build phase (the first call initialises a static)
     length_ = 1;
     while (length_ <= longest) length_ *= 2;
@@ -196,46 +220,45 @@ void DipoleRadiation::process(const Canopy& canopy, double* pressures_pa) {
         for (int ch = 0; ch < channels_; ++ch) pressures_pa[ch] = 0.0;
         return;
     }
-    const double* acc = canopy.air_state().accelerations();
+    const AirCanopyState& state = canopy.air_state();
     const auto modes = static_cast<std::size_t>(modes_);
     if (glide_left_ > 0) {   // a head's turn: the taps glide to their new mix (set_panel_gains)
         if (--glide_left_ == 0) {
-            a_ = target_a_;   // same sizes: copies, no allocation
-            b_ = target_b_;
-            c_ = target_c_;
+            for (int j = 0; j < tap_sets_; ++j) taps_[j] = target_[j];   // same sizes: copies, no allocation
         } else {
-            for (std::size_t i = 0; i < a_.size(); ++i) {
-                a_[i] += step_a_[i];
-                b_[i] += step_b_[i];
-            }
-            for (std::size_t i = 0; i < c_.size(); ++i) c_[i] += step_c_[i];
+            for (int j = 0; j < tap_sets_; ++j)
+                for (std::size_t i = 0; i < taps_[j].size(); ++i) taps_[j][i] += step_[j][i];
         }
     }
-    if (!push_.empty()) play_push(canopy.air_state());
-    // With the push: x[n] = abar[n] - kick[n], into the oldest of the three rows (x[n - 1] and x[n - 2]
-    // are the other two).
-    const double* x[3] = {nullptr, nullptr, nullptr};
-    if (three_) {
-        newest_ = newest_ == 2 ? 0 : newest_ + 1;
-        double* const row = history_.data() + static_cast<std::size_t>(newest_) * modes;
-        const double* kick = canopy.air_state().kicks();
-        for (std::size_t k = 0; k < modes; ++k) row[k] = acc[k] - kick[k];
-        for (int j = 0; j < 3; ++j) x[j] = history_.data() + static_cast<std::size_t>((newest_ + 3 - j) % 3) * modes;
-    }
+    if (!push_.empty()) play_push(state);
+    // Two taps on abar[n], abar[n - 1]; or, with the push, the state after the step and, while a kick is
+    // less than two steps old, the kicks (header).
+    const bool kicked = state_taps_ && state.forced_nodes() > 0;
+    const bool kicks = kicked || kicked_before_;
+    const double* x = state_taps_ ? state.modal_q() : state.accelerations();
+    const double* y = state_taps_ ? state.modal_qd() : previous_.data();
     for (int ch = 0; ch < channels_; ++ch) {
         const std::size_t base = static_cast<std::size_t>(ch) * modes;
         double* const row = ring_.data() + static_cast<std::size_t>(ch) * static_cast<std::size_t>(length_);
-        // sum_k A_k abar_k[n] + B_k abar_k[n-1], in eight running sums (lane_sums.hpp: one would be a chain
-        // of 800 dependent additions a sample), AVX2 where the CPU has it (the same bits).
-        const double y = three_ ? kernels_->taps3(a_.data() + base, x[0], b_.data() + base, x[1], c_.data() + base, x[2], modes)
-                                : kernels_->taps(a_.data() + base, acc, b_.data() + base, previous_.data(), modes);
-        const double heard = std::isfinite(y) ? y : 0.0;
+        // sum_k A_k x_k + B_k y_k, in eight running sums (lane_sums.hpp: one would be a chain of 800 dependent
+        // additions a sample), AVX2 where the CPU has it (the same bits).
+        double p = kernels_->taps(taps_[0].data() + base, x, taps_[1].data() + base, y, modes);
+        if (kicks) p += kernels_->taps(taps_[2].data() + base, state.kicks(), taps_[3].data() + base, previous_.data(), modes);
+        const double heard = std::isfinite(p) ? p : 0.0;
         // With the push, the modes are heard through the crossover's low half (air_push.hpp).
         row[(now_ + delay_[static_cast<std::size_t>(ch)]) & mask_] += push_.empty() ? heard : low_[static_cast<std::size_t>(ch)].process(crossover_, heard);
         pressures_pa[ch] = row[now_];
         row[now_] = 0.0;
     }
-    if (!three_) std::copy(acc, acc + modes, previous_.begin());
+    if (!state_taps_) {
+        const double* acc = state.accelerations();
+        std::copy(acc, acc + modes, previous_.begin());
+    } else if (kicked) {
+        std::copy(state.kicks(), state.kicks() + modes, previous_.begin());
+    } else if (kicked_before_) {
+        std::fill(previous_.begin(), previous_.end(), 0.0);   // this step's kicks, all 0
+    }
+    kicked_before_ = kicked;
     now_ = (now_ + 1) & mask_;
 }
 
@@ -264,7 +287,7 @@ void DipoleRadiation::play_push(const AirCanopyState& state) {
 
 void DipoleRadiation::reset() {
     std::fill(previous_.begin(), previous_.end(), 0.0);
-    std::fill(history_.begin(), history_.end(), 0.0);
+    kicked_before_ = false;
     std::fill(ring_.begin(), ring_.end(), 0.0);
     for (LowPassState& l : low_) l.reset();
 }
@@ -273,19 +296,13 @@ bool DipoleRadiation::set_panel_gains(const double* gains, int glide_frames) {
     if (panels_ == 0) return false;
     if (!push_gain_.empty()) std::copy(gains, gains + push_gain_.size(), push_gain_.begin());
     const auto modes = static_cast<std::size_t>(modes_);
-    for (int ch = 0; ch < channels_; ++ch)
-        for (std::size_t q = 0; q < modes; ++q) {
-            double a = 0.0, b = 0.0, third = 0.0;
-            for (int k = 0; k < panels_; ++k) {
-                const double g = gains[ch * panels_ + k];
-                a += g * panel_a_[static_cast<std::size_t>(k) * modes + q];
-                b += g * panel_b_[static_cast<std::size_t>(k) * modes + q];
-                if (!panel_c_.empty()) third += g * panel_c_[static_cast<std::size_t>(k) * modes + q];
+    for (int j = 0; j < tap_sets_; ++j)
+        for (int ch = 0; ch < channels_; ++ch)
+            for (std::size_t q = 0; q < modes; ++q) {
+                double sum = 0.0;
+                for (int k = 0; k < panels_; ++k) sum += gains[ch * panels_ + k] * panel_[j][static_cast<std::size_t>(k) * modes + q];
+                target_[j][static_cast<std::size_t>(ch) * modes + q] = sum;
             }
-            target_a_[static_cast<std::size_t>(ch) * modes + q] = a;
-            target_b_[static_cast<std::size_t>(ch) * modes + q] = b;
-            if (!target_c_.empty()) target_c_[static_cast<std::size_t>(ch) * modes + q] = third;
-        }
     start_glide(glide_frames);
     return true;
 }
@@ -293,26 +310,19 @@ bool DipoleRadiation::set_panel_gains(const double* gains, int glide_frames) {
 bool DipoleRadiation::set_rest_gains(int glide_frames) {
     if (panels_ == 0) return false;
     push_gain_ = push_rest_gain_;   // same size: a copy, no allocation
-    target_a_ = rest_a_;
-    target_b_ = rest_b_;
-    target_c_ = rest_c_;
+    for (int j = 0; j < tap_sets_; ++j) target_[j] = rest_[j];
     start_glide(glide_frames);
     return true;
 }
 
 void DipoleRadiation::start_glide(int glide_frames) {
     if (glide_frames <= 0) {
-        a_ = target_a_;
-        b_ = target_b_;
-        c_ = target_c_;
+        for (int j = 0; j < tap_sets_; ++j) taps_[j] = target_[j];
         glide_left_ = 0;
         return;
     }
-    for (std::size_t i = 0; i < a_.size(); ++i) {   // from where the taps are now (mid-glide too)
-        step_a_[i] = (target_a_[i] - a_[i]) / glide_frames;
-        step_b_[i] = (target_b_[i] - b_[i]) / glide_frames;
-    }
-    for (std::size_t i = 0; i < c_.size(); ++i) step_c_[i] = (target_c_[i] - c_[i]) / glide_frames;
+    for (int j = 0; j < tap_sets_; ++j)   // from where the taps are now (mid-glide too)
+        for (std::size_t i = 0; i < taps_[j].size(); ++i) step_[j][i] = (target_[j][i] - taps_[j][i]) / glide_frames;
     glide_left_ = glide_frames;
 }
 

@@ -10,8 +10,8 @@
 //   d.process(canopy, pressures_pa);            // after canopy.step(): one pressure per channel, Pa;
 //                                               // never allocates
 //   d.delay_samples(channel)                    // D: the bulk delay (the nearest node's, whole samples)
-//   d.coefficients(channel, mode)               // {A, B}: the mode's first two taps (below)
-//   d.third_coefficient(channel, mode)          // C: the third, with the push (else 0)
+//   d.coefficients(channel, mode)               // {A, B}: the mode's two taps (below)
+//   d.tap(channel, mode, set), d.state_taps()   // with the push: its four (below)
 //   d.push_filters(point)                       // with options.compressible_push: the point's filters
 //
 // Source. A thin screen in free air is a double layer: the pressure at x is
@@ -82,6 +82,13 @@ struct DipoleTaps {
 DipoleTaps dipole_taps_two(std::complex<double> total, std::complex<double> z1);
 // Three taps, exact at the pole (z1 = e^{sT} e^{-i wd T}: s_t = sT, w_t = wd T) and at DC (A + B + C = dc).
 DipoleTaps dipole_taps_three(std::complex<double> total, double s_t, double w_t, double dc);
+// The same three taps on x = abar - kick as what the push path runs: a dot with the mode's state after
+// the step and its last two kicks, p = q q[n] + qd q'[n] + kick p[n] + kick_before p[n-1] (the mode's
+// transition t11..t22 over T; the header's algebra in dipole_radiation.cpp).
+struct StateTaps {
+    double q = 0.0, qd = 0.0, kick = 0.0, kick_before = 0.0;
+};
+StateTaps dipole_state_taps(const DipoleTaps& taps, double t11, double t12, double t21, double t22, double t);
 
 struct DipoleOptions {
     bool compressible_push = false;   // the push above the modes through compressible air (air_push.hpp)
@@ -110,32 +117,31 @@ public:
                    ? &push_[static_cast<std::size_t>(point)]
                    : nullptr;
     }
-    std::pair<double, double> coefficients(int channel, int mode) const {
+    std::pair<double, double> coefficients(int channel, int mode) const { return {tap(channel, mode, 0), tap(channel, mode, 1)}; }
+    // Set j of a mode's taps on a channel: without the push A (on abar[n]), B (on abar[n-1]); with it
+    // (state_taps()) the StateTaps q, qd, kick, kick_before; 0 for a set not used.
+    double tap(int channel, int mode, int set) const {
         const std::size_t at = static_cast<std::size_t>(channel) * static_cast<std::size_t>(modes_) + static_cast<std::size_t>(mode);
-        return {a_[at], b_[at]};
+        return set >= 0 && set < tap_sets_ ? taps_[set][at] : 0.0;
     }
-    // C, on x[n - 2]: with the push (three taps a mode), else 0.
-    double third_coefficient(int channel, int mode) const {
-        const std::size_t at = static_cast<std::size_t>(channel) * static_cast<std::size_t>(modes_) + static_cast<std::size_t>(mode);
-        return three_ ? c_[at] : 0.0;
-    }
-    bool three_taps() const { return three_; }
+    bool state_taps() const { return state_taps_; }
 
 private:
     const AirKernels* kernels_ = nullptr;   // air_canopy_kernels.hpp, chosen when built
     int channels_ = 0, modes_ = 0;
-    std::vector<double> a_, b_, c_;  // [channel * modes + mode]; c_ with the push only
-    std::vector<double> previous_;   // each mode's abar[n - 1] (two taps)
-    bool three_ = false;             // three taps on x = abar - kick (the push)
-    std::vector<double> history_;    // three taps: x[n], x[n-1], x[n-2] in rows of modes, newest_ the latest
-    int newest_ = 0;
+    // The taps, [set][channel * modes + mode]: two sets (A, B on abar), or four with the push (StateTaps).
+    std::vector<double> taps_[4];
+    int tap_sets_ = 2;
+    bool state_taps_ = false;
+    std::vector<double> previous_;   // each mode's abar[n - 1]; with the push, its kick a step before
+    bool kicked_before_ = false;     // with the push: the step before took a force
     std::vector<int> delay_;         // per channel
     std::vector<double> ring_;       // [channel * length_ + slot]
     int length_ = 1, mask_ = 0, now_ = 0;
-    // set_panel_gains: each panel's taps at unit gain [panel * modes + mode], the layout's own taps, the
-    // glide's targets and steps [channel * modes + mode].
+    // set_panel_gains: each panel's taps at unit gain [set][panel * modes + mode], the layout's own taps,
+    // the glide's targets and steps [set][channel * modes + mode].
     int panels_ = 0, glide_left_ = 0;
-    std::vector<double> panel_a_, panel_b_, panel_c_, rest_a_, rest_b_, rest_c_, target_a_, target_b_, target_c_, step_a_, step_b_, step_c_;
+    std::vector<double> panel_[4], rest_[4], target_[4], step_[4];
     void start_glide(int glide_frames);
     // The compressible push: each point's filters, each channel's point, and each channel's gain per
     // panel ([channel * panels + panel]; the layout's, or a turn's).

@@ -26,25 +26,21 @@ bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; 
 
 }  // namespace
 
-TEST_CASE("lane sums: dot, dot2, dot3 and abs_dot are the sums of their terms, for every length's tail") {
+TEST_CASE("lane sums: dot, dot2 and abs_dot are the sums of their terms, for every length's tail") {
     Random r(7);
     for (std::size_t n : {0u, 1u, 7u, 8u, 9u, 15u, 16u, 17u, 399u, 400u, 403u}) {
-        const auto a = noise(r, n, 1.0), x = noise(r, n, 3.0), b = noise(r, n, 0.5), y = noise(r, n, 2.0), c = noise(r, n, 4.0),
-                   z = noise(r, n, 0.25);
-        long double dot = 0.0L, dot2 = 0.0L, dot3 = 0.0L, abs_dot = 0.0L, size = 0.0L;
+        const auto a = noise(r, n, 1.0), x = noise(r, n, 3.0), b = noise(r, n, 0.5), y = noise(r, n, 2.0);
+        long double dot = 0.0L, dot2 = 0.0L, abs_dot = 0.0L, size = 0.0L;
         for (std::size_t k = 0; k < n; ++k) {
             dot += static_cast<long double>(a[k]) * x[k];
             dot2 += static_cast<long double>(a[k]) * x[k] + static_cast<long double>(b[k]) * y[k];
-            dot3 += static_cast<long double>(a[k]) * x[k] + static_cast<long double>(b[k]) * y[k] + static_cast<long double>(c[k]) * z[k];
             abs_dot += static_cast<long double>(a[k]) * std::fabs(x[k]);
-            size += std::fabs(a[k] * x[k]) + std::fabs(b[k] * y[k]) + std::fabs(c[k] * z[k]);
+            size += std::fabs(a[k] * x[k]) + std::fabs(b[k] * y[k]);
         }
         // Rounding only: n additions of terms whose magnitudes sum to `size`.
         const double tolerance = 1e-15 * static_cast<double>(n + 1) * static_cast<double>(size + 1.0L);
         CHECK(std::fabs(lane_sums::dot(a.data(), x.data(), n) - static_cast<double>(dot)) <= tolerance);
         CHECK(std::fabs(lane_sums::dot2(a.data(), x.data(), b.data(), y.data(), n) - static_cast<double>(dot2)) <= tolerance);
-        CHECK(std::fabs(lane_sums::dot3(a.data(), x.data(), b.data(), y.data(), c.data(), z.data(), n) - static_cast<double>(dot3)) <=
-              tolerance);
         CHECK(std::fabs(lane_sums::abs_dot(a.data(), x.data(), n) - static_cast<double>(abs_dot)) <= tolerance);
     }
     // The order is the header's: term k into running sum k mod 8, folded pairwise, then the tail.
@@ -53,7 +49,7 @@ TEST_CASE("lane sums: dot, dot2, dot3 and abs_dot are the sums of their terms, f
     CHECK(lane_sums::dot(one.data(), big.data(), 9) == 7.0);
 }
 
-TEST_CASE("air canopy kernels: the AVX2 step and taps (two and three a mode) give the baseline's bits") {
+TEST_CASE("air canopy kernels: the AVX2 step and taps give the baseline's bits, and the step's kicks are its forces") {
     const AirKernels& base = air_kernels_baseline();
     const AirKernels& used = air_kernels();
     CHECK(used.avx2 == cpu_has_avx2());
@@ -84,10 +80,6 @@ TEST_CASE("air canopy kernels: the AVX2 step and taps (two and three a mode) giv
         const auto a = noise(r, n, 1.0), x = noise(r, n, 3.0), b = noise(r, n, 0.5), y = noise(r, n, 2.0);
         CHECK(same_bits(base.taps(a.data(), x.data(), b.data(), y.data(), n), used.taps(a.data(), x.data(), b.data(), y.data(), n)));
         CHECK(same_bits(base.taps(a.data(), x.data(), b.data(), y.data(), n), lane_sums::dot2(a.data(), x.data(), b.data(), y.data(), n)));
-        const auto c = noise(r, n, 4.0), z = noise(r, n, 0.25);
-        const double three = base.taps3(a.data(), x.data(), b.data(), y.data(), c.data(), z.data(), n);
-        CHECK(same_bits(three, used.taps3(a.data(), x.data(), b.data(), y.data(), c.data(), z.data(), n)));
-        CHECK(same_bits(three, lane_sums::dot3(a.data(), x.data(), b.data(), y.data(), c.data(), z.data(), n)));
     }
 }
 

@@ -282,6 +282,38 @@ TEST_CASE("air push: three taps a mode are exact at the mode's pole and at DC") 
     CHECK(two.c == 0.0);
 }
 
+TEST_CASE("air push: the three taps on abar - kick are a dot with the mode's state and its last two kicks") {
+    // One mode stepped as AirCanopyState steps it (kick, then the exact transition), kicked now and then:
+    // A x[n] + B x[n-1] + C x[n-2] with x = abar - kick, against dipole_state_taps' four terms.
+    Random rng(9);
+    for (double hz : {84.6, 400.0, 962.6, 5000.0}) {
+        const double w = 2.0 * constants::pi * hz, s = 7.4, t = 1.0 / rate;
+        const double wd = std::sqrt(w * w - s * s), e = std::exp(-s * t), ec = e * std::cos(wd * t), es = e * std::sin(wd * t) / wd;
+        const double t11 = ec + s * es, t12 = es, t21 = -w * w * es, t22 = ec - s * es;   // mode_decay.hpp's transition
+        const DipoleTaps three = dipole_taps_three(cplx(0.02, -0.01), s * t, wd * t, 0.005);
+        const StateTaps state = dipole_state_taps(three, t11, t12, t21, t22, t);
+        double q = 0.0, qd = 0.0, x1 = 0.0, x2 = 0.0, kick_before = 0.0, worst = 0.0, largest = 0.0;
+        for (int n = 0; n < 4000; ++n) {
+            const double p = (n % 97 < 3 || (n > 2000 && n < 2400)) ? rng.uniform(-1e3, 1e3) : 0.0;   // single kicks, and a long force
+            const double kicked = qd + t * p;
+            const double q_next = t11 * q + t12 * kicked, qd_next = t21 * q + t22 * kicked;
+            const double x0 = (qd_next - qd) / t - p;
+            q = q_next;
+            qd = qd_next;
+            const double taps = three.a * x0 + three.b * x1 + three.c * x2;
+            const double dot = state.q * q + state.qd * qd + state.kick * p + state.kick_before * kick_before;
+            worst = std::max(worst, std::abs(taps - dot));
+            largest = std::max(largest, std::abs(taps));
+            x2 = x1;
+            x1 = x0;
+            kick_before = p;
+        }
+        INFO(hz << " Hz: worst " << worst << " of " << largest);
+        CHECK(largest > 0.0);
+        CHECK(worst < 1e-9 * largest);
+    }
+}
+
 TEST_CASE("air push: DipoleRadiation plays the modes less their kicks through three taps and the low half, and each forced node's filter") {
     const Canopy& built = air_canopy();
     const Point2 centroid = built.panel_centroid(0);
@@ -293,8 +325,8 @@ TEST_CASE("air push: DipoleRadiation plays the modes less their kicks through th
     DipoleRadiation off(off_canopy, layout, 1.0 / rate);
     DipoleRadiation on(on_canopy, layout, 1.0 / rate, AirMedium{}, DipoleOptions{.compressible_push = true});
     CHECK(off.push_filters(0) == nullptr);
-    CHECK_FALSE(off.three_taps());
-    CHECK(on.three_taps());
+    CHECK_FALSE(off.state_taps());
+    CHECK(on.state_taps());
     const PushFilters* f = on.push_filters(0);
     REQUIRE(f != nullptr);
     const PushCrossover x = push_crossover(*built.air_modes());
@@ -304,7 +336,8 @@ TEST_CASE("air push: DipoleRadiation plays the modes less their kicks through th
     // force later, while the modes ring.
     const int steps = 9600;
     std::vector<double> y_on(steps), y_off(steps), panel_forces(static_cast<std::size_t>(built.panel_count()));
-    std::vector<std::vector<double>> heard(static_cast<std::size_t>(steps), std::vector<double>(static_cast<std::size_t>(modes)));
+    // Each step's state and kicks, rows of 3 x modes: q, q', kick.
+    std::vector<std::vector<double>> heard(static_cast<std::size_t>(steps), std::vector<double>(3 * static_cast<std::size_t>(modes)));
     on_canopy.apply_force({0, node}, 0.6);
     on_canopy.apply_force({0, node}, 0.4);
     off_canopy.apply_force({0, node}, 1.0);
@@ -325,9 +358,11 @@ TEST_CASE("air push: DipoleRadiation plays the modes less their kicks through th
             }
             on.process(on_canopy, &y_on[static_cast<std::size_t>(n)]);
             off.process(off_canopy, &y_off[static_cast<std::size_t>(n)]);
-            const double* acc = on_canopy.air_state().accelerations();
-            const double* kick = on_canopy.air_state().kicks();
-            for (int k = 0; k < modes; ++k) heard[static_cast<std::size_t>(n)][static_cast<std::size_t>(k)] = acc[k] - kick[k];
+            const AirCanopyState& st = on_canopy.air_state();
+            auto& row = heard[static_cast<std::size_t>(n)];
+            std::copy(st.modal_q(), st.modal_q() + modes, row.begin());
+            std::copy(st.modal_qd(), st.modal_qd() + modes, row.begin() + modes);
+            std::copy(st.kicks(), st.kicks() + modes, row.begin() + 2 * modes);
         }
     }
     CHECK(audit.violations() == 0);
@@ -338,17 +373,18 @@ TEST_CASE("air push: DipoleRadiation plays the modes less their kicks through th
     CHECK(forced_newtons == test::relative(1.0).epsilon(1e-15));
     CHECK(forced[1] == 0);   // and the next step none
 
-    // The output, rebuilt here: the three taps on x = abar - kick through the low half at D, and each
-    // forced node's filter at its offset; to rounding.
+    // The output, rebuilt here: the taps on the state and the kicks (the three taps on abar - kick) through
+    // the low half at D, and each forced node's filter at its offset; to rounding.
     LowPassState low;
     std::vector<double> rebuilt(static_cast<std::size_t>(steps), 0.0);
     const int delay = on.delay_samples(0);
     for (int n = 0; n < steps; ++n) {
         double p = 0.0;
+        const auto& now = heard[static_cast<std::size_t>(n)];
         for (int k = 0; k < modes; ++k) {
-            auto at = [&](int back) { return n - back >= 0 ? heard[static_cast<std::size_t>(n - back)][static_cast<std::size_t>(k)] : 0.0; };
-            const auto [a, b] = on.coefficients(0, k);
-            p += a * at(0) + b * at(1) + on.third_coefficient(0, k) * at(2);
+            const auto i = static_cast<std::size_t>(k), m = static_cast<std::size_t>(modes);
+            const double kick_before = n > 0 ? heard[static_cast<std::size_t>(n - 1)][2 * m + i] : 0.0;
+            p += on.tap(0, k, 0) * now[i] + on.tap(0, k, 1) * now[m + i] + on.tap(0, k, 2) * now[2 * m + i] + on.tap(0, k, 3) * kick_before;
         }
         if (n + delay < steps) rebuilt[static_cast<std::size_t>(n + delay)] += low.process(x, p);
     }
