@@ -53,11 +53,14 @@
 //   p(t_n + D T) = sum_k A_k x_k[n] + B_k x_k[n-1] + C_k x_k[n-2],
 //   A + B z1 + C z1^2 = H_k lambda T / (1 - e^{-lambda T}) (z1 = e^{-lambda T}),  A + B + C = H_k(0),
 // exact at the pole (the free ring, as above) and at DC (where the kicks' and the filters' near fields
-// cancel; with two taps the 63 Hz band was 6-8 dB off). Cost: 3 x modes x channels multiply-adds a
-// sample for the taps, one pass (air_canopy_kernels.hpp), modes subtractions for x; per forced node and
-// channel, the filter's length (250 at 48 kHz) multiply-adds; per channel, four biquad sections. With
-// panel gains the filter is the point's at unit gain times the node's panel's gain (a turn changes it at
-// once).
+// cancel; with two taps the 63 Hz band was 6-8 dB off). x[n-1] and x[n-2] are the mode's state after
+// the step, (q, q'), taken back through its transition, less its kicks: the three taps are
+//   p = a q[n] + b q'[n] + c kick[n] + d kick[n-1]   (dipole_state_taps),
+// run as 2 multiply-adds a mode and channel, and 2 more while a kick is under two steps old (the same
+// cost as the two taps on abar between contacts; with the three taps on x itself the push cost the
+// default render 1.23 x the model without it, against 0.99 x this way: docs/canopy-air.md). Per forced node and channel, the filter's length (250 at 48 kHz) multiply-adds; per channel,
+// four biquad sections. With panel gains the filter is the point's at unit gain times the node's panel's
+// gain (a turn changes it at once).
 // Approximated: without the push, the force is the incompressible near field's; the canopy shades
 // nothing and nothing reflects; a curved canopy's pressure jump is its plan's (air_loading.hpp) along
 // each node's own normal.

@@ -145,13 +145,17 @@ TEST_CASE("impact templates: each recording's CPU time, and the most any block's
     CHECK(t.worst_cpu_s(0) == 0.0);
     CHECK(ImpactTemplateTable{}.worst_cpu_s(64) == 0.0);
     // Per size: the whole table's figure is its costliest size's, and the largest drop (it breaks into
-    // hundreds of pieces) costs more in a block than the smallest (one mass).
+    // hundreds of pieces) costs more than the smallest (one mass). Compared over whole recordings: a
+    // single block is one interrupt or page fault away from doubling on a loaded machine (the smallest
+    // drop's worst 64 frames are about 0.1 ms; under the sanitizers 0.6).
     const int sizes = static_cast<int>(t.diameters_m.size());
     double largest = 0.0;
     for (int k = 0; k < sizes; ++k) largest = std::max(largest, t.worst_cpu_s(64, k));
     CHECK(largest == w64);
-    MESSAGE("worst CPU in 64 frames, smallest / largest drop: " << 1e3 * t.worst_cpu_s(64, 0) << " / " << 1e3 * t.worst_cpu_s(64, sizes - 1) << " ms");
-    CHECK(t.worst_cpu_s(64, sizes - 1) > 3.0 * t.worst_cpu_s(64, 0));
+    const double smallest_whole = t.worst_cpu_s(t.length, 0), largest_whole = t.worst_cpu_s(t.length, sizes - 1);
+    MESSAGE("worst CPU in 64 frames, smallest / largest drop: " << 1e3 * t.worst_cpu_s(64, 0) << " / " << 1e3 * t.worst_cpu_s(64, sizes - 1)
+                                                               << " ms; whole recordings " << 1e3 * smallest_whole << " / " << 1e3 * largest_whole << " ms");
+    CHECK(largest_whole > 2.0 * smallest_whole);   // 5.9 x measured (2026-12-07)
     CHECK(t.worst_cpu_s(64, -1) == 0.0);
     CHECK(t.worst_cpu_s(64, sizes) == 0.0);
     // The breakup is the costly part: the worst 64 frames cost more than an average 64 frames of the
