@@ -22,6 +22,7 @@ constexpr double lead_s = 0.5e-3;          // each filter's start before the mod
 constexpr double length_s = 4.7e-3;        // each filter's length after D: the high half rings about 5.4 / corner
 constexpr double period_s = 0.02;          // the design's frequency grid: 1 / period apart
 constexpr double roll_from = 0.35, roll_to = 0.45;   // of the rate: the filters' own roll-off
+constexpr double low_reach = 4.0;          // the instantaneous push's bins: to this many corners
 
 double fall(double f, double from, double to) {
     if (f <= from) return 1.0;
@@ -101,11 +102,13 @@ PushFilters design_push_filters(const AirCanopyModes& m, const PushCrossover& x,
     }
     // The low half's part: node e's column of M_a (M + M_a)^-1 heard as point forces, each from its own
     // node at its own delay: S[e, b] = sum_i P[i, e] cos(theta_i) (1 / r_i^2 + i w / (c r_i)) e^{-i w r_i / c},
-    // as two real products (P' G), bin 0 (DC) included.
-    Eigen::MatrixXd g_re(m.nodes, half + 1), g_im(m.nodes, half + 1);
+    // as two real products (P' G), bin 0 (DC) included, up to 4 x the corner: the low half is 96 dB down
+    // there (and the products a fifth of all the bins' at 48 kHz).
+    const int low_bins = std::min(half, static_cast<int>(std::ceil(low_reach * x.hz * n / rate)));
+    Eigen::MatrixXd g_re(m.nodes, low_bins + 1), g_im(m.nodes, low_bins + 1);
     for (std::size_t i = 0; i < nodes; ++i) {
         const double r = point.r[i], cos_theta = point.cos_theta[i];
-        for (int b = 0; b <= half; ++b) {
+        for (int b = 0; b <= low_bins; ++b) {
             const double w = 2.0 * constants::pi * b * rate / n;
             const cplx v = cos_theta * cplx(1.0 / (r * r), w / (c * r)) * std::polar(1.0, -w * r / c);
             g_re(static_cast<Eigen::Index>(i), b) = v.real();
@@ -127,19 +130,28 @@ PushFilters design_push_filters(const AirCanopyModes& m, const PushCrossover& x,
         out.offset[e] = offset;
         if (!moves || !(s > 0.0)) continue;
         const auto col = static_cast<Eigen::Index>(e);
-        for (int b = 0; b <= half; ++b) {
-            const double w = 2.0 * constants::pi * b * rate / n;
-            const cplx shift = std::polar(1.0, w * offset * t);
-            const cplx column(s_re(col, b), s_im(col, b));
-            if (b == 0) {   // the high half is 0 at DC, the low half 1, the held force 1
-                spectrum[0] = column / (4.0 * constants::pi);
-                continue;
+        // The phases by recurrence, one complex product a bin (a sine and cosine a bin and node cost 40 ms a
+        // listening point): e^{i w offset T} for the column, e^{i w (offset T - r / c)} for the node's own push;
+        // each renewed every 64 bins, so the rounding stays under 1e-14.
+        const double bin_w = 2.0 * constants::pi * rate / n;
+        const cplx turn_shift = std::polar(1.0, bin_w * offset * t), turn_push = std::polar(1.0, bin_w * (offset * t - r / c));
+        cplx shift = 1.0, lag = 1.0;
+        spectrum[0] = cplx(s_re(col, 0), s_im(col, 0)) / (4.0 * constants::pi);   // DC: the high half 0, the low half and the held force 1
+        for (int b = 1; b <= half; ++b) {
+            const double w = bin_w * b;
+            if (b % 64 == 0) {
+                shift = std::polar(1.0, w * offset * t);
+                lag = std::polar(1.0, w * (offset * t - r / c));
+            } else {
+                shift *= turn_shift;
+                lag *= turn_push;
             }
+            const cplx column = b <= low_bins ? cplx(s_re(col, b), s_im(col, b)) : cplx(0.0);
             const double beta = w * s / (2.0 * rho * c);
-            const cplx push = cos_theta * cplx(1.0 / (r * r), w / (c * r)) * std::polar(1.0, -w * r / c) / cplx(1.0, beta * std::abs(cos_theta)) *
+            const cplx push = cos_theta * cplx(1.0 / (r * r), w / (c * r)) * lag / cplx(1.0, beta * std::abs(cos_theta)) *
                               tile_directivity(w / c * a_sin_theta);
             const auto k = static_cast<std::size_t>(b);
-            spectrum[k] = common[k] * shift * (low[k] * column + high[k] * push);
+            spectrum[k] = common[k] * (shift * low[k] * column + high[k] * push);
         }
         // The response over one period: the inverse transform of the real signal's spectrum (each bin and
         // its mirror; the roll-off is 0 at Nyquist), as the conjugate of the forward transform of the

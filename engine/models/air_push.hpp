@@ -15,7 +15,7 @@
 //   all-zero filter. offset is lead samples (0.5 ms) before the node's own delay r / c.
 //   LowPassState s; s.process(x, y)                   // audio-safe: the modes' sound through the low half
 //
-// Why (docs/canopy-air.md, "The push"). A mode's acceleration is phi_k' f - w_k^2 q_k - 2 s_k q_k'. Summed
+// Why (docs/canopy-air.md, "The compressible push in the server"). A mode's acceleration is phi_k' f - w_k^2 q_k - 2 s_k q_k'. Summed
 // over the modes, the first term puts the instantaneous push M_a (M + M_a)^-1 f on the air
 // (AirCanopyModes::instantaneous_push: for a newton on the default canopy's panel centroid, 38 % on the
 // node and 54 % on the nodes round it). Each mode's taps are fitted at its pole, where that term is

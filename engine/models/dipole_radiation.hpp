@@ -94,7 +94,7 @@ struct StateTaps {
 StateTaps dipole_state_taps(const DipoleTaps& taps, double t11, double t12, double t21, double t22, double t);
 
 struct DipoleOptions {
-    bool compressible_push = false;   // the push above the modes through compressible air (air_push.hpp)
+    bool compressible_push = false;   // each force's push: instantaneous below a crossover, through compressible air above (air_push.hpp)
 };
 
 class DipoleRadiation {
