@@ -82,7 +82,6 @@ void AirCanopyState::init(const AirCanopyModes& m) {
     q_.assign(n, 0.0);
     qd_.assign(n, 0.0);
     p_.assign(n, 0.0);
-    kick_.assign(n, 0.0);
     a_.assign(n, 0.0);
     omega2_.resize(n);
     const auto nodes = static_cast<std::size_t>(m.nodes);
@@ -111,7 +110,7 @@ void AirCanopyState::step(const AirCanopyModes& m) {
         const double* row = m.shape.data() + i * static_cast<std::size_t>(n);
         for (int k = 0; k < n; ++k) p[k] += f * row[k];
     }
-    kernels_->advance(static_cast<std::size_t>(m.modes), q_.data(), qd_.data(), p_.data(), kick_.data(), a_.data(), m.t11.data(), m.t12.data(),
+    kernels_->advance(static_cast<std::size_t>(m.modes), q_.data(), qd_.data(), p_.data(), a_.data(), m.t11.data(), m.t12.data(),
                           m.t21.data(), m.t22.data(), m.time_step_s, 1.0 / m.time_step_s);
     std::swap(pending_, taken_);   // the vectors' buffers trade places: no allocation
     pending_.clear();
@@ -125,7 +124,7 @@ bool AirCanopyState::finite() const {
 }
 
 void AirCanopyState::reset() {
-    for (auto* v : {&q_, &qd_, &p_, &kick_, &a_})
+    for (auto* v : {&q_, &qd_, &p_, &a_})
         for (double& x : *v) x = 0.0;
     pending_.clear();
     taken_.clear();

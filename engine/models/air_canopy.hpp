@@ -17,8 +17,6 @@
 //   s.step(m);                                           // one sample
 //   s.displacement(m, node), s.velocity(m, node)         // u, du/dt along the node's normal
 //   s.accelerations()                                    // each mode's mean q'' over the last step
-//   s.kicks()                                            // each mode's phi_k' f over the last step (the
-//                                                        // part of q'' the force gave at once)
 //   s.modal_q(), s.modal_qd()                            // each mode's q, q' after the last step
 //   s.displacement_bound(m), s.velocity_bound(m)         // >= |u|, >= |du/dt| at every node, O(modes)
 //   s.forced_nodes(), s.forced_node(j), s.forced_newtons(j)   // the forces the last step took, summed per
@@ -111,7 +109,6 @@ public:
     double displacement(const AirCanopyModes& m, int node) const { return cached(m, node, q_, u_, u_stamp_); }
     double velocity(const AirCanopyModes& m, int node) const { return cached(m, node, qd_, v_, v_stamp_); }
     const double* accelerations() const { return a_.data(); }   // per mode, m/s^2 per unit of q
-    const double* kicks() const { return kick_.data(); }         // per mode, the last step's phi_k' f
     const double* modal_q() const { return q_.data(); }          // per mode, q after the last step
     const double* modal_qd() const { return qd_.data(); }        // per mode, q' after the last step
     // sum_k max_i |phi_ik| |q_k| >= |u_i| at every node: the collision broad phase's bound, O(modes)
@@ -144,7 +141,7 @@ private:
         }
         return value;
     }
-    std::vector<double> q_, qd_, p_, kick_, a_, omega2_;
+    std::vector<double> q_, qd_, p_, a_, omega2_;
     const AirKernels* kernels_ = nullptr;   // air_canopy_kernels.hpp, chosen by init()
     // The readings of this step (steps_ counts steps and resets from 1; a stamp of 0 is never current).
     std::uint64_t steps_ = 1;

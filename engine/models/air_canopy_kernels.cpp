@@ -15,7 +15,7 @@ namespace {
 // (element by element: the same bits at any width). Inlined into each kernel below, so that each is
 // compiled for its own target (an inline function is not compiled on its own inside the AVX2 region).
 [[gnu::always_inline]] inline void advance_loop(std::size_t modes, double* __restrict q, double* __restrict qd, double* __restrict p,
-                                                double* __restrict kick, double* __restrict a, const double* __restrict a11, const double* __restrict a12,
+                                                double* __restrict a, const double* __restrict a11, const double* __restrict a12,
                                                 const double* __restrict a21, const double* __restrict a22, double t, double inverse_t) {
     for (std::size_t k = 0; k < modes; ++k) {
         const double kicked = qd[k] + t * p[k];
@@ -24,14 +24,13 @@ namespace {
         a[k] = (qd_next - qd[k]) * inverse_t;
         q[k] = q_next;
         qd[k] = qd_next;
-        kick[k] = p[k];
         p[k] = 0.0;
     }
 }
 
-void advance_baseline(std::size_t modes, double* q, double* qd, double* p, double* kick, double* a, const double* a11, const double* a12,
+void advance_baseline(std::size_t modes, double* q, double* qd, double* p, double* a, const double* a11, const double* a12,
                       const double* a21, const double* a22, double t, double inverse_t) {
-    advance_loop(modes, q, qd, p, kick, a, a11, a12, a21, a22, t, inverse_t);
+    advance_loop(modes, q, qd, p, a, a11, a12, a21, a22, t, inverse_t);
 }
 
 double taps_baseline(const double* a, const double* x, const double* b, const double* y, std::size_t n) {
@@ -48,9 +47,9 @@ double taps_baseline(const double* a, const double* x, const double* b, const do
 namespace {
 
 // The same loop as advance_baseline, compiled for AVX2.
-void advance_avx2(std::size_t modes, double* q, double* qd, double* p, double* kick, double* a, const double* a11, const double* a12,
+void advance_avx2(std::size_t modes, double* q, double* qd, double* p, double* a, const double* a11, const double* a12,
                   const double* a21, const double* a22, double t, double inverse_t) {
-    advance_loop(modes, q, qd, p, kick, a, a11, a12, a21, a22, t, inverse_t);
+    advance_loop(modes, q, qd, p, a, a11, a12, a21, a22, t, inverse_t);
 }
 
 // lane_sums::dot2 written again here (its inline body compiled in this region would be another

@@ -1,12 +1,12 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #pragma once
-// The in-air canopy's per-sample loops over its modes, each in a baseline and an AVX2 version that give
-// the same bits: the modes' step (air_canopy.cpp) and each channel's dipole taps (dipole_radiation.cpp).
-// Between them they are most of a scene's work in air.
+// The in-air canopy's two per-sample loops over its modes, each in a baseline and an AVX2 version that
+// give the same bits: the modes' step (air_canopy.cpp) and each channel's dipole taps
+// (dipole_radiation.cpp). Between them they are most of a scene's work in air.
 //
 // Interface (audio thread; no allocation):
 //   const AirKernels& k = air_kernels();         // AVX2 where the CPU has it (cpu_features.hpp), else baseline
-//   k.advance(modes, q, qd, p, kick, a, t11, t12, t21, t22, T, 1 / T);   // one step of every mode (below)
+//   k.advance(modes, q, qd, p, a, t11, t12, t21, t22, T, 1 / T);   // one step of every mode (below)
 //   k.taps(a, x, b, y, n)                        // sum a[k] x[k] + b[k] y[k] (lane_sums.hpp's order)
 //   air_kernels_baseline()                       // the baseline pair (the tests compare the two)
 //
@@ -21,9 +21,8 @@ namespace ameoto {
 struct AirKernels {
     // Kick q' += T p, then the exact transition [q, q'] <- [t11 t12; t21 t22] [q, q' + T p] (the modal
     // integrator's, core/integrators/modal.hpp); a = (q'[n+1] - q'[n]) / T, the step's mean acceleration
-    // (what the radiation reads, dipole_radiation.hpp); kick = p, the step's kick (what the radiation
-    // takes off a with the push), and p is cleared for the next step.
-    void (*advance)(std::size_t modes, double* q, double* qd, double* p, double* kick, double* a, const double* t11, const double* t12,
+    // (what the radiation reads, dipole_radiation.hpp); p is cleared for the next step.
+    void (*advance)(std::size_t modes, double* q, double* qd, double* p, double* a, const double* t11, const double* t12,
                     const double* t21, const double* t22, double t, double inverse_t);
     double (*taps)(const double* a, const double* x, const double* b, const double* y, std::size_t n);
     bool avx2 = false;

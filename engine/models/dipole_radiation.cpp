@@ -81,8 +81,8 @@ DipoleRadiation::DipoleRadiation(const Canopy& canopy, const ListenerLayout& lay
     if (options.compressible_push) crossover_ = push_crossover(*m);
     state_taps_ = crossover_.hz > 0.0;
     tap_sets_ = state_taps_ ? 4 : 2;
-    const std::size_t size = static_cast<std::size_t>(channels_) * static_cast<std::size_t>(modes_);
-    for (int j = 0; j < tap_sets_; ++j) taps_[j].assign(size, 0.0);
+    nodes_ = panels * nodes;
+    for (int j = 0; j < tap_sets_; ++j) taps_[j].assign(static_cast<std::size_t>(channels_) * static_cast<std::size_t>(tap_width(j)), 0.0);
     delay_.assign(static_cast<std::size_t>(channels_), 0);
     const std::complex<double> i1(0.0, 1.0);
     std::vector<double> r(static_cast<std::size_t>(panels * nodes)), cos_theta(r.size()), gain(r.size());
@@ -103,8 +103,13 @@ DipoleRadiation::DipoleRadiation(const Canopy& canopy, const ListenerLayout& lay
             }
         delay = static_cast<int>(std::floor(nearest / (c * t)));
     };
-    // Writes mode q's taps of set j at out[j][at + q].
-    auto taps = [&](int delay, std::vector<double>* out, std::size_t at) {
+    // Writes the taps of one channel (or panel) `index`: sets 0 and 1 per mode at out[j][index * modes + q];
+    // with the push, sets 2 and 3 per node at out[j][index * nodes + e] (header: the kicks' taps taken
+    // through the shapes, sum_k c_k phi_k(e), so a step costs what its forced nodes number).
+    const auto all_nodes = static_cast<std::size_t>(panels * nodes);
+    std::vector<double> kick_now(static_cast<std::size_t>(modes_)), kick_before(kick_now.size());
+    auto taps = [&](int delay, std::vector<double>* out, std::size_t index) {
+        const std::size_t at = index * static_cast<std::size_t>(modes_);
         for (int q = 0; q < modes_; ++q) {
             const double w = m->omega[q], s = m->rate[q];
             const std::complex<double> lambda = -s + i1 * std::sqrt(std::complex<double>(w * w - s * s));
@@ -133,8 +138,19 @@ DipoleRadiation::DipoleRadiation(const Canopy& canopy, const ListenerLayout& lay
                                                   m->t21[q], m->t22[q], t);
             out[0][k] = d.q;
             out[1][k] = d.qd;
-            out[2][k] = d.kick;
-            out[3][k] = d.kick_before;
+            kick_now[static_cast<std::size_t>(q)] = d.kick;
+            kick_before[static_cast<std::size_t>(q)] = d.kick_before;
+        }
+        if (!state_taps_) return;
+        for (std::size_t e = 0; e < all_nodes; ++e) {
+            const double* phi = m->shape.data() + e * static_cast<std::size_t>(modes_);
+            double now = 0.0, before = 0.0;
+            for (int q = 0; q < modes_; ++q) {
+                now += kick_now[static_cast<std::size_t>(q)] * phi[q];
+                before += kick_before[static_cast<std::size_t>(q)] * phi[q];
+            }
+            out[2][index * all_nodes + e] = now;
+            out[3][index * all_nodes + e] = before;
         }
     };
     for (int ch = 0; ch < channels_; ++ch) {
@@ -149,20 +165,20 @@ DipoleRadiation::DipoleRadiation(const Canopy& canopy, const ListenerLayout& lay
         int delay = 0;
         distances(x, delay);
         delay_[static_cast<std::size_t>(ch)] = delay;
-        taps(delay, taps_, static_cast<std::size_t>(ch) * static_cast<std::size_t>(modes_));
+        taps(delay, taps_, static_cast<std::size_t>(ch));
     }
     // One point heard through panel gains (the panned formats): each panel's own taps at unit gain, so a
     // head's turn re-mixes them (set_panel_gains) as the Rayleigh path re-mixes its panel sums. The
     // taps are linear in the weights: the channels' own are these mixed by their gains (to rounding).
     const bool one_point = std::all_of(layout.channel_point.begin(), layout.channel_point.end(), [](int p) { return p == 0; });
     if (!layout.panel_gain.empty() && one_point && channels_ > 1) {
-        for (int j = 0; j < tap_sets_; ++j) panel_[j].assign(static_cast<std::size_t>(panels) * static_cast<std::size_t>(modes_), 0.0);
+        for (int j = 0; j < tap_sets_; ++j) panel_[j].assign(static_cast<std::size_t>(panels) * static_cast<std::size_t>(tap_width(j)), 0.0);
         int delay = 0;
         distances(layout.points[0], delay);
         for (int k = 0; k < panels; ++k) {
             std::fill(gain.begin(), gain.end(), 0.0);
             for (int i = 0; i < nodes; ++i) gain[static_cast<std::size_t>(k * nodes + i)] = 1.0;
-            taps(delay, panel_, static_cast<std::size_t>(k) * static_cast<std::size_t>(modes_));
+            taps(delay, panel_, static_cast<std::size_t>(k));
         }
         panels_ = panels;
         for (int j = 0; j < tap_sets_; ++j) {
@@ -205,7 +221,11 @@ DipoleRadiation::DipoleRadiation(const Canopy& canopy, const ListenerLayout& lay
         push_rest_gain_ = push_gain_;
         low_.assign(static_cast<std::size_t>(channels_), LowPassState{});
     }
-    previous_.assign(static_cast<std::size_t>(modes_), 0.0);   // abar[n - 1], or the kick before
+    previous_.assign(static_cast<std::size_t>(modes_), 0.0);   // abar[n - 1] (two taps)
+    if (state_taps_) {
+        before_node_.assign(static_cast<std::size_t>(nodes_), 0);
+        before_newtons_.assign(static_cast<std::size_t>(nodes_), 0.0);
+    }
     kernels_ = &air_kernels();   // here, in the build phase (the first call initialises a static)
     length_ = 1;
     while (length_ <= longest) length_ *= 2;
@@ -231,10 +251,8 @@ void DipoleRadiation::process(const Canopy& canopy, double* pressures_pa) {
         }
     }
     if (!push_.empty()) play_push(state);
-    // Two taps on abar[n], abar[n - 1]; or, with the push, the state after the step and, while a kick is
-    // less than two steps old, the kicks (header).
-    const bool kicked = state_taps_ && state.forced_nodes() > 0;
-    const bool kicks = kicked || kicked_before_;
+    // Two taps on abar[n], abar[n - 1]; or, with the push, the state after the step and the forces of this
+    // step and the one before, each through its node's taps (header).
     const double* x = state_taps_ ? state.modal_q() : state.accelerations();
     const double* y = state_taps_ ? state.modal_qd() : previous_.data();
     for (int ch = 0; ch < channels_; ++ch) {
@@ -243,7 +261,13 @@ void DipoleRadiation::process(const Canopy& canopy, double* pressures_pa) {
         // sum_k A_k x_k + B_k y_k, in eight running sums (lane_sums.hpp: one would be a chain of 800 dependent
         // additions a sample), AVX2 where the CPU has it (the same bits).
         double p = kernels_->taps(taps_[0].data() + base, x, taps_[1].data() + base, y, modes);
-        if (kicks) p += kernels_->taps(taps_[2].data() + base, state.kicks(), taps_[3].data() + base, previous_.data(), modes);
+        if (state_taps_) {
+            const double* now = taps_[2].data() + static_cast<std::size_t>(ch) * static_cast<std::size_t>(nodes_);
+            const double* before = taps_[3].data() + static_cast<std::size_t>(ch) * static_cast<std::size_t>(nodes_);
+            for (int j = 0; j < state.forced_nodes(); ++j) p += now[state.forced_node(j)] * state.forced_newtons(j);
+            for (int j = 0; j < before_count_; ++j)
+                p += before[before_node_[static_cast<std::size_t>(j)]] * before_newtons_[static_cast<std::size_t>(j)];
+        }
         const double heard = std::isfinite(p) ? p : 0.0;
         // With the push, the modes are heard through the crossover's low half (air_push.hpp).
         row[(now_ + delay_[static_cast<std::size_t>(ch)]) & mask_] += push_.empty() ? heard : low_[static_cast<std::size_t>(ch)].process(crossover_, heard);
@@ -253,12 +277,13 @@ void DipoleRadiation::process(const Canopy& canopy, double* pressures_pa) {
     if (!state_taps_) {
         const double* acc = state.accelerations();
         std::copy(acc, acc + modes, previous_.begin());
-    } else if (kicked) {
-        std::copy(state.kicks(), state.kicks() + modes, previous_.begin());
-    } else if (kicked_before_) {
-        std::fill(previous_.begin(), previous_.end(), 0.0);   // this step's kicks, all 0
+    } else {   // this step's forces, for the next (a list no longer than the nodes: sized in the build)
+        before_count_ = state.forced_nodes();
+        for (int j = 0; j < before_count_; ++j) {
+            before_node_[static_cast<std::size_t>(j)] = state.forced_node(j);
+            before_newtons_[static_cast<std::size_t>(j)] = state.forced_newtons(j);
+        }
     }
-    kicked_before_ = kicked;
     now_ = (now_ + 1) & mask_;
 }
 
@@ -287,7 +312,7 @@ void DipoleRadiation::play_push(const AirCanopyState& state) {
 
 void DipoleRadiation::reset() {
     std::fill(previous_.begin(), previous_.end(), 0.0);
-    kicked_before_ = false;
+    before_count_ = 0;
     std::fill(ring_.begin(), ring_.end(), 0.0);
     for (LowPassState& l : low_) l.reset();
 }
@@ -295,14 +320,15 @@ void DipoleRadiation::reset() {
 bool DipoleRadiation::set_panel_gains(const double* gains, int glide_frames) {
     if (panels_ == 0) return false;
     if (!push_gain_.empty()) std::copy(gains, gains + push_gain_.size(), push_gain_.begin());
-    const auto modes = static_cast<std::size_t>(modes_);
-    for (int j = 0; j < tap_sets_; ++j)
+    for (int j = 0; j < tap_sets_; ++j) {
+        const auto width = static_cast<std::size_t>(tap_width(j));
         for (int ch = 0; ch < channels_; ++ch)
-            for (std::size_t q = 0; q < modes; ++q) {
+            for (std::size_t q = 0; q < width; ++q) {
                 double sum = 0.0;
-                for (int k = 0; k < panels_; ++k) sum += gains[ch * panels_ + k] * panel_[j][static_cast<std::size_t>(k) * modes + q];
-                target_[j][static_cast<std::size_t>(ch) * modes + q] = sum;
+                for (int k = 0; k < panels_; ++k) sum += gains[ch * panels_ + k] * panel_[j][static_cast<std::size_t>(k) * width + q];
+                target_[j][static_cast<std::size_t>(ch) * width + q] = sum;
             }
+    }
     start_glide(glide_frames);
     return true;
 }

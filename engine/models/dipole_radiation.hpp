@@ -11,7 +11,7 @@
 //                                               // never allocates
 //   d.delay_samples(channel)                    // D: the bulk delay (the nearest node's, whole samples)
 //   d.coefficients(channel, mode)               // {A, B}: the mode's two taps (below)
-//   d.tap(channel, mode, set), d.state_taps()   // with the push: its four (below)
+//   d.tap(channel, index, set), d.state_taps()  // with the push: its four sets (below)
 //   d.push_filters(point)                       // with options.compressible_push: the point's filters
 //
 // Source. A thin screen in free air is a double layer: the pressure at x is
@@ -44,7 +44,7 @@
 // Cost per sample: 2 x modes x channels multiply-adds (the default canopy: 400 modes; mono 800).
 // Distance floor: r_i >= a_eq / 2, a_eq = sqrt(A_i / pi), as the Rayleigh path (radiation.hpp).
 // The compressible push (DipoleOptions::compressible_push; air_push.hpp): the taps hear each mode's
-// acceleration less its kick, x_k = abar_k - phi_k' f (AirCanopyState::kicks), and each force the canopy
+// acceleration less its kick, x_k = abar_k - phi_k' f (the step's projected force), and each force the canopy
 // took in the step (summed per node: AirCanopyState::forced_*) is heard through its node's filter: its
 // share of the instantaneous push M_a (M + M_a)^-1 f through the double layer below a crossover above the
 // highest mode, the force on a limp screen in compressible air above it. The modes' sound goes through
@@ -56,11 +56,13 @@
 // cancel; with two taps the 63 Hz band was 6-8 dB off). x[n-1] and x[n-2] are the mode's state after
 // the step, (q, q'), taken back through its transition, less its kicks: the three taps are
 //   p = a q[n] + b q'[n] + c kick[n] + d kick[n-1]   (dipole_state_taps),
-// run as 2 multiply-adds a mode and channel, and 2 more while a kick is under two steps old (the same
-// cost as the two taps on abar between contacts; with the three taps on x itself the push cost the
-// default render 1.23 x the model without it, against 0.99 x this way: docs/canopy-air.md). Per forced node and channel, the filter's length (250 at 48 kHz) multiply-adds; per channel,
-// four biquad sections. With panel gains the filter is the point's at unit gain times the node's panel's
-// gain (a turn changes it at once).
+// and as kick_k = sum_e phi_k(e) f_e, the kicks' terms are the step's forces through per-node taps,
+// sum_e f_e[n] sum_k c_k phi_k(e) + f_e[n-1] sum_k d_k phi_k(e): 2 multiply-adds a mode and channel (the
+// two taps on abar cost the same) and 2 a forced node (a second pass over the modes while a kick is under
+// two steps old cost heavy rain's render 1.24 x the model without the push, against 1.14 x before the
+// instantaneous push). Per forced node and channel, the filter's length (250 at 48 kHz) multiply-adds;
+// per channel, four biquad sections. With panel gains the filter is the point's at unit gain times the
+// node's panel's gain (a turn changes it at once).
 // Approximated: without the push, the force is the incompressible near field's; the canopy shades
 // nothing and nothing reflects; a curved canopy's pressure jump is its plan's (air_loading.hpp) along
 // each node's own normal.
@@ -121,23 +123,30 @@ public:
                    : nullptr;
     }
     std::pair<double, double> coefficients(int channel, int mode) const { return {tap(channel, mode, 0), tap(channel, mode, 1)}; }
-    // Set j of a mode's taps on a channel: without the push A (on abar[n]), B (on abar[n-1]); with it
-    // (state_taps()) the StateTaps q, qd, kick, kick_before; 0 for a set not used.
-    double tap(int channel, int mode, int set) const {
-        const std::size_t at = static_cast<std::size_t>(channel) * static_cast<std::size_t>(modes_) + static_cast<std::size_t>(mode);
-        return set >= 0 && set < tap_sets_ ? taps_[set][at] : 0.0;
+    // A channel's taps: without the push A (set 0, on abar[n]) and B (set 1, on abar[n-1]) per mode; with
+    // it (state_taps()) StateTaps' q and qd per mode (sets 0, 1), and per node (index: panel * nodes +
+    // node) sum_k phi_k(node) kick_k (set 2, on this step's force there) and sum_k phi_k(node) kick_before_k
+    // (set 3, on the step before's); 0 for a set not used.
+    double tap(int channel, int index, int set) const {
+        if (set < 0 || set >= tap_sets_) return 0.0;
+        return taps_[set][static_cast<std::size_t>(channel) * static_cast<std::size_t>(tap_width(set)) + static_cast<std::size_t>(index)];
     }
     bool state_taps() const { return state_taps_; }
 
 private:
     const AirKernels* kernels_ = nullptr;   // air_canopy_kernels.hpp, chosen when built
     int channels_ = 0, modes_ = 0;
-    // The taps, [set][channel * modes + mode]: two sets (A, B on abar), or four with the push (StateTaps).
+    // The taps, [set][channel * width + index]: two sets per mode (A, B on abar), or with the push two per
+    // mode (q, q') and two per node (the forces now and a step before): tap().
     std::vector<double> taps_[4];
-    int tap_sets_ = 2;
+    int tap_sets_ = 2, nodes_ = 0;
     bool state_taps_ = false;
-    std::vector<double> previous_;   // each mode's abar[n - 1]; with the push, its kick a step before
-    bool kicked_before_ = false;     // with the push: the step before took a force
+    int tap_width(int set) const { return set < 2 ? modes_ : nodes_; }
+    std::vector<double> previous_;   // each mode's abar[n - 1] (two taps)
+    // With the push: the forces the step before took, as AirCanopyState lists them (sized to the nodes).
+    std::vector<int> before_node_;
+    std::vector<double> before_newtons_;
+    int before_count_ = 0;
     std::vector<int> delay_;         // per channel
     std::vector<double> ring_;       // [channel * length_ + slot]
     int length_ = 1, mask_ = 0, now_ = 0;

@@ -49,7 +49,7 @@ TEST_CASE("lane sums: dot, dot2 and abs_dot are the sums of their terms, for eve
     CHECK(lane_sums::dot(one.data(), big.data(), 9) == 7.0);
 }
 
-TEST_CASE("air canopy kernels: the AVX2 step and taps give the baseline's bits, and the step's kicks are its forces") {
+TEST_CASE("air canopy kernels: the AVX2 step and taps give the baseline's bits") {
     const AirKernels& base = air_kernels_baseline();
     const AirKernels& used = air_kernels();
     CHECK(used.avx2 == cpu_has_avx2());
@@ -59,19 +59,12 @@ TEST_CASE("air canopy kernels: the AVX2 step and taps give the baseline's bits, 
         const auto t11 = noise(r, n, 1.0), t12 = noise(r, n, 2e-5), t21 = noise(r, n, 3e4), t22 = noise(r, n, 1.0);
         auto q1 = noise(r, n, 1e-6), qd1 = noise(r, n, 1e-3), p1 = noise(r, n, 10.0), a1 = noise(r, n, 1.0);
         auto q2 = q1, qd2 = qd1, p2 = p1, a2 = a1;
-        std::vector<double> kick1(n, -1.0), kick2(n, -2.0), given(n, 0.0);
         const double t = 1.0 / 48000.0;
         for (int step = 0; step < 50; ++step) {
             if (step % 7 == 3)   // a force now and then (the step clears it)
                 for (std::size_t k = 0; k < n; ++k) p1[k] = p2[k] = r.uniform(-5.0, 5.0);
-            given = p1;
-            base.advance(n, q1.data(), qd1.data(), p1.data(), kick1.data(), a1.data(), t11.data(), t12.data(), t21.data(), t22.data(), t,
-                         1.0 / t);
-            used.advance(n, q2.data(), qd2.data(), p2.data(), kick2.data(), a2.data(), t11.data(), t12.data(), t21.data(), t22.data(), t,
-                         1.0 / t);
-            bool kicks = true;   // the kick is the step's p, then p is cleared
-            for (std::size_t k = 0; k < n; ++k) kicks = kicks && kick1[k] == given[k] && kick2[k] == given[k] && p1[k] == 0.0;
-            CHECK(kicks);
+            base.advance(n, q1.data(), qd1.data(), p1.data(), a1.data(), t11.data(), t12.data(), t21.data(), t22.data(), t, 1.0 / t);
+            used.advance(n, q2.data(), qd2.data(), p2.data(), a2.data(), t11.data(), t12.data(), t21.data(), t22.data(), t, 1.0 / t);
         }
         bool same = true;
         for (std::size_t k = 0; k < n; ++k)
