@@ -15,8 +15,8 @@
 //   all-zero filter. offset is lead samples (0.5 ms) before the node's own delay r / c.
 //   LowPassState s; s.process(x, y)                   // audio-safe: the modes' sound through the low half
 //
-// Why (docs/canopy-air.md, "The compressible push in the server"). A mode's acceleration is phi_k' f - w_k^2 q_k - 2 s_k q_k'. Summed
-// over the modes, the first term puts the instantaneous push M_a (M + M_a)^-1 f on the air
+// Why (docs/canopy-air.md, "The compressible push in the server"). A mode's acceleration is
+// phi_k' f - w_k^2 q_k - 2 s_k q_k'. Summed over the modes, the first term puts the instantaneous push M_a (M + M_a)^-1 f on the air
 // (AirCanopyModes::instantaneous_push: for a newton on the default canopy's panel centroid, 38 % on the
 // node and 54 % on the nodes round it). Each mode's taps are fitted at its pole, where that term is
 // heard at the wrong gain away from it; so the taps hear each mode's acceleration less its kick, and
@@ -50,7 +50,8 @@
 //   G_i(omega) = cos(theta_i) (1 / r_i^2 + i omega / (c r_i)) e^{-i omega r_i / c},
 // P = M_a (M + M_a)^-1, L and Hi the halves, the force held over the step (heard at the step's end);
 // rolled off over 0.35-0.45 of the rate so that it rings for a few samples only before r_e / c; from
-// 0.5 ms before r_e / c, 5.2 ms long (250 taps at 48 kHz), both ends tapered.
+// 0.5 ms before r_e / c, 5.2 ms long (250 taps at 48 kHz), both ends tapered. The column's sum is taken
+// to 4 x the corner only, where L is 96 dB down (two real matrix products, P' G, over those bins).
 // The delay is each node's own: the taps no longer carry the push, so nothing the filter could cancel
 // arrives at the modes' bulk delay. (While the taps carried it, at gains tuned to their poles, a push at
 // r / c cancelled theirs where the halves overlap and the filters ran at the modes' bulk delay instead.)
