@@ -147,8 +147,10 @@ TEST_CASE("nodes on one JACK server: the street in two parts, started at one epo
         // On one server both read the same JACK cycle times: the same cycle (the lags differ only by
         // each client's gap between its two clock readings, microseconds, against a 5 333 us period).
         CHECK(std::llabs(lag_one - lag_two) <= 200);
-        CHECK(std::llabs(lag_one) <= 2700);
+        // A take with xruns is played again: the dummy driver ran late, its first cycle too (2 701 us, with 2
+        // xruns, in one CI run), so the epoch's cycle is held to the half period only on a clean take.
         if (xruns != 0 || !before_epoch) continue;
+        CHECK(std::llabs(lag_one) <= 2700);
 
         const auto sum = ameoto::test::read_wav(wav);
         REQUIRE_MESSAGE(sum.ok, sum.error);
