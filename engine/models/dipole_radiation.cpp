@@ -63,7 +63,11 @@ StateTaps dipole_state_taps(const DipoleTaps& x, double t11, double t12, double 
 }
 
 DipoleRadiation::DipoleRadiation(const Canopy& canopy, const ListenerLayout& layout, double time_step_s, const AirMedium& air,
-                                 const DipoleOptions& options) {
+                                 const DipoleOptions& options)
+    : DipoleRadiation(canopy, layout, time_step_s, air, options, nullptr) {}
+
+DipoleRadiation::DipoleRadiation(const Canopy& canopy, const ListenerLayout& layout, double time_step_s, const AirMedium& air,
+                                 const DipoleOptions& options, const DipoleRadiation* sibling) {
     const AirCanopyModes* m = canopy.air_modes();
     if (m == nullptr) throw std::invalid_argument("dipole radiation: the canopy is not in air");
     if (!(time_step_s > 0.0)) throw std::invalid_argument("dipole radiation: the time step must be positive");
@@ -206,8 +210,13 @@ DipoleRadiation::DipoleRadiation(const Canopy& canopy, const ListenerLayout& lay
             distances(layout.points[point], delay);
             at.r = r;
             at.cos_theta = cos_theta;
-            push_.push_back(design_push_filters(*m, crossover_, screen, at, air));
-            const PushFilters& f = push_.back();
+            PushDesignKey key{m, crossover_.hz, air.density, air.speed_of_sound, r, cos_theta, screen.areal_density, screen.tile_radius};
+            std::shared_ptr<const PushFilters> shared;
+            for (std::size_t j = 0; sibling != nullptr && j < sibling->push_keys_.size() && !shared; ++j)
+                if (sibling->push_keys_[j] == key) shared = sibling->push_[j];
+            push_.push_back(shared ? shared : std::make_shared<const PushFilters>(design_push_filters(*m, crossover_, screen, at, air)));
+            push_keys_.push_back(std::move(key));
+            const PushFilters& f = *push_.back();
             for (int e = 0; e < panels * nodes && f.taps > 0; ++e)
                 longest = std::max(longest, f.offset[static_cast<std::size_t>(e)] + f.taps);
         }
@@ -295,7 +304,7 @@ void DipoleRadiation::play_push(const AirCanopyState& state) {
         if (!std::isfinite(f) || f == 0.0) continue;
         const int panel = e / push_nodes_per_panel_;
         for (int ch = 0; ch < channels_; ++ch) {
-            const PushFilters& filters = push_[static_cast<std::size_t>(push_point_[static_cast<std::size_t>(ch)])];
+            const PushFilters& filters = *push_[static_cast<std::size_t>(push_point_[static_cast<std::size_t>(ch)])];
             const double g = f * push_gain_[static_cast<std::size_t>(ch * push_panels_ + panel)];
             if (filters.taps == 0 || g == 0.0) continue;
             const double* fir = filters.fir.data() + static_cast<std::size_t>(e) * static_cast<std::size_t>(filters.taps);

@@ -143,7 +143,10 @@ const Canopy& matching(const Canopy& prototype, const DropOnCanopyConfig& c) {
 DropOnCanopy::DropOnCanopy(const DropOnCanopyConfig& config, const Canopy& prototype)
     : DropOnCanopy(Built{}, config, Canopy(matching(prototype, checked(config)))) {}
 
-DropOnCanopy::DropOnCanopy(Built, const DropOnCanopyConfig& config, Canopy&& canopy)
+DropOnCanopy::DropOnCanopy(const DropOnCanopyConfig& config, const Canopy& prototype, const DropOnCanopy& sibling)
+    : DropOnCanopy(Built{}, config, Canopy(matching(prototype, checked(config))), &sibling) {}
+
+DropOnCanopy::DropOnCanopy(Built, const DropOnCanopyConfig& config, Canopy&& canopy, const DropOnCanopy* sibling)
     : config_(config),
       dt_(1.0 / config_.sample_rate),
       canopy_(std::move(canopy)),
@@ -163,7 +166,7 @@ DropOnCanopy::DropOnCanopy(Built, const DropOnCanopyConfig& config, Canopy&& can
     // to build (their build was a quarter of a scene's in air).
     if (config_.air && config_.output == SceneOutput::far_field)
         dipole_ = DipoleRadiation(canopy_, far_field_.layout(), dt_, AirMedium{config_.air_options.air_density, config_.air_options.speed_of_sound},
-                                  DipoleOptions{.compressible_push = config_.air_push});
+                                  DipoleOptions{.compressible_push = config_.air_push}, sibling ? &sibling->dipole_ : nullptr);
     // The band collide() keeps to (see there): the rest cap spans bottom_ (its rim) to top_ (the shaft);
     // the normal's vertical component is smallest at the rim, so reach_ vertically is at least 5 cm
     // along any normal inside the rim's circle.

@@ -21,6 +21,10 @@
 //                                                    // proto must come from fresh_canopy(config) (or an
 //                                                    // equal config) and never be stepped; its geometry
 //                                                    // is checked (std::invalid_argument)
+//   DropOnCanopy next(config, proto, run);           // the same again, its far field's push filters
+//                                                    // shared with run's where designed alike
+//                                                    // (DipoleRadiation's sibling: same bits, and about
+//                                                    // 30 ms less a listening point in air)
 //   ---- audio-safe from here: no allocation, no locks ----
 //   bool ok = scene.drop(5e-3, 0.0, 0.2, 0.0);       // D (m), speed (m/s, 0: terminal), plan point (m);
 //                                                    // false: off the canopy, bad size or pool full
@@ -202,6 +206,7 @@ class DropOnCanopy {
 public:
     explicit DropOnCanopy(const DropOnCanopyConfig& config);
     DropOnCanopy(const DropOnCanopyConfig& config, const Canopy& prototype);
+    DropOnCanopy(const DropOnCanopyConfig& config, const Canopy& prototype, const DropOnCanopy& sibling);
     static Canopy fresh_canopy(const DropOnCanopyConfig& config);   // checks config first, as the constructor
 
     bool drop(double diameter_m, double speed_m_per_s, double x_m, double y_m);
@@ -236,7 +241,7 @@ public:
 private:
     static const DropOnCanopyConfig& checked(const DropOnCanopyConfig& config);
     struct Built {};   // the delegated constructor's tag: config already checked, canopy given
-    DropOnCanopy(Built, const DropOnCanopyConfig& config, Canopy&& canopy);
+    DropOnCanopy(Built, const DropOnCanopyConfig& config, Canopy&& canopy, const DropOnCanopy* sibling = nullptr);
     void collide();
     void prepare_turn();   // constructor: turn_head's buffers (drop_on_canopy_turn.cpp)
     void set_drop_floors(bool have_u, double above, double skin, double per_normal);

@@ -51,8 +51,12 @@ TextureCalibration calibrate(const DropOnCanopyConfig& scene, const ImpactTempla
     std::optional<Canopy> built;
     if (!given && build == CanopyBuild::shared && !templates.diameters_m.empty()) built.emplace(DropOnCanopy::fresh_canopy(c));
     const Canopy* prototype = given ? given : built ? &*built : nullptr;
+    // With a prototype, each size's scene shares the first's push filters (the same canopy and point:
+    // DipoleRadiation's sibling, the same bits), which were most of each scene's build in air.
+    std::optional<DropOnCanopy> first, later;
     for (std::size_t k = 0; k < templates.diameters_m.size(); k += 5) {
-        DropOnCanopy run = prototype ? DropOnCanopy(c, *prototype) : DropOnCanopy(c);
+        DropOnCanopy& run = !first ? (prototype ? first.emplace(c, *prototype) : first.emplace(c))
+                                   : (prototype ? later.emplace(c, *prototype, *first) : later.emplace(c));
         TemplatePool pool;
         const CanopyHit hit = run.canopy().locate(x, y);
         const double d = templates.diameters_m[k];

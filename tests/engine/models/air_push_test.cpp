@@ -432,4 +432,55 @@ TEST_CASE("air push: DipoleRadiation plays the modes less their kicks through th
     CHECK(tail_worst < 1e-6 * tail_largest);
 }
 
+TEST_CASE("air push: a sibling's push filters are shared where designed alike, and the sound is the same bit for bit") {
+    const Canopy& built = air_canopy();
+    const Point2 centroid = built.panel_centroid(0);
+    const int node = built.locate(centroid.x, centroid.y).node;
+    ListenerLayout layout, other;
+    layout.points = {{1.0, 0.0, -0.3}, {0.0, 0.0, -3.0}};
+    layout.channel_point = {0, 1};
+    other.points = {{0.0, 0.0, -3.0}, {0.5, 0.5, -1.0}};   // its first point is layout's second
+    other.channel_point = {0, 1};
+    const DipoleOptions push{.compressible_push = true};
+    Canopy a_canopy(built), b_canopy(built), c_canopy(built), d_canopy(built);
+    DipoleRadiation alone(a_canopy, layout, 1.0 / rate, AirMedium{}, push);
+    DipoleRadiation shared(b_canopy, layout, 1.0 / rate, AirMedium{}, push, &alone);
+    DipoleRadiation partly(c_canopy, other, 1.0 / rate, AirMedium{}, push, &alone);
+    // Another air (a warmer day's speed of sound) designs its own, as does a canopy whose modes are another build.
+    DipoleRadiation warmer(d_canopy, layout, 1.0 / rate, AirMedium{constants::air_density, 350.0}, push, &alone);
+    Canopy rebuilt(CanopyGeometry{}, MembraneMaterial::nylon_canopy(), 1.0 / rate);
+    rebuilt.set_air(build_air_canopy_modes(rebuilt, 1.0 / rate));
+    DipoleRadiation own_modes(rebuilt, layout, 1.0 / rate, AirMedium{}, push, &alone);
+    REQUIRE(alone.push_filters(1) != nullptr);
+    CHECK(shared.push_filters(0) == alone.push_filters(0));   // the same object
+    CHECK(shared.push_filters(1) == alone.push_filters(1));
+    CHECK(partly.push_filters(0) == alone.push_filters(1));
+    CHECK(partly.push_filters(1) != alone.push_filters(0));
+    CHECK(partly.push_filters(1) != alone.push_filters(1));
+    CHECK(warmer.push_filters(0) != alone.push_filters(0));
+    CHECK(own_modes.push_filters(0) != alone.push_filters(0));
+    // A filter designed anew from equal inputs is the shared one, bit for bit.
+    const PushFilters& mine = *own_modes.push_filters(0);
+    const PushFilters& theirs = *alone.push_filters(0);
+    CHECK(mine.offset == theirs.offset);
+    CHECK(mine.fir == theirs.fir);
+    // Played: the same samples from the two, a force on the centroid and the modes ringing.
+    std::vector<double> panel_forces(static_cast<std::size_t>(built.panel_count()));
+    a_canopy.apply_force({0, node}, 1.0);
+    b_canopy.apply_force({0, node}, 1.0);
+    bool same = true;
+    double largest = 0.0;
+    for (int n = 0; n < 2400; ++n) {
+        a_canopy.step(panel_forces.data());
+        b_canopy.step(panel_forces.data());
+        double pa[2], pb[2];
+        alone.process(a_canopy, pa);
+        shared.process(b_canopy, pb);
+        same = same && pa[0] == pb[0] && pa[1] == pb[1];
+        largest = std::max(largest, std::abs(pa[1]));
+    }
+    CHECK(largest > 0.0);
+    CHECK(same);
+}
+
 }  // namespace ameoto

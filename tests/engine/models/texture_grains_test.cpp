@@ -141,6 +141,32 @@ TEST_CASE("texture: the calibration from one canopy (its own or the caller's) co
     CHECK(same_bits(given.decay_s, fresh.decay_s));
 }
 
+TEST_CASE("texture: in air the sizes' scenes share one design of the push filters, and the calibration is a per-size build's bit for bit") {
+    // The umbrella's canopy in air with the push (the built-in scenes'): with one canopy for all sizes
+    // each size's scene takes the first's push filters (DipoleRadiation's sibling); per_size builds
+    // everything again for every size.
+    DropOnCanopyConfig air = scene_config();
+    air.air = true;
+    air.air_push = true;
+    TemplateGrid grid;
+    grid.min_diameter_m = 2e-3;
+    grid.step_ratio = 1.1;
+    grid.max_diameter_m = 2e-3 * std::pow(1.1, 5.5);   // 6 sizes: 2 calibrated
+    grid.seconds = 0.005;
+    const ImpactTemplateTable t = record_impact_templates(air, grid);
+    REQUIRE(t.diameters_m.size() == 6u);
+    const TextureCalibration shared = calibrate_texture(air, t, DropOnCanopy::fresh_canopy(air));
+    const TextureCalibration fresh = calibrate_texture(air, t, CanopyBuild::per_size);
+    REQUIRE(fresh.diameters_m.size() == 2u);
+    const auto same_bits = [](const std::vector<double>& a, const std::vector<double>& b) {
+        return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0;
+    };
+    CHECK(same_bits(shared.energy_fs2, fresh.energy_fs2));
+    CHECK(same_bits(shared.centre_hz, fresh.centre_hz));
+    CHECK(same_bits(shared.decay_s, fresh.decay_s));
+    for (double e : fresh.energy_fs2) CHECK(e > 0.0);
+}
+
 // The bed puts a grain where its calibrated centroid is (texture_grains.hpp): split between the two bands
 // whose outputs' power centroids lie around it, linearly in f, so that the bed's long-term power centroid
 // (what bench accuracy compares with the full tier's) is the grains' f_c. Measured on 4 s of grains at
