@@ -42,10 +42,16 @@ TEST_CASE("Worker runs jobs in order off the control thread and delivers results
     CHECK(results == std::vector<int>{0, 1, 4, 9, 16});
     for (auto id : built_on) CHECK(id != control);
     for (auto id : delivered_on) CHECK(id == control);
-    // A delivered job is no longer pending: when job i's result arrives, only the 4 - i after it are
-    // (queued or running). Counting it until after its result was posted made the last check here
-    // fail under the sanitizers, where the control thread ran the result first.
-    CHECK(pending_at_delivery == std::vector<int>{4, 3, 2, 1, 0});
+    // A delivered job is no longer pending: when job i's result arrives, at most the 4 - i after it are
+    // (queued or running; on a loaded machine the worker may have finished the next before the control
+    // thread delivers this one, so fewer). Counting it until after its result was posted made the last
+    // check here fail under the sanitizers, where the control thread ran the result first.
+    REQUIRE(pending_at_delivery.size() == 5);
+    for (std::size_t i = 0; i < 5; ++i) {
+        INFO("job " << i << ": " << pending_at_delivery[i] << " pending at its delivery");
+        CHECK(pending_at_delivery[i] <= 4 - static_cast<int>(i));
+        CHECK(pending_at_delivery[i] >= 0);
+    }
     CHECK(worker.pending() == 0);
 }
 
