@@ -230,7 +230,7 @@ DipoleRadiation::DipoleRadiation(const Canopy& canopy, const ListenerLayout& lay
         push_rest_gain_ = push_gain_;
         low_.assign(static_cast<std::size_t>(channels_), LowPassState{});
     }
-    previous_.assign(static_cast<std::size_t>(modes_), 0.0);   // abar[n - 1] (two taps)
+    if (!state_taps_) previous_.assign(static_cast<std::size_t>(modes_), 0.0);   // abar[n - 1] (two taps only)
     if (state_taps_) {
         before_node_.assign(static_cast<std::size_t>(nodes_), 0);
         before_newtons_.assign(static_cast<std::size_t>(nodes_), 0.0);

@@ -161,7 +161,7 @@ private:
     int tap_sets_ = 2, nodes_ = 0;
     bool state_taps_ = false;
     int tap_width(int set) const { return set < 2 ? modes_ : nodes_; }
-    std::vector<double> previous_;   // each mode's abar[n - 1] (two taps)
+    std::vector<double> previous_;   // each mode's abar[n - 1] (two taps; empty with the state taps)
     // With the push: the forces the step before took, as AirCanopyState lists them (sized to the nodes).
     std::vector<int> before_node_;
     std::vector<double> before_newtons_;
