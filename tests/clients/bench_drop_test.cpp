@@ -119,6 +119,12 @@ TEST_CASE("bench drop: `--json` prints the canopy, 1 drop, 8 drops and drops at 
     }
     CHECK(number(at_once, "target") == 16);
     CHECK(number(at_once, "runs") == 2);
+    // The canopy in air (the built-in scenes'), same rounds: drops at once from its own baseline and per drop.
+    const double base_air = number(at_once, "canopy_ns_per_sample_air"), per_drop_air = number(at_once, "ns_per_drop_per_sample_air");
+    CHECK(base_air > 0);
+    CHECK(per_drop_air > 0);
+    CHECK(printed_equal(number(at_once, "drops_air"), (period_ns - base_air) / per_drop_air, base_air / per_drop_air));
+    MESSAGE("in air: canopy " << base_air << " ns/sample, " << per_drop_air << " ns per drop, " << number(at_once, "drops_air") << " drops at once");
     // Each round's own figure: the two rounds' lowest and highest.
     CHECK(number(at_once, "drops_round_low") <= number(at_once, "drops_round_high"));
     MESSAGE("drops at once " << number(at_once, "drops") << " (medians " << number(at_once, "drops_median") << ", rounds "

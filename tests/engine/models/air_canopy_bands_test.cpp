@@ -30,7 +30,8 @@ struct KnownMiss {
     double hz, measured_db;
 };
 // Node 12 at 3 m at 198 Hz (+3.3 dB as a brick wall, +2.4 through the band filters, where the modes'
-// resonances near the band's edge count half in each band).
+// resonances near the band's edge count half in each band). The reference there: -81.9, -84.3, -83.3 dB
+// at 10, 7.5 and 5 mm (not yet monotone in the grid; it moved 1.0 dB between the two finest).
 constexpr KnownMiss known_misses[] = {
     {1, 2, 198.425, +3.3},
 };
@@ -38,6 +39,7 @@ constexpr KnownMiss known_misses[] = {
 // Read through IEC 61260-1 class-1 band filters (screen_far_field.hpp), where a resonance on a band's edge
 // counts half in each band: node 43 at 3 m at 99 Hz (+3.007 dB), the skirt of the lowest mode (84.6 Hz;
 // 80.9 Hz in compressible air, docs/canopy-air.md), 2.8-3.0 dB high at all six under-shaft and 3 m pairs.
+// The reference there: -82.1, -82.9, -81.6 dB at 10, 7.5 and 5 mm (it moved 1.3 dB between the two finest).
 constexpr KnownMiss known_filtered_misses[] = {
     {2, 2, 99.2126, +3.0},
 };
@@ -65,11 +67,15 @@ TEST_CASE("air canopy: band levels 63 Hz-4 kHz against the 5 mm reference, three
     s.reference.duration_s = 0.2;
     s.low_hz = 63.0;
     s.high_hz = 4000.0;
-    // Every pair past 3 dB is one of the known ones, on the same side and no further off than measured.
-    auto held = [](const KnownMiss* m, double d) {
+    // Every pair past 3 dB is one of the known ones, on the same side and no further off than measured,
+    // and past 3 dB by less than the reference itself moved there between its two finest grids (7.5 and
+    // 5 mm): the reference cannot place that band closer than its own change.
+    auto held = [](const KnownMiss* m, double d, double reference_change) {
         REQUIRE(m != nullptr);
         CHECK(d * m->measured_db > 0.0);
         CHECK(std::abs(d) < std::abs(m->measured_db) + 0.3);
+        INFO("the reference moved " << reference_change << " dB there from 7.5 to 5 mm");
+        CHECK(std::abs(d) - 3.0 < std::abs(reference_change));
     };
     Canopy in_air(shape);   // the air's modes built once for the three strikes
     in_air.set_air(build_air_canopy_modes(in_air, 1.0 / s.fast_rate_hz));
@@ -96,7 +102,8 @@ TEST_CASE("air canopy: band levels 63 Hz-4 kHz against the 5 mm reference, three
                 if (std::abs(d) <= 3.0) continue;
                 ++misses;
                 INFO("node " << node << ", listener " << l << ", " << heard[b].centre_hz << " Hz: " << d << " dB");
-                held(known_in(known_misses, k, l, heard[b].centre_hz), d);
+                held(known_in(known_misses, k, l, heard[b].centre_hz), d,
+                     test::canopy_bands_5mm_db[k][l][b] - test::canopy_bands_7_5mm_db[k][l][b]);
             }
             MESSAGE("node " << node << " listener " << l << ":" << row);
             // The same record read through the band filters, against the reference's read the same way.
@@ -113,7 +120,8 @@ TEST_CASE("air canopy: band levels 63 Hz-4 kHz against the 5 mm reference, three
                 if (std::abs(d) <= 3.0) continue;
                 ++filtered_misses;
                 INFO("through the band filters: node " << node << ", listener " << l << ", " << filtered[b].centre_hz << " Hz: " << d << " dB");
-                held(known_in(known_filtered_misses, k, l, filtered[b].centre_hz), d);
+                held(known_in(known_filtered_misses, k, l, filtered[b].centre_hz), d,
+                     test::canopy_bands_5mm_filtered_db[k][l][b] - test::canopy_bands_7_5mm_filtered_db[k][l][b]);
             }
             MESSAGE("node " << node << " listener " << l << " through the band filters:" << filtered_row);
         }
