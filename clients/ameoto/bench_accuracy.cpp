@@ -297,7 +297,7 @@ std::string accuracy_bench_usage() {
            "panel and % of one core at 48 kHz (thread CPU time, median of runs). Errors against the exact\n"
            "modal solution: the largest frequency error of the audible modes below 5 kHz (cents) and the\n"
            "log-spectral distance of the impulse response, 20 Hz..20 kHz (dB). Then the canopy in air, held\n"
-           "to the FDTD reference (engine/reference/, its committed 10 mm figures): the reference's own cost,\n"
+           "to the FDTD reference (engine/reference/, its committed 5 mm figures): the reference's own cost,\n"
            "the air-loaded modal canopy and every method above in vacuum, each by the worst error in cents of\n"
            "the struck panel's first 10 modes in air. Then a free 3 mm drop in\n"
            "explicit Verlet and symplectic Euler at 1x..8x its sub-steps (cost, cents). Then the stability map:\n"
@@ -315,7 +315,7 @@ std::string accuracy_bench_usage() {
            "  --stability-svg FILE  write the stability map (docs/stability.svg)\n"
            "  --table FILE          write the knob's data as C++ (engine/core/method_table.cpp)\n"
            "  --air-reference DX    recompute the FDTD reference in air at grid step DX (m, 0.005..0.05)\n"
-           "                        instead of its committed figures (0.01: minutes of CPU)\n"
+           "                        instead of its committed figures (0.005: 9 minutes of CPU)\n"
            "\n"
            "Exit status: 0 measured; 1 a file could not be written; 2 usage error.\n"
            "\n"
@@ -356,7 +356,7 @@ int run_accuracy_bench(const CommandWords& words, const CommandIo& io) {
     AirReference air_reference = cached_air_reference();
     if (o.air_reference_dx > 0.0) {
         io.err << "ameoto bench: the FDTD reference in air at dx " << number("%.4g", o.air_reference_dx * 1e3)
-               << " mm (minutes at 10 mm)\n" << std::flush;
+               << " mm (9 minutes at 5 mm)\n" << std::flush;
         air_reference = compute_air_reference(o.air_reference_dx);
     }
     io.err << "ameoto bench: the canopy in air: the FDTD reference's cost, the air-loaded model, the in-vacuum methods\n" << std::flush;

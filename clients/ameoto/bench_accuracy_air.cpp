@@ -14,14 +14,14 @@ namespace ameoto::client {
 
 namespace {
 
-// The reference at dx = 10 mm (converged: 12.5 and 10 mm agree to 1 %, docs/air-reference.md), the
-// struck panel's modes 1-10 in air. A 10 mm run costs minutes of CPU, so the figures are committed and
-// `bench accuracy` holds the fast rows to them live; regenerate with the command in `source` when the
-// reference, the canopy or the estimator changes (tests/engine/reference/canopy_modes_test.cpp caches
-// the same run).
-constexpr double cached_dx_m = 0.01;
-constexpr double cached_hz[air_panel_modes] = {122.8, 224.4, 226.4, 315.0, 334.6, 334.4, 394.4, 478.1, 477.3, 496.2};
-constexpr const char* cached_source = "ameoto reference canopy --dx 0.01 (2026-12-02)";
+// The reference's finest run, dx = 5 mm (docs/air-reference.md: the struck panel's modes 1-10 in air
+// move under 1 % from 7.5 mm for modes 1-7). A 5 mm run takes 9 minutes of CPU, so the figures are
+// committed and `bench accuracy` holds the fast rows to them live; regenerate with the command in
+// `source` when the reference, the canopy or the estimator changes
+// (tests/engine/reference/canopy_modes_test.cpp caches the same run).
+constexpr double cached_dx_m = 0.005;
+constexpr double cached_hz[air_panel_modes] = {122.2, 222.2, 225.3, 309.5, 330.9, 331.4, 388.4, 461.7, 465.9, 503.8};
+constexpr const char* cached_source = "ameoto reference canopy --dx 0.005 (2026-12-07)";
 
 // The scene's drive of the whole canopy under heavy rain: one contact force on each panel every sample
 // (hopping over its nodes by a prime stride, as bench_accuracy.cpp's panel drive), the step, and the
