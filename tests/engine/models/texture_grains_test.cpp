@@ -30,6 +30,10 @@ const ImpactTemplateTable& templates() {
     return t;
 }
 
+bool same_bits(const std::vector<double>& a, const std::vector<double>& b) {
+    return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0;
+}
+
 const TextureCalibration& calibration() {
     static const TextureCalibration c = calibrate_texture(scene_config(), templates());
     return c;
@@ -123,9 +127,6 @@ TEST_CASE("texture: the calibration from one canopy (its own or the caller's) co
     const TextureCalibration shared = calibrate_texture(scene_config(), t, CanopyBuild::shared);
     const TextureCalibration fresh = calibrate_texture(scene_config(), t, CanopyBuild::per_size);
     REQUIRE(fresh.diameters_m.size() == 3u);
-    const auto same_bits = [](const std::vector<double>& a, const std::vector<double>& b) {
-        return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0;
-    };
     CHECK(same_bits(shared.diameters_m, fresh.diameters_m));
     CHECK(same_bits(shared.speeds_m_per_s, fresh.speeds_m_per_s));
     CHECK(same_bits(shared.energy_fs2, fresh.energy_fs2));
@@ -158,9 +159,6 @@ TEST_CASE("texture: in air the sizes' scenes share one design of the push filter
     const TextureCalibration shared = calibrate_texture(air, t, DropOnCanopy::fresh_canopy(air));
     const TextureCalibration fresh = calibrate_texture(air, t, CanopyBuild::per_size);
     REQUIRE(fresh.diameters_m.size() == 2u);
-    const auto same_bits = [](const std::vector<double>& a, const std::vector<double>& b) {
-        return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0;
-    };
     CHECK(same_bits(shared.energy_fs2, fresh.energy_fs2));
     CHECK(same_bits(shared.centre_hz, fresh.centre_hz));
     CHECK(same_bits(shared.decay_s, fresh.decay_s));
