@@ -144,13 +144,15 @@ TEST_CASE("nodes on one JACK server: the street in two parts, started at one epo
         CHECK(s1.args[12].text == "jack");
         CHECK(s1.args[2].number > 0.0);   // both nodes count drops: the same rain field
         CHECK(s2.args[2].number > 0.0);
+        // A take with xruns is played again: the dummy driver ran late, its first cycle too (2 701 us, with 2
+        // xruns, in one CI run), and JACK skips a client still running from the cycle before, so that client's
+        // first cycle can be the next one (1 671 and 7 018 us, with 110 xruns, in another). The epoch's cycle
+        // and the two nodes' agreement are held on a clean take only.
+        if (xruns != 0 || !before_epoch) continue;
+        CHECK(std::llabs(lag_one) <= 2700);
         // On one server both read the same JACK cycle times: the same cycle (the lags differ only by
         // each client's gap between its two clock readings, microseconds, against a 5 333 us period).
         CHECK(std::llabs(lag_one - lag_two) <= 200);
-        // A take with xruns is played again: the dummy driver ran late, its first cycle too (2 701 us, with 2
-        // xruns, in one CI run), so the epoch's cycle is held to the half period only on a clean take.
-        if (xruns != 0 || !before_epoch) continue;
-        CHECK(std::llabs(lag_one) <= 2700);
 
         const auto sum = ameoto::test::read_wav(wav);
         REQUIRE_MESSAGE(sum.ok, sum.error);
