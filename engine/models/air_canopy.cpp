@@ -4,15 +4,86 @@
 
 #include <algorithm>
 #include <cmath>
+#include <complex>
 #include <stdexcept>
 #include <utility>
+
+#include <Eigen/Eigenvalues>
 
 #include "engine/core/integrators/mode_decay.hpp"
 #include "engine/models/air_canopy_kernels.hpp"
 #include "engine/models/air_loading.hpp"
+#include "engine/models/air_loading_in_phase.hpp"
 #include "engine/models/canopy.hpp"
 
 namespace ameoto {
+
+namespace {
+
+// The whole canopy's mode k is in phase when every panel's part is panel 0's (block m = 0 of the
+// panels' Fourier modes; the eigen-solve returns those, being simple, as such).
+bool in_phase(const Eigen::VectorXd& shape, int panels, int nodes) {
+    const Eigen::VectorXd first = shape.head(nodes);
+    for (int p = 1; p < panels; ++p)
+        if ((shape.segment(p * nodes, nodes) - first).norm() > 1e-6 * first.norm()) return false;
+    return true;
+}
+
+struct Pole {
+    double omega, rate;
+};
+
+// The in-phase modes' poles with the compressible air mass: the canopy's block m = 0 (every panel alike)
+// spanned by its in-phase modes psi (panel 0's parts; mass-normalised on M + M_a(0) over the canopy), in
+// which the equations of motion for e^(i w t) are
+//   (diag(w_k^2) + 2 i w diag(s_k) - w^2 (I + D(w))) q = 0,   D(w) = N psi' (M_a(w) - M_a(0)) psi,
+// s_k the material's rates (classical damping, as the server's). For each wanted mode, with w frozen at the
+// last real part: the eigenvalue nearest that mode's of (I + D)^-1 (diag(w_k^2) + 2 i w diag(s_k)) is w^2,
+// until w = Re sqrt of it; the decay rate is Im w. D couples the in-phase modes: the lowest
+// two radiate through one net force, so each one's pole on its own shape alone put the second's decay at
+// 16 /s where the block gives 10 (docs/canopy-air.md). Without radiation, D's real part alone.
+std::vector<Pole> in_phase_poles(const InPhaseAirMass& air, const Eigen::MatrixXd& psi, int panels, const Eigen::VectorXd& omega,
+                                 const Eigen::VectorXd& material_rate, int wanted, bool radiate) {
+    using cd = std::complex<double>;
+    const auto n = psi.cols();
+    std::vector<Pole> out;
+    // The pole for mode j with D frozen at the real frequency w.
+    const auto pole_at = [&](int j, double w) {
+        Eigen::MatrixXcd d = static_cast<double>(panels) * (psi.transpose().cast<cd>() * air.change_at(std::min(w, air.max_omega())) * psi.cast<cd>());
+        if (!radiate) d = d.real().cast<cd>();
+        Eigen::MatrixXcd stiffness = Eigen::MatrixXcd::Zero(n, n);
+        for (Eigen::Index k = 0; k < n; ++k) stiffness(k, k) = cd(omega[k] * omega[k], 2.0 * w * material_rate[k]);
+        const Eigen::ComplexEigenSolver<Eigen::MatrixXcd> solver((Eigen::MatrixXcd::Identity(n, n) + d).partialPivLu().solve(stiffness), false);
+        if (solver.info() != Eigen::Success) throw std::runtime_error("air canopy: the in-phase poles' eigen-solve failed");
+        const double target = omega[j] * omega[j];
+        cd nearest = solver.eigenvalues()[0];
+        for (Eigen::Index k = 1; k < n; ++k)
+            if (std::abs(solver.eigenvalues()[k] - target) < std::abs(nearest - target)) nearest = solver.eigenvalues()[k];
+        const cd root = std::sqrt(nearest);
+        return root.real() < 0.0 ? -root : root;
+    };
+    for (int j = 0; j < wanted; ++j) {
+        // The fixed point w = Re pole(w), by the secant on f(w) = Re pole(w) - w: the plain iteration
+        // overshoots by a twelfth of its step each round; the secant settles in three or four evaluations.
+        double w0 = omega[j];
+        cd p0 = pole_at(j, w0);
+        double f0 = p0.real() - w0;
+        double w1 = p0.real();
+        cd p1 = pole_at(j, w1);
+        double f1 = p1.real() - w1;
+        for (int round = 0; round < 8 && std::abs(f1) > 1e-7 * omega[j] && f1 != f0; ++round) {
+            const double w2 = w1 - f1 * (w1 - w0) / (f1 - f0);
+            w0 = w1, f0 = f1;
+            w1 = w2;
+            p1 = pole_at(j, w1);
+            f1 = p1.real() - w1;
+        }
+        out.push_back({p1.real(), p1.imag()});
+    }
+    return out;
+}
+
+}  // namespace
 
 std::shared_ptr<const AirCanopyModes> build_air_canopy_modes(const Canopy& canopy, double time_step_s,
                                                              const AirCanopyOptions& o) {
@@ -20,10 +91,40 @@ std::shared_ptr<const AirCanopyModes> build_air_canopy_modes(const Canopy& canop
     if (!(o.air_density > 0.0 && o.air_density < 100.0)) throw std::invalid_argument("air canopy: air density outside 0..100 kg/m^3");
     if (!(o.speed_of_sound > 1.0 && o.speed_of_sound < 1e4)) throw std::invalid_argument("air canopy: speed of sound outside 1..1e4 m/s");
     if (!(o.max_frequency_hz > 0.0)) throw std::invalid_argument("air canopy: the cutoff must be positive");
+    if (!(o.compressible_in_phase_ka >= 0.0 && o.compressible_in_phase_ka <= 10.0))
+        throw std::invalid_argument("air canopy: the compressible poles' k a outside 0..10");
     const AddedMass added = canopy_added_mass(canopy, o.air_density, o.air_mass);
     const AirLoadedModes all = air_loaded_modes(canopy, added);
     Eigen::VectorXd radiation = Eigen::VectorXd::Zero(all.omega.size());
     if (o.radiation_damping) radiation = ameoto::radiation_damping(all, added, o.air_density, o.speed_of_sound);
+    Eigen::VectorXd omega = all.omega, rate = all.damping_rate + radiation;
+    const double limit = o.compressible_in_phase_ka * o.speed_of_sound / canopy.geometry().radius_m;   // rad/s
+    if (limit > 0.0 && all.omega.size() > 0 && all.omega[0] <= limit) {
+        const int panels = canopy.panel_count(), nodes = canopy.nodes_per_panel();
+        std::vector<Eigen::Index> index;   // the in-phase modes, ascending
+        for (Eigen::Index k = 0; k < all.omega.size(); ++k)
+            if (in_phase(all.shapes.col(k), panels, nodes)) index.push_back(k);
+        int wanted = 0;
+        while (wanted < static_cast<int>(index.size()) && all.omega[index[static_cast<std::size_t>(wanted)]] <= limit) ++wanted;
+        if (wanted > 0) {
+            Eigen::MatrixXd psi(nodes, static_cast<Eigen::Index>(index.size()));
+            Eigen::VectorXd w(psi.cols()), s(psi.cols());
+            for (Eigen::Index j = 0; j < psi.cols(); ++j) {
+                const Eigen::Index k = index[static_cast<std::size_t>(j)];
+                psi.col(j) = all.shapes.col(k).head(nodes);
+                w[j] = all.omega[k];
+                s[j] = all.damping_rate[k];
+            }
+            const InPhaseAirMass air(canopy, o.air_density, o.speed_of_sound, limit, o.air_mass);
+            const std::vector<Pole> poles = in_phase_poles(air, psi, panels, w, s, wanted, o.radiation_damping);
+            for (int j = 0; j < wanted; ++j) {
+                const Eigen::Index k = index[static_cast<std::size_t>(j)];
+                omega[k] = poles[static_cast<std::size_t>(j)].omega;
+                rate[k] = poles[static_cast<std::size_t>(j)].rate;
+                radiation[k] = o.radiation_damping ? rate[k] - all.damping_rate[k] : 0.0;   // the compressible air's share
+            }
+        }
+    }
 
     auto m = std::make_shared<AirCanopyModes>();
     const auto n = static_cast<int>(all.omega.size());
@@ -44,9 +145,9 @@ std::shared_ptr<const AirCanopyModes> build_air_canopy_modes(const Canopy& canop
     const Eigen::MatrixXd force = added.matrix * all.shapes;
     for (int j = 0; j < kept; ++j) {
         const int k = keep[static_cast<std::size_t>(j)];
-        m->omega[j] = all.omega[k];
+        m->omega[j] = omega[k];
         m->radiation_rate[j] = radiation[k];
-        m->rate[j] = all.damping_rate[k] + radiation[k];
+        m->rate[j] = rate[k];
         for (int i = 0; i < m->nodes; ++i) m->shape[static_cast<std::size_t>(i) * kept + j] = all.shapes(i, k);
         m->air_force.col(j) = force.col(k);
         const ModeDecay d = mode_decay(m->omega[j], m->rate[j], time_step_s);   // integrators/mode_decay.hpp

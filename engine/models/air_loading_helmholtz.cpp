@@ -61,54 +61,6 @@ namespace {
 
 using namespace air_sectors;
 
-// Gauss-Legendre on [0, 1].
-struct Rule {
-    std::vector<double> x, w;
-};
-const Rule gauss2{{0.5 - 0.5 / std::sqrt(3.0), 0.5 + 0.5 / std::sqrt(3.0)}, {0.5, 0.5}};
-const Rule gauss3{{0.5 - 0.5 * std::sqrt(0.6), 0.5, 0.5 + 0.5 * std::sqrt(0.6)}, {5.0 / 18.0, 8.0 / 18.0, 5.0 / 18.0}};
-
-// A sub-cell turned by (ct, st): its corners as a bilinear quadrilateral (a triangle repeats a corner).
-struct Quad {
-    Point2 c[4];
-    std::vector<Point2> polygon;
-    Point2 centroid;
-    double size = 0.0;   // sqrt(area)
-};
-
-Quad turned_quad(const SectorCell& cell, double ct, double st) {
-    Quad q;
-    auto turn = [&](Point2 p) { return Point2{ct * p.x - st * p.y, st * p.x + ct * p.y}; };
-    for (const Point2& p : cell.corners) q.polygon.push_back(turn(p));
-    for (int i = 0; i < 4; ++i) q.c[i] = q.polygon[static_cast<std::size_t>(std::min<int>(i, static_cast<int>(q.polygon.size()) - 1))];
-    if (q.polygon.size() == 3) q.c[3] = q.polygon[0];
-    q.centroid = turn(cell.centroid);
-    q.size = std::sqrt(cell.area);
-    return q;
-}
-
-// integral over the quad of f(y) dA by the rule's tensor product on the bilinear map.
-template <class F>
-cd integrate_quad(const Quad& q, const Rule& rule, F&& f) {
-    cd sum = 0.0;
-    for (std::size_t i = 0; i < rule.x.size(); ++i) {
-        for (std::size_t j = 0; j < rule.x.size(); ++j) {
-            const double s = rule.x[i], t = rule.x[j];
-            const double w00 = (1 - s) * (1 - t), w10 = s * (1 - t), w11 = s * t, w01 = (1 - s) * t;
-            const Point2 y{w00 * q.c[0].x + w10 * q.c[1].x + w11 * q.c[2].x + w01 * q.c[3].x,
-                           w00 * q.c[0].y + w10 * q.c[1].y + w11 * q.c[2].y + w01 * q.c[3].y};
-            // Jacobian of P(s, t).
-            const double xs = (1 - t) * (q.c[1].x - q.c[0].x) + t * (q.c[2].x - q.c[3].x);
-            const double ys = (1 - t) * (q.c[1].y - q.c[0].y) + t * (q.c[2].y - q.c[3].y);
-            const double xt = (1 - s) * (q.c[3].x - q.c[0].x) + s * (q.c[2].x - q.c[1].x);
-            const double yt = (1 - s) * (q.c[3].y - q.c[0].y) + s * (q.c[2].y - q.c[1].y);
-            const double jac = std::abs(xs * yt - ys * xt);
-            sum += rule.w[i] * rule.w[j] * jac * f(y);
-        }
-    }
-    return sum;
-}
-
 // integral over the quad of D(|x - y|) dA (the header's D).
 cd kernel_difference(Point2 x, const Quad& q, double k) {
     const double d = std::hypot(x.x - q.centroid.x, x.y - q.centroid.y);

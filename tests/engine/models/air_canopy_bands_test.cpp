@@ -1,12 +1,14 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // Issue 19, part 2, over its whole range: the server's canopy in air (its air-loaded modes heard as
-// dipoles, each force's instantaneous push below a crossover and its compressible push above) against the reference's band levels at dx 5 mm, the
-// finest run, cached here because it takes 23 minutes. air_canopy_test.cpp runs the reference itself on
+// dipoles, each force's instantaneous push below a crossover and its compressible push above) against the
+// reference's band levels at dx 5 mm and 3.75 mm, the two finest runs, cached here because they take 23
+// and 71 minutes. air_canopy_test.cpp runs the reference itself on
 // its cheap grid (80-630 Hz), which ties this cache to the reference as it is. Each band is read as a
 // brick wall between its edges and through IEC 61260-1 class-1 band filters (screen_far_field.hpp).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <iterator>
 #include <string>
 #include <vector>
 
@@ -23,46 +25,57 @@ using namespace ameoto;
 
 namespace {
 
-// A pair the server's model misses by more than 3 dB against the 5 mm reference (docs/canopy-air.md,
-// "Band levels with the push"), held where it is so that it cannot drift further unseen.
+// A pair the server's model misses by more than 3 dB against a reference (docs/canopy-air.md, "Band
+// levels with the push"), held where it is so that it cannot drift further unseen.
 struct KnownMiss {
     int strike, listener;
     double hz, measured_db;
 };
-// Node 12 at 3 m at 198 Hz (+3.3 dB as a brick wall, +2.4 through the band filters, where the modes'
-// resonances near the band's edge count half in each band): the skirt of the second in-phase mode
-// (168.7 Hz; 163.1 Hz in compressible air). The reference there: -81.9, -84.3, -83.3, -83.9 dB at 10,
-// 7.5, 5 and 3.75 mm (docs/canopy-air.md).
-constexpr KnownMiss known_misses[] = {
-    {1, 2, 198.425, +3.3},
+// Node 43 (towards the shaft) under the shaft at 125 Hz as a brick wall (+3.13 dB against 5 mm, +3.20
+// against 3.75 mm; 2.1 and 2.0 through the band filters): the band between the two lowest in-phase modes
+// (81.2 and 163.3 Hz with their compressible poles), whose level is their skirts' sum. Before the poles
+// (air_canopy.hpp) the misses were node 12 at 3 m at 198 Hz (+3.3) and, through the filters, node 43 at 3 m
+// at 99 Hz (+3.0; 3.2-3.5 dB at seven pairs against 3.75 mm).
+constexpr KnownMiss known_5mm[] = {
+    {2, 0, 125.0, +3.13},
+};
+constexpr KnownMiss known_3_75mm[] = {
+    {2, 0, 125.0, +3.20},
 };
 
-// Read through IEC 61260-1 class-1 band filters (screen_far_field.hpp), where a resonance on a band's edge
-// counts half in each band: node 43 at 3 m at 99 Hz (+3.007 dB), the skirt of the lowest mode (84.6 Hz;
-// 80.9 Hz in compressible air, docs/canopy-air.md), 2.8-3.0 dB high at all six under-shaft and 3 m pairs
-// (3.2-3.5 dB against the 3.75 mm run, whose level there, -82.1 dB, is the 10 mm run's: the 5 mm run's
-// -81.6 is the grids' scatter).
-constexpr KnownMiss known_filtered_misses[] = {
-    {2, 2, 99.2126, +3.0},
+struct Reference {
+    const char* name;
+    const double (*db)[3][test::canopy_bands_5mm_bands];
+    const double (*filtered_db)[3][test::canopy_bands_5mm_bands];
+    const KnownMiss* known;   // as brick walls; through the filters none
+    std::size_t known_count;
+    // The RMS of fast - reference over the 171 pairs, through the filters (0.95 dB against 5 mm, 0.86
+    // against 3.75 mm; 1.12 and 1.16 before the compressible poles).
+    double rms_filtered_db;
 };
 
-template <std::size_t N>
-const KnownMiss* known_in(const KnownMiss (&list)[N], int strike, int listener, double hz) {
-    for (const KnownMiss& m : list)
+const KnownMiss* known_in(const Reference& r, int strike, int listener, double hz) {
+    for (std::size_t i = 0; i < r.known_count; ++i) {
+        const KnownMiss& m = r.known[i];
         if (m.strike == strike && m.listener == listener && std::abs(m.hz / hz - 1.0) < 1e-3) return &m;
+    }
     return nullptr;
 }
 
 }  // namespace
 
-TEST_CASE("air canopy: band levels 63 Hz-4 kHz against the 5 mm reference, three strikes, three listeners") {
+TEST_CASE("air canopy: band levels 63 Hz-4 kHz against the 5 mm and 3.75 mm references, three strikes, three listeners") {
     // The strikes and listeners of `ameoto reference canopy-bands` (its --json reference_db is the cache).
     const Canopy shape(CanopyGeometry{}, MembraneMaterial::nylon_canopy(), 1.0 / 48000.0);
     const Point2 c = shape.panel_centroid(0);
     const Point2 points[3] = {c, {c.x * 1.35, c.y + 0.03}, {c.x * 0.55, c.y - 0.02}};
     const int expected_nodes[3] = {24, 12, 43};   // the centroid, towards the hem, towards the shaft
-    int misses = 0, modes_alone_misses = 0, pairs = 0, filtered_misses = 0;
-    double worst = 0.0, filtered_worst = 0.0;
+    const Reference references[2] = {
+        {"5 mm", test::canopy_bands_5mm_db, test::canopy_bands_5mm_filtered_db, known_5mm, std::size(known_5mm), 1.0},
+        {"3.75 mm", test::canopy_bands_3_75mm_db, test::canopy_bands_3_75mm_filtered_db, known_3_75mm, std::size(known_3_75mm), 0.95},
+    };
+    int misses[2] = {0, 0}, filtered_misses[2] = {0, 0}, modes_alone_misses = 0, pairs = 0;
+    double worst[2] = {0.0, 0.0}, filtered_worst[2] = {0.0, 0.0}, filtered_squares[2] = {0.0, 0.0};
     // Under the sanitizers the centroid only: the other two strikes run the same code for another node.
     const int strikes = test::sanitized_build() ? 1 : 3;
     reference::CanopyBandsSetup s;
@@ -86,49 +99,54 @@ TEST_CASE("air canopy: band levels 63 Hz-4 kHz against the 5 mm reference, three
             const auto& heard = f.fast_push[static_cast<std::size_t>(l)];
             const auto& alone = f.fast[static_cast<std::size_t>(l)];
             REQUIRE(heard.size() == test::canopy_bands_5mm_bands);
-            std::string row;
-            for (std::size_t b = 0; b < heard.size(); ++b) {
-                REQUIRE(heard[b].centre_hz == doctest::Approx(test::canopy_bands_5mm_hz[b]).epsilon(1e-4));
-                const double d = heard[b].level_db - test::canopy_bands_5mm_db[k][l][b];
-                const double d_alone = alone[b].level_db - test::canopy_bands_5mm_db[k][l][b];
-                char text[32];
-                std::snprintf(text, sizeof text, " %.0f %+.1f", heard[b].centre_hz, d);
-                row += text;
-                ++pairs;
-                worst = std::max(worst, std::abs(d));
-                modes_alone_misses += std::abs(d_alone) > 3.0 ? 1 : 0;
-                if (std::abs(d) <= 3.0) continue;
-                ++misses;
-                INFO("node " << node << ", listener " << l << ", " << heard[b].centre_hz << " Hz: " << d << " dB");
-                held(known_in(known_misses, k, l, heard[b].centre_hz), d);
-            }
-            MESSAGE("node " << node << " listener " << l << ":" << row);
             // The same record read through the band filters, against the reference's read the same way.
             const std::vector<reference::BandLevel> filtered = reference::third_octave_levels(
                 f.fast_push_pressure[static_cast<std::size_t>(l)], 1.0 / s.fast_rate_hz, s.low_hz, s.high_hz, reference::BandFilter::iec61260);
             REQUIRE(filtered.size() == test::canopy_bands_5mm_bands);
-            std::string filtered_row;
-            for (std::size_t b = 0; b < filtered.size(); ++b) {
-                const double d = filtered[b].level_db - test::canopy_bands_5mm_filtered_db[k][l][b];
-                char text[32];
-                std::snprintf(text, sizeof text, " %.0f %+.1f", filtered[b].centre_hz, d);
-                filtered_row += text;
-                filtered_worst = std::max(filtered_worst, std::abs(d));
-                if (std::abs(d) <= 3.0) continue;
-                ++filtered_misses;
-                INFO("through the band filters: node " << node << ", listener " << l << ", " << filtered[b].centre_hz << " Hz: " << d << " dB");
-                held(known_in(known_filtered_misses, k, l, filtered[b].centre_hz), d);
+            for (int g = 0; g < 2; ++g) {
+                const Reference& r = references[g];
+                std::string row, filtered_row;
+                for (std::size_t b = 0; b < heard.size(); ++b) {
+                    REQUIRE(heard[b].centre_hz == doctest::Approx(test::canopy_bands_5mm_hz[b]).epsilon(1e-4));
+                    const double d = heard[b].level_db - r.db[k][l][b];
+                    const double fd = filtered[b].level_db - r.filtered_db[k][l][b];
+                    char text[48];
+                    std::snprintf(text, sizeof text, " %.0f %+.1f", heard[b].centre_hz, d);
+                    row += text;
+                    std::snprintf(text, sizeof text, " %.0f %+.1f", heard[b].centre_hz, fd);
+                    filtered_row += text;
+                    filtered_squares[g] += fd * fd;
+                    if (g == 0) {
+                        ++pairs;
+                        modes_alone_misses += std::abs(alone[b].level_db - r.db[k][l][b]) > 3.0 ? 1 : 0;
+                    }
+                    worst[g] = std::max(worst[g], std::abs(d));
+                    filtered_worst[g] = std::max(filtered_worst[g], std::abs(fd));
+                    if (std::abs(d) > 3.0) {
+                        ++misses[g];
+                        INFO(std::string(r.name) << ": node " << node << ", listener " << l << ", " << heard[b].centre_hz << " Hz: " << d << " dB");
+                        held(known_in(r, k, l, heard[b].centre_hz), d);
+                    }
+                    if (std::abs(fd) > 3.0) ++filtered_misses[g];
+                }
+                MESSAGE(std::string(r.name) << ": node " << node << " listener " << l << ":" << row);
+                MESSAGE(std::string(r.name) << ": node " << node << " listener " << l << " through the band filters:" << filtered_row);
             }
-            MESSAGE("node " << node << " listener " << l << " through the band filters:" << filtered_row);
         }
     }
-    MESSAGE(filtered_misses << " pairs past 3 dB through the band filters (worst " << filtered_worst << " dB)");
-    MESSAGE(misses << " of " << pairs << " band-listener pairs past 3 dB with the push (worst " << worst << " dB), " << modes_alone_misses
-                   << " with the modes' taps alone");
     CHECK(pairs == strikes * 3 * 19);
+    for (int g = 0; g < 2; ++g) {
+        const double rms = std::sqrt(filtered_squares[g] / pairs);
+        MESSAGE("against " << std::string(references[g].name) << ": " << misses[g] << " of " << pairs << " pairs past 3 dB as brick walls (worst " << worst[g]
+                           << " dB), " << filtered_misses[g] << " through the band filters (worst " << filtered_worst[g] << " dB, RMS " << rms
+                           << " dB)");
+        if (strikes < 3) continue;
+        CHECK(misses[g] <= static_cast<int>(references[g].known_count));
+        CHECK(filtered_misses[g] == 0);   // the issue's 3 dB in every band at every listener, read as an analyser does
+        CHECK(rms < references[g].rms_filtered_db);
+    }
+    MESSAGE(modes_alone_misses << " pairs past 3 dB against 5 mm with the modes' taps alone");
     if (strikes < 3) return;
-    CHECK(misses <= 1);
-    CHECK(filtered_misses <= 1);
     // The push is what brings the bands above the modes in, and the instantaneous push those below them:
     // the modes' two taps alone miss 17 pairs.
     CHECK(modes_alone_misses >= 15);
