@@ -7,6 +7,7 @@
 // Interface (build phase only: allocates; the default canopy's to 170 Hz takes about 0.1 s of CPU):
 //   InPhaseAirMass a(canopy, rho0, c, max_omega);   // omega in rad/s: the highest change_at will be asked
 //   Eigen::MatrixXcd d = a.change_at(omega);         // panel 0's nodes x nodes, kg, complex symmetric:
+//                                                    // (omega real, or complex: a.change_at(cd(w, s)))
 //                                                    // a panel's share of the in-phase block's change
 //   For a whole-canopy vector phi = (psi, psi, ..., psi) (N panels alike), phi' (M_a(omega) - M_a(0)) phi
 //   = N psi' d psi. Its real part is the air's extra mass (the evanescent layer thickens as a wave nears
@@ -28,6 +29,7 @@
 // below 1e-12 of the largest term at k r_max (r_max the canopy's diameter). The static Richardson step
 // (the builder's) is the same at every frequency and cancels in the difference.
 
+#include <complex>
 #include <vector>
 
 #include <Eigen/Dense>
@@ -46,11 +48,14 @@ public:
                    const CanopyAirMassOptions& options = {});
     // Throws std::invalid_argument for omega outside 0..max_omega.
     Eigen::MatrixXcd change_at(double omega) const;
+    // The same continued to a complex frequency (the series is a polynomial in k): where a pole is, the
+    // canopy's free motion e^(i omega t) decays at Im omega. Throws for |omega| > max_omega.
+    Eigen::MatrixXcd change_at(std::complex<double> omega) const;
     double max_omega() const { return max_omega_; }
     int terms() const { return static_cast<int>(series_.rows()); }   // m = 2 .. terms() + 1
 
 private:
-    Eigen::MatrixXcd block_mass(double k) const;   // rho0 P0' diag(A) G_0(k)^-1 P0, nodes x nodes
+    Eigen::MatrixXcd block_mass(std::complex<double> k) const;   // rho0 P0' diag(A) G_0(k)^-1 P0, nodes x nodes
 
     double air_density_, speed_of_sound_, max_omega_;
     int nodes_;

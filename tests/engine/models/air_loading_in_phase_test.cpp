@@ -48,7 +48,18 @@ TEST_CASE("in-phase air mass: the series is the builder's block m = 0 to its tru
         CHECK(rigid.imag() < 0.0);
         CHECK((d - d.transpose()).norm() <= 1e-15 * d.norm());
     }
+    // Continued to complex frequencies the series is analytic (a polynomial in k under the solve): its
+    // derivative along the imaginary axis is the one along the real axis (Cauchy-Riemann), to the finite
+    // differences' O(h).
+    const double w = 2.0 * ameoto::constants::pi * 150.0, h = 1e-3 * w;
+    const Eigen::MatrixXcd at_w = series.change_at(w);
+    const Eigen::MatrixXcd along_real = (series.change_at(w + h) - series.change_at(w - h)) / (2.0 * h);
+    const Eigen::MatrixXcd along_imaginary =
+        (series.change_at(std::complex<double>(w, h)) - series.change_at(std::complex<double>(w, -h))) / std::complex<double>(0.0, 2.0 * h);
+    CHECK((series.change_at(std::complex<double>(w, 0.0)) - at_w).norm() == 0.0);
+    CHECK((along_real - along_imaginary).norm() < 1e-5 * along_real.norm());
     CHECK_THROWS_AS(series.change_at(max_omega * 1.001), std::invalid_argument);
+    CHECK_THROWS_AS(series.change_at(std::complex<double>(max_omega, 0.1 * max_omega)), std::invalid_argument);
     CHECK_THROWS_AS(series.change_at(-1.0), std::invalid_argument);
     CHECK_THROWS_AS(ameoto::InPhaseAirMass(canopy, 0.0, kInPhaseC, 100.0), std::invalid_argument);
     CHECK_THROWS_AS(ameoto::InPhaseAirMass(canopy, kInPhaseRho, kInPhaseC, -1.0), std::invalid_argument);
