@@ -8,7 +8,7 @@
 // Interface:
 //   AirCanopyOptions o;                                  // air, sampling of the added mass, cutoff
 //   std::shared_ptr<const AirCanopyModes> m = build_air_canopy_modes(canopy, time_step_s, o);
-//                                                        // build phase: allocates, ~0.5 s for the
+//                                                        // build phase: allocates, ~0.45 s for the
 //                                                        // default canopy; throws std::invalid_argument
 //                                                        // (bad options, a curved canopy's plan is used)
 //   AirCanopyState s; s.init(*m);                        // allocates the state (build phase)
@@ -30,14 +30,15 @@
 // (core/integrators/modal.hpp: the kick q' += T p, then the exact transition over T): exact for any T.
 // Compressible poles: the modes with every panel alike (the canopy's Fourier block m = 0) move the most
 // air, out to the canopy's size, where the incompressible M_a misses the air's compressibility; those up
-// to compressible_in_phase_ka take the poles of that block solved with M_a(omega) (air_loading_in_phase.hpp):
-// the lowest 84.6 -> 81.2 Hz, the next 168.7 -> 163.3 Hz, their decays with the radiation the compressible
-// air gives (5.7 and 4.7 /s). Their shapes and forces stay the incompressible ones. Why ka = 2
-// (docs/canopy-air.md, "The compressible poles of the in-phase modes"): against the finest reference the
-// band levels' RMS error fell from 1.16 to 0.86 dB (through the filters) with these two; taking the next
-// two as well (245 Hz -0.5 %, 266 Hz -2.6 %) gave 0.89.
+// to compressible_in_phase_ka take that block's analytic poles with M_a(omega) (air_loading_in_phase.hpp):
+// the lowest 84.6 -> 81.2 Hz at 6.8 /s, the next 168.7 -> 163.2 Hz at 7.8 /s, each decay the material's and
+// the compressible air's radiation together. Their shapes and forces stay the incompressible ones. Why
+// ka = 2 (docs/canopy-air.md, "The compressible poles of the in-phase modes"): the band levels' RMS error
+// against the finest reference, through the band filters, is 1.16 dB with none, 0.93 with the lowest, 0.89
+// with the two (ka 2), 0.92 with the four under ka 3 (245 Hz -0.5 %, 259 Hz -2.6 %). The build costs about
+// 0.2 s more (the block's 300-cell complex solve, three or four times a mode).
 // Cutoff: modes above max_frequency_hz are dropped (they neither move nor radiate). The default keeps
-// every mode the lattice has (the 400-node default canopy's: 84.6 to 962.6 Hz in air): the lattice
+// every mode the lattice has (the 400-node default canopy's: 81.2 to 962.6 Hz in air): the lattice
 // itself is the resolution limit, and a panel's modes above about 700 Hz already have wavelengths under
 // four lattice spacings (docs/canopy-air.md, "In air").
 // Contact: a collision needs the node's mass as an impact sees it (membrane_collision.cpp): in air the
