@@ -354,7 +354,7 @@ Eigen::VectorXd radiation_damping(const AirLoadedModes& modes, const AddedMass& 
                 const double psi = 2.0 * constants::pi * b / azimuth_points;
                 const double kx = k * sin_theta * std::cos(psi), ky = k * sin_theta * std::sin(psi);
                 // |phase| <= k reach: within phase_sincos's range for any canopy it can hear (checked
-                // once per mode below); a loop the compiler vectorises.
+                // once per mode, above); a loop the compiler vectorises.
                 for (std::size_t i = 0; i < cosines.size(); ++i)
                     phase_sincos(kx * centroid_x[i] + ky * centroid_y[i], sines[i], cosines[i]);
                 const double* column = source.col(m).data();

@@ -151,6 +151,7 @@ public:
     void set_air(std::shared_ptr<const AirCanopyModes> modes);
     bool in_air() const { return air_ != nullptr; }
     const AirCanopyModes* air_modes() const { return air_.get(); }
+    const std::shared_ptr<const AirCanopyModes>& shared_air_modes() const { return air_; }   // build phase: a key that keeps them alive
     const AirCanopyState& air_state() const { return air_state_; }
     double contact_mass(int panel, int node) const {
         if (air_) return air_->contact_mass[index(panel, node)];

@@ -210,7 +210,7 @@ DipoleRadiation::DipoleRadiation(const Canopy& canopy, const ListenerLayout& lay
             distances(layout.points[point], delay);
             at.r = r;
             at.cos_theta = cos_theta;
-            PushDesignKey key{m, crossover_.hz, air.density, air.speed_of_sound, r, cos_theta, screen.areal_density, screen.tile_radius};
+            PushDesignKey key{canopy.shared_air_modes(), crossover_.hz, air.density, air.speed_of_sound, r, cos_theta, screen.areal_density, screen.tile_radius};
             std::shared_ptr<const PushFilters> shared;
             for (std::size_t j = 0; sibling != nullptr && j < sibling->push_keys_.size() && !shared; ++j)
                 if (sibling->push_keys_[j] == key) shared = sibling->push_[j];
@@ -230,10 +230,11 @@ DipoleRadiation::DipoleRadiation(const Canopy& canopy, const ListenerLayout& lay
         push_rest_gain_ = push_gain_;
         low_.assign(static_cast<std::size_t>(channels_), LowPassState{});
     }
-    if (!state_taps_) previous_.assign(static_cast<std::size_t>(modes_), 0.0);   // abar[n - 1] (two taps only)
     if (state_taps_) {
         before_node_.assign(static_cast<std::size_t>(nodes_), 0);
         before_newtons_.assign(static_cast<std::size_t>(nodes_), 0.0);
+    } else {
+        previous_.assign(static_cast<std::size_t>(modes_), 0.0);   // abar[n - 1] (two taps only)
     }
     kernels_ = &air_kernels();   // here, in the build phase (the first call initialises a static)
     length_ = 1;

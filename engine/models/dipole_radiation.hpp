@@ -105,7 +105,9 @@ struct DipoleOptions {
 // What one point's push filters are designed from (design_push_filters' inputs): two points with equal
 // keys have the same filters, bit for bit.
 struct PushDesignKey {
-    const AirCanopyModes* modes = nullptr;   // the same object: the canopy's copies share it
+    // The same object: the canopy's copies share it. Held, so that no other modes can take its address
+    // while a key names it.
+    std::shared_ptr<const AirCanopyModes> modes;
     double crossover_hz = 0.0, air_density = 0.0, speed_of_sound = 0.0;
     std::vector<double> r, cos_theta, areal_density, tile_radius;   // per node
     bool operator==(const PushDesignKey&) const = default;
