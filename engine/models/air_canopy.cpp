@@ -39,8 +39,7 @@ struct Pole {
 //   T(w) q = (diag(w_k^2) + 2 i w diag(s_k) - w^2 (I + D(w))) q = 0,   D(w) = N psi' (M_a(w) - M_a(0)) psi,
 // s_k the material's rates (classical damping, as the server's). A pole is a complex w with det T(w) = 0:
 // the fixed point of w -> sqrt of the eigenvalue nearest the mode's w_k^2 of
-// (I + D(w))^-1 (diag(w_k^2) + 2 i w diag(s_k)), D continued to the complex w (InPhaseAirMass's series),
-// found by the secant. Its real part is the mode's frequency, its imaginary part the decay rate of its free
+// (I + D(w))^-1 (diag(w_k^2) + 2 i w diag(s_k)), D continued to the complex w (below), found by the secant. Its real part is the mode's frequency, its imaginary part the decay rate of its free
 // ring (the -3 dB half-width of its response on the real axis: tested). Freezing D at the real part put the
 // decays 8 % high (D grows with frequency). D couples the in-phase modes: the lowest two radiate through one
 // net force, and the second's decay on its own shape alone was 16 /s where the block gives 7.7
@@ -51,35 +50,55 @@ std::vector<Pole> in_phase_poles(const InPhaseAirMass& air, const Eigen::MatrixX
     const auto n = psi.cols();
     std::vector<Pole> out;
     const Eigen::MatrixXcd shapes = psi.cast<cd>();
-    // The pole for mode j from D at w.
-    const auto pole_at = [&](int j, cd w) {
-        const cd at = std::abs(w) <= air.max_omega() ? w : w * (air.max_omega() / std::abs(w));
-        Eigen::MatrixXcd d = static_cast<double>(panels) * (shapes.transpose() * (radiate ? air.change_at(at) : air.change_at(std::min(at.real(), air.max_omega()))) * shapes);
+    // D at two real frequencies a mode's pole lies between (the compressible air lowers it 3-4 %), linear
+    // between them and continued so to complex w: the interpolation is within 3e-4 of D there (D'' ~ 2 D /
+    // w^2), 1e-5 of the pole's frequency and 3e-4 of its decay. Two of the block's 300-cell complex solves a
+    // mode, not one for each of the secant's three or four steps (a sanitized build's start paid 2.2 s for
+    // those).
+    const auto projected = [&](double w) {
+        Eigen::MatrixXcd d = static_cast<double>(panels) * (shapes.transpose() * air.change_at(std::min(w, air.max_omega())) * shapes);
         if (!radiate) d = d.real().cast<cd>();
-        Eigen::MatrixXcd stiffness = Eigen::MatrixXcd::Zero(n, n);
-        for (Eigen::Index k = 0; k < n; ++k) stiffness(k, k) = omega[k] * omega[k] + cd(0.0, 2.0) * w * material_rate[k];
-        const Eigen::ComplexEigenSolver<Eigen::MatrixXcd> solver((Eigen::MatrixXcd::Identity(n, n) + d).partialPivLu().solve(stiffness), false);
-        if (solver.info() != Eigen::Success) throw std::runtime_error("air canopy: the in-phase poles' eigen-solve failed");
-        const double target = omega[j] * omega[j];
-        cd nearest = solver.eigenvalues()[0];
-        for (Eigen::Index k = 1; k < n; ++k)
-            if (std::abs(solver.eigenvalues()[k] - target) < std::abs(nearest - target)) nearest = solver.eigenvalues()[k];
-        const cd root = std::sqrt(nearest);
-        return root.real() < 0.0 ? -root : root;
+        return d;
     };
     for (int j = 0; j < wanted; ++j) {
-        // The fixed point w = pole(w), by the secant on f(w) = pole(w) - w (analytic), to 1e-5 of w: the plain
-        // iteration overshoots by a twelfth of its step each round; the secant is there in three or four
-        // evaluations (each about 15 ms: the block's 300-cell complex solve).
+        const double w_low = 0.95 * omega[j], w_high = omega[j];
+        const Eigen::MatrixXcd d_low = projected(w_low), d_high = projected(w_high);
+        // The pole for mode j from D at w.
+        const auto pole_at = [&](cd w) {
+            const Eigen::MatrixXcd d = d_low + ((w - w_low) / (w_high - w_low)) * (d_high - d_low);
+            Eigen::MatrixXcd stiffness = Eigen::MatrixXcd::Zero(n, n);
+            for (Eigen::Index k = 0; k < n; ++k) stiffness(k, k) = omega[k] * omega[k] + cd(0.0, 2.0) * w * material_rate[k];
+            const Eigen::MatrixXcd a = (Eigen::MatrixXcd::Identity(n, n) + d).partialPivLu().solve(stiffness);
+            // The eigenvalue nearest w_j^2 by Rayleigh quotient iteration from mode j's own coordinate (the
+            // block's modes are w_j's neighbours only through D, a few per cent): a 50 x 50 solve a round.
+            Eigen::VectorXcd x = Eigen::VectorXcd::Zero(n);
+            x[j] = 1.0;
+            cd lambda = omega[j] * omega[j];
+            for (int round = 0; round < 30; ++round) {
+                const Eigen::VectorXcd y = (a - lambda * Eigen::MatrixXcd::Identity(n, n)).partialPivLu().solve(x);
+                if (!y.allFinite()) break;   // lambda is an eigenvalue to the last bit
+                x = y / y.norm();
+                const cd next = x.dot(a * x);   // x^H A x, |x| = 1
+                const bool settled = std::abs(next - lambda) <= 1e-14 * std::abs(next);
+                lambda = next;
+                if (settled) break;
+            }
+            if (!std::isfinite(lambda.real()) || !std::isfinite(lambda.imag()))
+                throw std::runtime_error("air canopy: the in-phase poles' eigen-solve failed");
+            const cd root = std::sqrt(lambda);
+            return root.real() < 0.0 ? -root : root;
+        };
+        // The fixed point w = pole(w), by the secant on f(w) = pole(w) - w (analytic), to 1e-6 of w: the plain
+        // iteration overshoots by a twelfth of its step each round.
         cd w0 = omega[j];
-        cd f0 = pole_at(j, w0) - w0;
+        cd f0 = pole_at(w0) - w0;
         cd w1 = w0 + f0;
-        cd f1 = pole_at(j, w1) - w1;
-        for (int round = 0; round < 8 && std::abs(f1) > 1e-5 * omega[j] && f1 != f0; ++round) {
+        cd f1 = pole_at(w1) - w1;
+        for (int round = 0; round < 12 && std::abs(f1) > 1e-6 * omega[j] && f1 != f0; ++round) {
             const cd w2 = w1 - f1 * (w1 - w0) / (f1 - f0);
             w0 = w1, f0 = f1;
             w1 = w2;
-            f1 = pole_at(j, w1) - w1;
+            f1 = pole_at(w1) - w1;
         }
         const cd pole = w1 + f1;
         out.push_back({pole.real(), pole.imag()});

@@ -36,7 +36,7 @@
 // ka = 2 (docs/canopy-air.md, "The compressible poles of the in-phase modes"): the band levels' RMS error
 // against the finest reference, through the band filters, is 1.16 dB with none, 0.93 with the lowest, 0.89
 // with the two (ka 2), 0.92 with the four under ka 3 (245 Hz -0.5 %, 259 Hz -2.6 %). The build costs about
-// 0.2 s more (the block's 300-cell complex solve, three or four times a mode).
+// 0.15 s more (the block's 300-cell complex solve, twice a mode).
 // Cutoff: modes above max_frequency_hz are dropped (they neither move nor radiate). The default keeps
 // every mode the lattice has (the 400-node default canopy's: 81.2 to 962.6 Hz in air): the lattice
 // itself is the resolution limit, and a panel's modes above about 700 Hz already have wavelengths under
