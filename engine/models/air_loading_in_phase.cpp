@@ -52,8 +52,8 @@ InPhaseAirMass::InPhaseAirMass(const Canopy& canopy, double air_density, double 
     for (const Eigen::MatrixXd& g : ring_velocities(canopy, cells, elements)) laplace_ += g;
 
     const double k_max = max_omega / speed_of_sound;
-    last_ = k_max > 0.0 ? series_terms(k_max * 2.0 * canopy.geometry().radius_m) : 1;
-    const int terms = last_ - 1;
+    const int last = k_max > 0.0 ? series_terms(k_max * 2.0 * canopy.geometry().radius_m) : 1;   // the series' last m
+    const int terms = last - 1;
     // Laid out term-fastest per element pair, series_(t, j * n + i): one pass writes each pair's terms
     // together, and block_mass sums them as one matrix-vector product per part.
     series_.resize(terms, static_cast<Eigen::Index>(n) * n);

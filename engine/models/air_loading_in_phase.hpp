@@ -60,7 +60,6 @@ private:
     double air_density_, speed_of_sound_, max_omega_;
     int nodes_;
     Eigen::MatrixXd laplace_;               // sum_d g_d(0), elements x elements
-    int last_ = 1;                          // the series' last m
     Eigen::MatrixXd series_;                // (m - 2, j * n + i): P_m(i, j) / (4 pi)
     Eigen::MatrixXd owner_;                 // elements x nodes, 0 / 1
     Eigen::MatrixXd weighted_owner_;        // nodes x elements: owner' diag(area)
