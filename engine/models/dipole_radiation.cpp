@@ -210,7 +210,7 @@ DipoleRadiation::DipoleRadiation(const Canopy& canopy, const ListenerLayout& lay
             distances(layout.points[point], delay);
             at.r = r;
             at.cos_theta = cos_theta;
-            PushDesignKey key{canopy.shared_air_modes(), crossover_.hz, air.density, air.speed_of_sound, r, cos_theta, screen.areal_density, screen.tile_radius};
+            PushDesignKey key{canopy.shared_air_modes(), air.density, air.speed_of_sound, r, cos_theta, screen.areal_density, screen.tile_radius};
             std::shared_ptr<const PushFilters> shared;
             for (std::size_t j = 0; sibling != nullptr && j < sibling->push_keys_.size() && !shared; ++j)
                 if (sibling->push_keys_[j] == key) shared = sibling->push_[j];

@@ -106,9 +106,9 @@ struct DipoleOptions {
 // keys have the same filters, bit for bit.
 struct PushDesignKey {
     // The same object: the canopy's copies share it. Held, so that no other modes can take its address
-    // while a key names it.
+    // while a key names it. The crossover is the modes' own (push_crossover), so they name it too.
     std::shared_ptr<const AirCanopyModes> modes;
-    double crossover_hz = 0.0, air_density = 0.0, speed_of_sound = 0.0;
+    double air_density = 0.0, speed_of_sound = 0.0;
     std::vector<double> r, cos_theta, areal_density, tile_radius;   // per node
     bool operator==(const PushDesignKey&) const = default;
 };
