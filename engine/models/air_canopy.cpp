@@ -39,7 +39,8 @@ struct Pole {
 //   T(w) q = (diag(w_k^2) + 2 i w diag(s_k) - w^2 (I + D(w))) q = 0,   D(w) = N psi' (M_a(w) - M_a(0)) psi,
 // s_k the material's rates (classical damping, as the server's). A pole is a complex w with det T(w) = 0:
 // the fixed point of w -> sqrt of the eigenvalue nearest the mode's w_k^2 of
-// (I + D(w))^-1 (diag(w_k^2) + 2 i w diag(s_k)), D continued to the complex w (below), found by the secant. Its real part is the mode's frequency, its imaginary part the decay rate of its free
+// (I + D(w))^-1 (diag(w_k^2) + 2 i w diag(s_k)), D continued to the complex w (below), found by the
+// secant. Its real part is the mode's frequency, its imaginary part the decay rate of its free
 // ring (the -3 dB half-width of its response on the real axis: tested). Freezing D at the real part put the
 // decays 8 % high (D grows with frequency). D couples the in-phase modes: the lowest two radiate through one
 // net force, and the second's decay on its own shape alone was 16 /s where the block gives 7.7
@@ -53,8 +54,7 @@ std::vector<Pole> in_phase_poles(const InPhaseAirMass& air, const Eigen::MatrixX
     // D at two real frequencies a mode's pole lies between (the compressible air lowers it 3-4 %), linear
     // between them and continued so to complex w: the interpolation is within 3e-4 of D there (D'' ~ 2 D /
     // w^2), 1e-5 of the pole's frequency and 3e-4 of its decay. Two of the block's 300-cell complex solves a
-    // mode, not one for each of the secant's three or four steps (a sanitized build's start paid 2.2 s for
-    // those).
+    // mode, not one for each of the secant's three or four steps.
     const auto projected = [&](double w) {
         Eigen::MatrixXcd d = static_cast<double>(panels) * (shapes.transpose() * air.change_at(std::min(w, air.max_omega())) * shapes);
         if (!radiate) d = d.real().cast<cd>();

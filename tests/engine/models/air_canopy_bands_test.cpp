@@ -34,9 +34,7 @@ struct KnownMiss {
 // Node 43 (towards the shaft) under the shaft at 125 Hz as a brick wall (+3.44 dB against 5 mm, +3.51
 // against 3.75 mm; 2.4 and 2.5 through the band filters): the band between the two lowest in-phase modes
 // (81.2 and 163.2 Hz with their compressible poles), which are all a listener on the axis hears of the
-// modes (the other Fourier blocks cancel there), so its level is their skirts' sum and the push. Before
-// the poles (air_canopy.hpp) the misses were node 12 at 3 m at 198 Hz (+3.3) and, through the filters,
-// node 43 at 3 m at 99 Hz (+3.0; 3.2-3.5 dB at seven pairs against 3.75 mm).
+// modes (the other Fourier blocks cancel there), so its level is their skirts' sum and the push.
 constexpr KnownMiss known_5mm[] = {
     {2, 0, 125.0, +3.44},
 };
@@ -51,7 +49,7 @@ struct Reference {
     const KnownMiss* known;   // as brick walls; through the filters none
     std::size_t known_count;
     // The RMS of fast - reference over the 171 pairs, through the filters (0.974 dB against 5 mm, 0.891
-    // against 3.75 mm; 1.122 and 1.161 before the compressible poles).
+    // against 3.75 mm).
     double rms_filtered_db;
 };
 
