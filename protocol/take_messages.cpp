@@ -82,12 +82,10 @@ std::vector<unsigned char> take_element(std::uint64_t frame, double rate_hz, con
     t.fraction = static_cast<std::uint32_t>(std::fmin(4294967295.0, std::round((seconds - whole) * 4294967296.0)));
     if (t.seconds == 0 && t.fraction <= 1) t.fraction = 2;   // {0, 1} would mean "immediately"; 2^-31 s is no sample
     const std::vector<unsigned char> bundle = encode_bundle(t, {encode_message(address, args)});
-    std::vector<unsigned char> out(4);
+    std::vector<unsigned char> out;
+    out.reserve(4 + bundle.size());
     const auto size = static_cast<std::uint32_t>(bundle.size());
-    out[0] = static_cast<unsigned char>(size >> 24);
-    out[1] = static_cast<unsigned char>(size >> 16);
-    out[2] = static_cast<unsigned char>(size >> 8);
-    out[3] = static_cast<unsigned char>(size);
+    for (const int shift : {24, 16, 8, 0}) out.push_back(static_cast<unsigned char>(size >> shift));
     out.insert(out.end(), bundle.begin(), bundle.end());
     return out;
 }

@@ -164,8 +164,9 @@ std::string air_csv(const std::vector<AirRow>& rows) {
 std::string air_json(const AirRow& r) {
     std::string hz, cents;
     for (std::size_t q = 0; q < r.mode_hz.size(); ++q) {
-        hz += (q ? "," : "") + json_number(r.mode_hz[q]);
-        cents += (q ? "," : "") + json_number(r.errors.cents[q]);
+        if (q) hz += ',', cents += ',';
+        hz += json_number(r.mode_hz[q]);
+        cents += json_number(r.errors.cents[q]);
     }
     return "{\"suite\":\"accuracy\",\"body\":\"canopy in air\",\"method\":" + json_string(r.label) + ",\"kind\":" + json_string(r.kind) +
            ",\"sub_steps\":" + std::to_string(r.sub_steps) + ",\"modes\":" + std::to_string(r.modes) +
