@@ -31,6 +31,10 @@ bool in_phase(const Eigen::VectorXd& shape, int panels, int nodes) {
 
 struct Pole {
     double omega, rate;
+    // The mode's shape in the block's basis (real, residue-normalised) and the air's extra mass per panel
+    // at its frequency, Re (M_a(omega) - M_a(0)) (panel 0's nodes x nodes): below.
+    Eigen::VectorXd shape;
+    Eigen::MatrixXd extra_mass;
 };
 
 // The in-phase modes' poles with the compressible air mass: the canopy's block m = 0 (every panel alike)
@@ -55,14 +59,16 @@ std::vector<Pole> in_phase_poles(const InPhaseAirMass& air, const Eigen::MatrixX
     // between them and continued so to complex w: the interpolation is within 3e-4 of D there (D'' ~ 2 D /
     // w^2), 1e-5 of the pole's frequency and 3e-4 of its decay. Two of the block's 300-cell complex solves a
     // mode, not one for each of the secant's three or four steps.
-    const auto projected = [&](double w) {
-        Eigen::MatrixXcd d = static_cast<double>(panels) * (shapes.transpose() * air.change_at(std::min(w, air.max_omega())) * shapes);
+    const auto projected = [&](const Eigen::MatrixXcd& change) {
+        Eigen::MatrixXcd d = static_cast<double>(panels) * (shapes.transpose() * change * shapes);
         if (!radiate) d = d.real().cast<cd>();
         return d;
     };
     for (int j = 0; j < wanted; ++j) {
         const double w_low = 0.95 * omega[j], w_high = omega[j];
-        const Eigen::MatrixXcd d_low = projected(w_low), d_high = projected(w_high);
+        const Eigen::MatrixXcd change_low = air.change_at(std::min(w_low, air.max_omega()));
+        const Eigen::MatrixXcd change_high = air.change_at(std::min(w_high, air.max_omega()));
+        const Eigen::MatrixXcd d_low = projected(change_low), d_high = projected(change_high);
         // The pole for mode j from D at w.
         const auto pole_at = [&](cd w) {
             const Eigen::MatrixXcd d = d_low + ((w - w_low) / (w_high - w_low)) * (d_high - d_low);
@@ -101,7 +107,29 @@ std::vector<Pole> in_phase_poles(const InPhaseAirMass& air, const Eigen::MatrixX
             f1 = pole_at(w1) - w1;
         }
         const cd pole = w1 + f1;
-        out.push_back({pole.real(), pole.imag()});
+        // The mode's shape: the block's real eigenvector with the air's extra mass at the pole's frequency,
+        // K x = lambda (I + Re D) x (the radiation stays in the pole), its coordinate j the largest. Near the
+        // pole the block's response is x x' / (x' (dT/d(w^2)) x), and with D growing as w^2 that derivative
+        // is I + Re D + w Re D' / 2 (about 1.13-1.17 here), so x is scaled to make it 1: its residue. The
+        // incompressible shape misses the extra mass's coupling between the block's modes (the second
+        // mode takes 0.115 of the first's shape), which a listener on the axis hears in the trough between
+        // them (docs/canopy-air.md, "The in-phase modes' shapes").
+        const double w_real = pole.real(), at = (w_real - w_low) / (w_high - w_low);
+        const Eigen::MatrixXd d = (d_low + at * (d_high - d_low)).real();
+        const Eigen::MatrixXd slope = (d_high - d_low).real() / (w_high - w_low);
+        Eigen::MatrixXd stiffness = Eigen::MatrixXd::Zero(n, n);
+        for (Eigen::Index k = 0; k < n; ++k) stiffness(k, k) = omega[k] * omega[k];
+        const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> solve(stiffness, Eigen::MatrixXd::Identity(n, n) + d);
+        if (solve.info() != Eigen::Success) throw std::runtime_error("air canopy: the in-phase shapes' eigen-solve failed");
+        Eigen::Index own = 0;
+        solve.eigenvectors().row(j).cwiseAbs().maxCoeff(&own);
+        Eigen::VectorXd x = solve.eigenvectors().col(own);
+        x /= x[j];   // the incompressible shape's sign
+        const double residue = x.dot((Eigen::MatrixXd::Identity(n, n) + d + (0.5 * w_real) * slope) * x);
+        if (!(residue > 0.0)) throw std::runtime_error("air canopy: an in-phase shape's residue is not positive");
+        x /= std::sqrt(residue);
+        Eigen::MatrixXd extra = (change_low + at * (change_high - change_low)).real();
+        out.push_back({pole.real(), pole.imag(), std::move(x), std::move(extra)});
     }
     return out;
 }
@@ -121,6 +149,9 @@ std::shared_ptr<const AirCanopyModes> build_air_canopy_modes(const Canopy& canop
     Eigen::VectorXd radiation = Eigen::VectorXd::Zero(all.omega.size());
     if (o.radiation_damping) radiation = ameoto::radiation_damping(all, added, o.air_density, o.speed_of_sound);
     Eigen::VectorXd omega = all.omega, rate = all.damping_rate + radiation;
+    Eigen::MatrixXd shapes = all.shapes;
+    // Each mode's force on the air per unit q'' is M_a(0) phi_k, and the moved modes' add their extra mass's.
+    Eigen::MatrixXd extra_force = Eigen::MatrixXd::Zero(all.shapes.rows(), all.shapes.cols());
     const double limit = o.compressible_in_phase_ka * o.speed_of_sound / canopy.geometry().radius_m;   // rad/s
     if (limit > 0.0 && all.omega.size() > 0 && all.omega[0] <= limit) {
         const int panels = canopy.panel_count(), nodes = canopy.nodes_per_panel();
@@ -145,6 +176,12 @@ std::shared_ptr<const AirCanopyModes> build_air_canopy_modes(const Canopy& canop
                 omega[k] = poles[static_cast<std::size_t>(j)].omega;
                 rate[k] = poles[static_cast<std::size_t>(j)].rate;
                 radiation[k] = o.radiation_damping ? rate[k] - all.damping_rate[k] : 0.0;   // the compressible air's share
+                const Pole& pole = poles[static_cast<std::size_t>(j)];
+                const Eigen::VectorXd part = psi * pole.shape, pushed = pole.extra_mass * part;
+                for (int p = 0; p < panels; ++p) {
+                    shapes.col(k).segment(p * nodes, nodes) = part;
+                    extra_force.col(k).segment(p * nodes, nodes) = pushed;
+                }
             }
         }
     }
@@ -165,13 +202,13 @@ std::shared_ptr<const AirCanopyModes> build_air_canopy_modes(const Canopy& canop
     m->radiation_rate.resize(kept);
     m->shape.assign(static_cast<std::size_t>(m->nodes) * static_cast<std::size_t>(kept), 0.0);
     m->air_force.resize(m->nodes, kept);
-    const Eigen::MatrixXd force = added.matrix * all.shapes;
+    const Eigen::MatrixXd force = added.matrix * shapes + extra_force;
     for (int j = 0; j < kept; ++j) {
         const int k = keep[static_cast<std::size_t>(j)];
         m->omega[j] = omega[k];
         m->radiation_rate[j] = radiation[k];
         m->rate[j] = rate[k];
-        for (int i = 0; i < m->nodes; ++i) m->shape[static_cast<std::size_t>(i) * kept + j] = all.shapes(i, k);
+        for (int i = 0; i < m->nodes; ++i) m->shape[static_cast<std::size_t>(i) * kept + j] = shapes(i, k);
         m->air_force.col(j) = force.col(k);
         const ModeDecay d = mode_decay(m->omega[j], m->rate[j], time_step_s);   // integrators/mode_decay.hpp
         m->t11.push_back(d.ec + m->rate[j] * d.es);

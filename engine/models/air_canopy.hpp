@@ -32,11 +32,16 @@
 // air, out to the canopy's size, where the incompressible M_a misses the air's compressibility; those up
 // to compressible_in_phase_ka take that block's analytic poles with M_a(omega) (air_loading_in_phase.hpp):
 // the lowest 84.6 -> 81.2 Hz at 6.8 /s, the next 168.7 -> 163.2 Hz at 7.8 /s, each decay the material's and
-// the compressible air's radiation together. Their shapes and forces stay the incompressible ones. Why
-// ka = 2 (docs/canopy-air.md, "The compressible poles of the in-phase modes"): the band levels' RMS error
-// against the finest reference, through the band filters, is 1.16 dB with none, 0.93 with the lowest, 0.89
-// with the two (ka 2), 0.92 with the four under ka 3 (245 Hz -0.5 %, 259 Hz -2.6 %). The build costs about
-// 0.15 s more (the block's 300-cell complex solve, twice a mode).
+// the compressible air's radiation together. Their shapes are the block's real eigenvectors with the
+// air's extra mass at the pole, scaled to the pole's residue, and their air forces carry that extra mass
+// (M_a(0) + Re(M_a(w_k) - M_a(0))) phi_k: the extra mass couples the block's modes (the second takes 0.115
+// of the first's shape), which a listener on the axis hears between them. Every other mode keeps its
+// incompressible pole, shape and force, and so Phi' (M + M_a) Phi = I holds but for those two. Why ka = 2
+// (docs/canopy-air.md, "The compressible poles of the in-phase modes"): the band levels' RMS error against
+// the finest reference, through the band filters, was 1.16 dB with no pole moved, 0.93 with the lowest,
+// 0.89 with the two (ka 2), 0.92 with the four under ka 3 (245 Hz -0.5 %, 259 Hz -2.6 %), all with the
+// incompressible shapes; with the two's shapes (now) 0.80. The build costs about 0.15 s more (the block's
+// 300-cell complex solve, twice a mode).
 // Cutoff: modes above max_frequency_hz are dropped (they neither move nor radiate). The default keeps
 // every mode the lattice has (the 400-node default canopy's: 81.2 to 962.6 Hz in air): the lattice
 // itself is the resolution limit, and a panel's modes above about 700 Hz already have wavelengths under

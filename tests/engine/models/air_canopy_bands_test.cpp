@@ -8,7 +8,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <iterator>
 #include <string>
 #include <vector>
 
@@ -25,41 +24,14 @@ using namespace ameoto;
 
 namespace {
 
-// A pair the server's model misses by more than 3 dB against a reference (docs/canopy-air.md, "Band
-// levels with the push"), held where it is so that it cannot drift further unseen.
-struct KnownMiss {
-    int strike, listener;
-    double hz, measured_db;
-};
-// Node 43 (towards the shaft) under the shaft at 125 Hz as a brick wall (+3.44 dB against 5 mm, +3.51
-// against 3.75 mm; 2.4 and 2.5 through the band filters): the band between the two lowest in-phase modes
-// (81.2 and 163.2 Hz with their compressible poles), which are all a listener on the axis hears of the
-// modes (the other Fourier blocks cancel there), so its level is their skirts' sum and the push.
-constexpr KnownMiss known_5mm[] = {
-    {2, 0, 125.0, +3.44},
-};
-constexpr KnownMiss known_3_75mm[] = {
-    {2, 0, 125.0, +3.51},
-};
-
 struct Reference {
     const char* name;
     const double (*db)[3][test::canopy_bands_5mm_bands];
     const double (*filtered_db)[3][test::canopy_bands_5mm_bands];
-    const KnownMiss* known;   // as brick walls; through the filters none
-    std::size_t known_count;
-    // The RMS of fast - reference over the 171 pairs, through the filters (0.974 dB against 5 mm, 0.891
+    // The RMS of fast - reference over the 171 pairs, through the filters (0.891 dB against 5 mm, 0.800
     // against 3.75 mm).
     double rms_filtered_db;
 };
-
-const KnownMiss* known_in(const Reference& r, int strike, int listener, double hz) {
-    for (std::size_t i = 0; i < r.known_count; ++i) {
-        const KnownMiss& m = r.known[i];
-        if (m.strike == strike && m.listener == listener && std::abs(m.hz / hz - 1.0) < 1e-3) return &m;
-    }
-    return nullptr;
-}
 
 }  // namespace
 
@@ -70,8 +42,8 @@ TEST_CASE("air canopy: band levels 63 Hz-4 kHz against the 5 mm and 3.75 mm refe
     const Point2 points[3] = {c, {c.x * 1.35, c.y + 0.03}, {c.x * 0.55, c.y - 0.02}};
     const int expected_nodes[3] = {24, 12, 43};   // the centroid, towards the hem, towards the shaft
     const Reference references[2] = {
-        {"5 mm", test::canopy_bands_5mm_db, test::canopy_bands_5mm_filtered_db, known_5mm, std::size(known_5mm), 1.03},
-        {"3.75 mm", test::canopy_bands_3_75mm_db, test::canopy_bands_3_75mm_filtered_db, known_3_75mm, std::size(known_3_75mm), 0.95},
+        {"5 mm", test::canopy_bands_5mm_db, test::canopy_bands_5mm_filtered_db, 0.94},
+        {"3.75 mm", test::canopy_bands_3_75mm_db, test::canopy_bands_3_75mm_filtered_db, 0.85},
     };
     int misses[2] = {0, 0}, filtered_misses[2] = {0, 0}, modes_alone_misses = 0, pairs = 0;
     double worst[2] = {0.0, 0.0}, filtered_worst[2] = {0.0, 0.0}, filtered_squares[2] = {0.0, 0.0};
@@ -81,12 +53,6 @@ TEST_CASE("air canopy: band levels 63 Hz-4 kHz against the 5 mm and 3.75 mm refe
     s.reference.duration_s = 0.2;
     s.low_hz = 63.0;
     s.high_hz = 4000.0;
-    // Every pair past 3 dB is one of the known ones, on the same side and no further off than measured.
-    auto held = [](const KnownMiss* m, double d) {
-        REQUIRE(m != nullptr);
-        CHECK(d * m->measured_db > 0.0);
-        CHECK(std::abs(d) < std::abs(m->measured_db) + 0.3);
-    };
     Canopy in_air(shape);   // the air's modes built once for the three strikes
     in_air.set_air(build_air_canopy_modes(in_air, 1.0 / s.fast_rate_hz));
     for (int k = 0; k < strikes; ++k) {
@@ -121,12 +87,13 @@ TEST_CASE("air canopy: band levels 63 Hz-4 kHz against the 5 mm and 3.75 mm refe
                     }
                     worst[g] = std::max(worst[g], std::abs(d));
                     filtered_worst[g] = std::max(filtered_worst[g], std::abs(fd));
-                    if (std::abs(d) > 3.0) {
-                        ++misses[g];
-                        INFO(std::string(r.name) << ": node " << node << ", listener " << l << ", " << heard[b].centre_hz << " Hz: " << d << " dB");
-                        held(known_in(r, k, l, heard[b].centre_hz), d);
+                    // The issue's 3 dB in every band at every listener, read both ways.
+                    if (std::abs(d) > 3.0 || std::abs(fd) > 3.0) {
+                        misses[g] += std::abs(d) > 3.0 ? 1 : 0;
+                        filtered_misses[g] += std::abs(fd) > 3.0 ? 1 : 0;
+                        FAIL_CHECK(r.name << ": node " << node << ", listener " << l << ", " << heard[b].centre_hz << " Hz: " << d
+                                          << " dB as a brick wall, " << fd << " dB through the band filters");
                     }
-                    if (std::abs(fd) > 3.0) ++filtered_misses[g];
                 }
                 MESSAGE(std::string(r.name) << ": node " << node << " listener " << l << ":" << row);
                 MESSAGE(std::string(r.name) << ": node " << node << " listener " << l << " through the band filters:" << filtered_row);
@@ -140,8 +107,6 @@ TEST_CASE("air canopy: band levels 63 Hz-4 kHz against the 5 mm and 3.75 mm refe
                            << " dB), " << filtered_misses[g] << " through the band filters (worst " << filtered_worst[g] << " dB, RMS " << rms
                            << " dB)");
         if (strikes < 3) continue;
-        CHECK(misses[g] <= static_cast<int>(references[g].known_count));
-        CHECK(filtered_misses[g] == 0);   // the issue's 3 dB in every band at every listener, read as an analyser does
         CHECK(rms < references[g].rms_filtered_db);
     }
     MESSAGE(modes_alone_misses << " pairs past 3 dB against 5 mm with the modes' taps alone");
