@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -51,6 +52,34 @@ BandComparison compare_levels(const std::vector<reference::BandLevel>& a, const 
     std::sort(differences.begin(), differences.end());
     if (!differences.empty()) c.median_db = differences[differences.size() / 2];
     return c;
+}
+
+// The canopy's modes with every panel's part alike (its Fourier block m = 0), ascending: written here
+// independently of air_canopy.cpp's own test for them.
+std::vector<int> in_phase_modes(const AirLoadedModes& all, int panels, int nodes) {
+    std::vector<int> out;
+    for (int k = 0; k < static_cast<int>(all.omega.size()); ++k) {
+        const Eigen::VectorXd first = all.shapes.col(k).head(nodes);
+        bool alike = true;
+        for (int p = 1; p < panels; ++p) alike = alike && (all.shapes.col(k).segment(p * nodes, nodes) - first).norm() <= 1e-6 * first.norm();
+        if (alike) out.push_back(k);
+    }
+    return out;
+}
+
+// The default canopy's modes in air as the server builds them, and with the incompressible poles and
+// shapes (compressible_in_phase_ka 0), for telling what the in-phase block's compressible air moves.
+struct TwoBuilds {
+    Canopy canopy;
+    std::shared_ptr<const AirCanopyModes> moved, plain;
+};
+TwoBuilds default_and_incompressible() {
+    TwoBuilds b{Canopy(CanopyGeometry{}, MembraneMaterial::nylon_canopy(), 1.0 / air_test_rate), nullptr, nullptr};
+    b.moved = build_air_canopy_modes(b.canopy, 1.0 / air_test_rate);
+    AirCanopyOptions incompressible;
+    incompressible.compressible_in_phase_ka = 0.0;
+    b.plain = build_air_canopy_modes(b.canopy, 1.0 / air_test_rate, incompressible);
+    return b;
 }
 
 reference::CanopyInAirSetup cheap_reference() {
@@ -105,11 +134,10 @@ TEST_CASE("air canopy: the modes in air are mass-normalised resonators, contacts
 }
 
 TEST_CASE("air canopy: the in-phase modes up to ka 2 take their compressible poles, the block solved directly agrees") {
-    const Canopy canopy(CanopyGeometry{}, MembraneMaterial::nylon_canopy(), 1.0 / air_test_rate);
-    const auto poles = build_air_canopy_modes(canopy, 1.0 / air_test_rate);
-    AirCanopyOptions incompressible;
-    incompressible.compressible_in_phase_ka = 0.0;
-    const auto plain = build_air_canopy_modes(canopy, 1.0 / air_test_rate, incompressible);
+    const TwoBuilds builds = default_and_incompressible();
+    const Canopy& canopy = builds.canopy;
+    const auto& poles = builds.moved;
+    const auto& plain = builds.plain;
     REQUIRE(poles->modes == plain->modes);
     const int panels = canopy.panel_count(), nodes = canopy.nodes_per_panel();
     const double limit = 2.0 * constants::speed_of_sound_air / canopy.geometry().radius_m;   // ka = 2
@@ -117,12 +145,10 @@ TEST_CASE("air canopy: the in-phase modes up to ka 2 take their compressible pol
     // move, every other mode is as it was, bit for bit.
     const AddedMass added = canopy_added_mass(canopy, constants::air_density);
     const AirLoadedModes all = air_loaded_modes(canopy, added);
-    std::vector<int> in_phase;
+    const std::vector<int> in_phase = in_phase_modes(all, panels, nodes);
+    REQUIRE(static_cast<int>(all.omega.size()) == plain->modes);
     for (int k = 0; k < plain->modes; ++k) {
-        const Eigen::VectorXd first = all.shapes.col(k).head(nodes);
-        bool alike = true;
-        for (int p = 1; p < panels; ++p) alike = alike && (all.shapes.col(k).segment(p * nodes, nodes) - first).norm() <= 1e-6 * first.norm();
-        if (alike) in_phase.push_back(k);
+        const bool alike = std::find(in_phase.begin(), in_phase.end(), k) != in_phase.end();
         const bool moved = alike && plain->omega[k] <= limit;
         if (!moved) {
             CHECK(poles->omega[k] == plain->omega[k]);
@@ -211,22 +237,15 @@ TEST_CASE("air canopy: the two moved in-phase modes take the block's shapes with
     // frequency, K x = lambda (I + Re D(w)) x, scaled so that x' (I + Re D + w Re D' / 2) x = 1, and its force
     // on the air (M_a(0) + Re(M_a(w) - M_a(0))) phi. Checked here with D solved afresh at the pole (the
     // build interpolates it between two frequencies: within 3e-4), and every other mode as it was.
-    const Canopy canopy(CanopyGeometry{}, MembraneMaterial::nylon_canopy(), 1.0 / air_test_rate);
-    const auto m = build_air_canopy_modes(canopy, 1.0 / air_test_rate);
-    AirCanopyOptions incompressible;
-    incompressible.compressible_in_phase_ka = 0.0;
-    const auto plain = build_air_canopy_modes(canopy, 1.0 / air_test_rate, incompressible);
+    const TwoBuilds builds = default_and_incompressible();
+    const Canopy& canopy = builds.canopy;
+    const auto& m = builds.moved;
+    const auto& plain = builds.plain;
     const int panels = canopy.panel_count(), nodes = canopy.nodes_per_panel();
     const AddedMass added = canopy_added_mass(canopy, constants::air_density);
     const AirLoadedModes all = air_loaded_modes(canopy, added);
     // The in-phase block's basis: panel 0's part of each in-phase mode (one panel's worth: square).
-    std::vector<int> in_phase;
-    for (int k = 0; k < plain->modes; ++k) {
-        const Eigen::VectorXd first = all.shapes.col(k).head(nodes);
-        bool alike = true;
-        for (int p = 1; p < panels; ++p) alike = alike && (all.shapes.col(k).segment(p * nodes, nodes) - first).norm() <= 1e-6 * first.norm();
-        if (alike) in_phase.push_back(k);
-    }
+    const std::vector<int> in_phase = in_phase_modes(all, panels, nodes);
     REQUIRE(in_phase.size() == static_cast<std::size_t>(nodes));
     const auto n = static_cast<Eigen::Index>(nodes);
     Eigen::MatrixXd psi(nodes, n);
