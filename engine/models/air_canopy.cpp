@@ -31,10 +31,9 @@ bool in_phase(const Eigen::VectorXd& shape, int panels, int nodes) {
 
 struct Pole {
     double omega, rate;
-    // The mode's shape in the block's basis (real, residue-normalised) and the air's extra mass per panel
-    // at its frequency, Re (M_a(omega) - M_a(0)) (panel 0's nodes x nodes): below.
-    Eigen::VectorXd shape;
-    Eigen::MatrixXd extra_mass;
+    // Panel 0's part of the mode's shape (real, scaled to its residue) and of the force its extra air mass
+    // puts on the air, Re (M_a(omega) - M_a(0)) times the shape: below. Every panel's is the same.
+    Eigen::VectorXd shape, extra_force;
 };
 
 // The in-phase modes' poles with the compressible air mass: the canopy's block m = 0 (every panel alike)
@@ -128,8 +127,9 @@ std::vector<Pole> in_phase_poles(const InPhaseAirMass& air, const Eigen::MatrixX
         const double residue = x.dot((Eigen::MatrixXd::Identity(n, n) + d + (0.5 * w_real) * slope) * x);
         if (!(residue > 0.0)) throw std::runtime_error("air canopy: an in-phase shape's residue is not positive");
         x /= std::sqrt(residue);
-        Eigen::MatrixXd extra = (change_low + at * (change_high - change_low)).real();
-        out.push_back({pole.real(), pole.imag(), std::move(x), std::move(extra)});
+        Eigen::VectorXd shape = psi * x;
+        Eigen::VectorXd extra_force = (change_low + at * (change_high - change_low)).real() * shape;
+        out.push_back({pole.real(), pole.imag(), std::move(shape), std::move(extra_force)});
     }
     return out;
 }
@@ -177,10 +177,9 @@ std::shared_ptr<const AirCanopyModes> build_air_canopy_modes(const Canopy& canop
                 rate[k] = poles[static_cast<std::size_t>(j)].rate;
                 radiation[k] = o.radiation_damping ? rate[k] - all.damping_rate[k] : 0.0;   // the compressible air's share
                 const Pole& pole = poles[static_cast<std::size_t>(j)];
-                const Eigen::VectorXd part = psi * pole.shape, pushed = pole.extra_mass * part;
                 for (int p = 0; p < panels; ++p) {
-                    shapes.col(k).segment(p * nodes, nodes) = part;
-                    extra_force.col(k).segment(p * nodes, nodes) = pushed;
+                    shapes.col(k).segment(p * nodes, nodes) = pole.shape;
+                    extra_force.col(k).segment(p * nodes, nodes) = pole.extra_force;
                 }
             }
         }

@@ -40,7 +40,7 @@
 // (docs/canopy-air.md, "The compressible poles of the in-phase modes"): the band levels' RMS error against
 // the finest reference, through the band filters, was 1.16 dB with no pole moved, 0.93 with the lowest,
 // 0.89 with the two (ka 2), 0.92 with the four under ka 3 (245 Hz -0.5 %, 259 Hz -2.6 %), all with the
-// incompressible shapes; with the two's shapes (now) 0.80. The build costs about 0.15 s more (the block's
+// incompressible shapes; with the two's shapes 0.80. The build costs about 0.15 s more (the block's
 // 300-cell complex solve, twice a mode).
 // Cutoff: modes above max_frequency_hz are dropped (they neither move nor radiate). The default keeps
 // every mode the lattice has (the 400-node default canopy's: 81.2 to 962.6 Hz in air): the lattice
