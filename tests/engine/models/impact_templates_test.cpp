@@ -14,6 +14,7 @@
 #include "engine/models/drop.hpp"
 #include "tests/support/rt_probe_scope.hpp"
 #include "tests/support/relative_approx.hpp"
+#include "tests/support/sanitizer_bounds.hpp"
 
 using namespace ameoto;
 
@@ -155,7 +156,12 @@ TEST_CASE("impact templates: each recording's CPU time, and the most any block's
     const double smallest_whole = t.worst_cpu_s(t.length, 0), largest_whole = t.worst_cpu_s(t.length, sizes - 1);
     MESSAGE("worst CPU in 64 frames, smallest / largest drop: " << 1e3 * t.worst_cpu_s(64, 0) << " / " << 1e3 * t.worst_cpu_s(64, sizes - 1)
                                                                << " ms; whole recordings " << 1e3 * smallest_whole << " / " << 1e3 * largest_whole << " ms");
-    CHECK(largest_whole > 2.0 * smallest_whole);   // 5.9 x measured (2026-12-07)
+    // It does all the smallest's work (the canopy's) and its pieces', so it costs more on any build; by
+    // how much is the normal build's figure (5.3-5.9 x measured, 2026-12-07): under the sanitizers the
+    // instrumentation slows the canopy's kernels and the lattice's code by different factors (3.8-4.1 x
+    // here) and the CPU's kind moves it further, so the factor is printed there, not asserted.
+    CHECK(largest_whole > smallest_whole);
+    AMEOTO_CHECK_UNLESS_SANITIZED(largest_whole > 2.0 * smallest_whole);
     CHECK(t.worst_cpu_s(64, -1) == 0.0);
     CHECK(t.worst_cpu_s(64, sizes) == 0.0);
     // The breakup is the costly part: the worst 64 frames cost more than an average 64 frames of the
