@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 #include <vector>
 
 #include "engine/core/transverse_network.hpp"
@@ -76,7 +77,7 @@ TEST_CASE("stability map: the chain's omega_max is the closed form (power iterat
 
 TEST_CASE("stability map: explicit Verlet and symplectic Euler stay bounded at omega_max T = 1.9") {
     for (Integrator integrator : {Integrator::explicit_verlet, Integrator::symplectic_euler}) {
-        CAPTURE(integrator_name(integrator));
+        CAPTURE(std::string(integrator_name(integrator)));
         TransverseNetwork net = chain(integrator, 1.9);
         const EnergyRun r = run_free(net, 100000);
         REQUIRE(r.finite);

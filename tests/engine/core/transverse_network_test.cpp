@@ -8,6 +8,7 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "engine/core/random.hpp"
@@ -302,7 +303,7 @@ constexpr ameoto::Integrator kAll[] = {ameoto::Integrator::explicit_verlet, ameo
 
 TEST_CASE("transverse_network: every integrator steps and guards without allocating") {
     for (auto integrator : kAll) {
-        CAPTURE(ameoto::integrator_name(integrator));
+        CAPTURE(std::string(ameoto::integrator_name(integrator)));
         auto body = ameoto::test::lattice_membrane(50, 0.06, 1000.0, 20.0, 2e-6);
         auto options = ameoto::test::options_for(integrator);
         options.guard.check_every_steps = 3;   // the guard's own check inside step() is audited too
@@ -330,7 +331,7 @@ TEST_CASE("transverse_network: every integrator steps and guards without allocat
 
 TEST_CASE("transverse_network: every integrator conserves the momentum of a free network") {
     for (auto integrator : kAll) {
-        CAPTURE(ameoto::integrator_name(integrator));
+        CAPTURE(std::string(ameoto::integrator_name(integrator)));
         auto net = ameoto::test::free_chain();
         net.finalize(kT, ameoto::test::options_for(integrator));
         net.apply_force(0, 2.0);
@@ -360,7 +361,7 @@ TEST_CASE("transverse_network: every integrator conserves the momentum of a free
 
 TEST_CASE("transverse_network: step() returns the momentum change over the step, for every integrator") {
     for (auto integrator : kAll) {
-        CAPTURE(ameoto::integrator_name(integrator));
+        CAPTURE(std::string(ameoto::integrator_name(integrator)));
         auto body = ameoto::test::lattice_membrane(20, 0.06, 1000.0, 20.0, 2e-6);
         body.network.finalize(kT, ameoto::test::options_for(integrator));
         auto momentum = [&] {

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <string>
 #include <vector>
 
 #include "engine/models/canopy.hpp"
@@ -169,7 +170,7 @@ TEST_CASE("canopy lanes: bit-identical to per-panel networks, far field included
         for (int sub_steps : {1, 3}) {
             for (int panels : {6, 7, 8}) {
                 for (int ceiling : {16, 32, 64}) {
-                    CAPTURE(ameoto::integrator_name(integrator));
+                    CAPTURE(std::string(ameoto::integrator_name(integrator)));
                     CAPTURE(sub_steps);
                     CAPTURE(panels);
                     CAPTURE(ceiling);
@@ -185,7 +186,7 @@ TEST_CASE("canopy lanes: bit-identical to per-panel networks, far field included
 
 TEST_CASE("canopy lanes: the implicit and modal integrators keep per-panel networks") {
     for (Integrator integrator : {Integrator::trapezoidal, Integrator::backward_euler, Integrator::modal}) {
-        CAPTURE(ameoto::integrator_name(integrator));
+        CAPTURE(std::string(ameoto::integrator_name(integrator)));
         ameoto::NetworkOptions o;
         o.integrator = integrator;
         Canopy canopy(ameoto::CanopyGeometry{6, 0.5, 30}, ameoto::MembraneMaterial::nylon_canopy(), kT, o);

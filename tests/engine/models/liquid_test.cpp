@@ -36,7 +36,7 @@ TEST_CASE("liquid: presets carry the seed's water and cited milk and heavy oil")
 
 TEST_CASE("liquid: presets are found by name; unknown names are not") {
     for (const char* name : {"water", "milk", "heavy_oil"}) {
-        CAPTURE(name);
+        CAPTURE(std::string(name));   // doctest prints a char pointer as its address
         const auto found = ameoto::find_liquid(name);
         REQUIRE(found.has_value());
         CHECK(found->name == name);

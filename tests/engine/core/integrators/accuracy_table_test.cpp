@@ -45,7 +45,7 @@ TEST_CASE("table: frequency warping of a single oscillator, per integrator") {
         "\n| integrator | omega0 T | formula (omega T) | formula | measured | error vs formula | omega / omega0 |\n"
         "|---|---|---|---|---|---|---|\n";
     for (const auto& c : cases) {
-        CAPTURE(integrator_name(c.integrator));
+        CAPTURE(std::string(integrator_name(c.integrator)));
         CAPTURE(c.w0t);
         auto net = one_oscillator(1e-3, c.w0t / kT);
         net.finalize(kT, options_for(c.integrator, StabilityPolicy::none));   // no sub-steps: the scheme itself
@@ -90,7 +90,7 @@ TEST_CASE("table: undamped energy over 10^6 steps, per integrator") {
     for (const auto& b : bodies) {
         for (const auto& r : runs) {
             CAPTURE(b.name);
-            CAPTURE(integrator_name(r.integrator));
+            CAPTURE(std::string(integrator_name(r.integrator)));
             CAPTURE(r.omega_t);
             auto net = b.make();
             const double omega_max = power_iteration_omega_max(net.arrays());

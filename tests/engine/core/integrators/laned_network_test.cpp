@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <limits>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "engine/core/cpu_features.hpp"
@@ -106,7 +107,7 @@ TEST_CASE("laned network: every lane is bit-identical to its own TransverseNetwo
             REQUIRE(proto.stability().sub_steps == sub_steps);
             for (int count : {6, 7, 8}) {
                 for (int ceiling : {16, 32, 64}) {
-                    CAPTURE(ameoto::integrator_name(integrator));
+                    CAPTURE(std::string(ameoto::integrator_name(integrator)));
                     CAPTURE(sub_steps);
                     CAPTURE(count);
                     CAPTURE(ceiling);
