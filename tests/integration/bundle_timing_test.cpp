@@ -2,11 +2,18 @@
 // Bundles are scheduled to the sample: drops in nested bundles at known times land in the null
 // backend's output exactly that many samples apart (+/- 1, the rounding of each timetag to a sample).
 //
-// How the landing sample is seen without guessing at onsets: with --rain 0 and --fixed-detail the
-// stream depends only on the seed and the commands (daemon_test: "offline renders are exact ..."),
-// and nothing sounds before the first drop, so two runs that share their first drop are identical
-// sample for sample, once aligned on that drop's onset, until the next drop that differs between
-// them. The first differing sample is where that drop landed, relative to the first.
+// How the landing sample is seen without guessing at onsets: with --rain 0 and --fixed-detail the stream
+// depends only on the seed and the commands (daemon_test: "offline renders are exact ..."), and nothing
+// sounds before the first drop, so two runs that share their first drop are identical sample for sample,
+// once aligned on that drop's onset, until the next drop that differs between them. The first differing
+// sample is where that drop landed, relative to the first, or one sample after it: a drop's first sounding
+// sample is tiny (its sound grows from the first contact: -7.8e-11 for A alone), and added to the first
+// drop's ringing in 32-bit floats (4.2e-4 where B lands) it can change nothing. Every run here read B 4801
+// and C 12001 samples after A (2026-12-07), so the window is the timetag's rounding, +/- 1, and that one
+// sample more above: 4799-4802 and 11999-12002. A window on the drops' own onsets instead (where the runs
+// part by a thousandth or a millionth of the first drop's peak, against where that drop passes the same
+// level) read 4795 and 4798: the later drop strikes a canopy already moving, so its sound is not the
+// first's shifted, and a level's crossing moves with it.
 
 #include <doctest/doctest.h>
 #include <signal.h>
@@ -77,7 +84,7 @@ long long first_difference(const std::vector<float>& a, const std::vector<float>
 
 }  // namespace
 
-TEST_CASE("drops in nested bundles land at their timetags to the sample, +/- 1") {
+TEST_CASE("drops in nested bundles land at their timetags to the sample, -1 to +2 as seen") {
     using ameoto::protocol::encode_bundle;
     const double lead = 0.3;                      // s: time for the packet to arrive before the first drop
     const double b_after = 0.1, c_after = 0.25;   // s after the first drop: 4800 and 12000 samples
@@ -96,9 +103,9 @@ TEST_CASE("drops in nested bundles land at their timetags to the sample, +/- 1")
             return encode_bundle(Timetag::from_unix_seconds(t), {drop(), encode_bundle(Timetag::from_unix_seconds(t + b_after), {drop(), inner})});
         });
     };
-    auto b_within_one = [&](long long b) {
+    auto b_within_one = [&](long long b) {   // the rounding, and the first difference's lag (above)
         CHECK(b >= static_cast<long long>(b_after * rate) - 1);
-        CHECK(b <= static_cast<long long>(b_after * rate) + 1);
+        CHECK(b <= static_cast<long long>(b_after * rate) + 2);
     };
     std::vector<float> a_b = play_a_b();
     long long b_at = first_difference(a_only, a_b);
@@ -127,5 +134,5 @@ TEST_CASE("drops in nested bundles land at their timetags to the sample, +/- 1")
     INFO("B at " << b_at << " (again " << b_again << "), C at " << c_at << " samples after A");
     REQUIRE(b_again == b_at);
     CHECK(c_at >= static_cast<long long>(c_after * rate) - 1);
-    CHECK(c_at <= static_cast<long long>(c_after * rate) + 1);
+    CHECK(c_at <= static_cast<long long>(c_after * rate) + 2);
 }
