@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // Bundles are scheduled to the sample: drops in nested bundles at known times land in the null
-// backend's output exactly that many samples apart (+/- 1, the rounding of each timetag to a sample).
+// backend's output exactly that many samples apart (+/- 1, the rounding of each timetag to a sample;
+// read here as -1 to +2, below).
 //
 // How the landing sample is seen without guessing at onsets: with --rain 0 and --fixed-detail the stream
 // depends only on the seed and the commands (daemon_test: "offline renders are exact ..."), and nothing
